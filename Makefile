@@ -1,0 +1,44 @@
+# friction_sweep: every target sets up its own virtual environment first (nothing by hand).
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed-stamp
+
+.PHONY: demo test cubes clean distclean help
+.DELETE_ON_ERROR:
+
+help:
+	@echo "make demo   set up, then run configs/demo.yaml and summarise the cube"
+	@echo "make test   set up, then run the whole test suite"
+	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
+	@echo "make clean  remove results and caches; make distclean also removes $(VENV)"
+
+$(STAMP): pyproject.toml
+	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
+	  { echo "friction_sweep needs Python >= 3.11: run make PYTHON=/path/to/python3.11"; exit 1; }
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,figures]'
+	touch $@
+
+demo: $(STAMP)
+	$(BIN)/fsweep run configs/demo.yaml --overwrite
+	$(BIN)/fsweep info results/demo.h5
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+# one cube per figure spec; fsweep writes atomically, so an interrupted run leaves no partial file
+FIG_SPECS := $(wildcard configs/fig*.yaml)
+FIG_CUBES := $(patsubst configs/%.yaml,results/%.h5,$(FIG_SPECS))
+
+results/%.h5: configs/%.yaml $(STAMP)
+	$(BIN)/fsweep run $< -o $@ --overwrite --quiet
+
+cubes: $(FIG_CUBES)
+
+clean:
+	rm -rf results .pytest_cache .hypothesis
+	find . -name __pycache__ -type d -prune -exec rm -rf {} +
+
+distclean: clean
+	rm -rf $(VENV) *.egg-info

@@ -1,0 +1,3 @@
+from friction_sweep.cli import main
+
+main()
