@@ -1,0 +1,51 @@
+"""Values of one grid axis from its {start, stop, num} or {start, stop, step} form."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+MAX_POINTS = 10_000_000
+SIGNIFICANT_DIGITS = 12
+LATTICE_RTOL = 1e-9
+
+
+def round_significant(values: np.ndarray) -> np.ndarray:
+    """Round to 12 significant digits, so decimal steps land on decimals (0.05 + 95*0.01 == 1.0)."""
+    # Formatting is the exact, documented rule; a vectorised scale-and-round differs in the last ulp.
+    return np.array([float(f"{v:.{SIGNIFICANT_DIGITS}g}") for v in values.tolist()], dtype=np.float64)
+
+
+def step_count(start: float, stop: float, step: float) -> tuple[int, bool]:
+    """(number of points, whether stop is on the step lattice); the count may exceed MAX_POINTS."""
+    q = (stop - start) / step
+    if not math.isfinite(q) or q >= MAX_POINTS:
+        return MAX_POINTS + 1, False
+    k = round(q)
+    if abs(q - k) <= LATTICE_RTOL * max(1.0, abs(q)):
+        return k + 1, True
+    return math.floor(q) + 1, False
+
+
+def linspace_values(start: float, stop: float, num: int) -> np.ndarray:
+    """Inclusive linspace, rounded, with the exact ends kept."""
+    values = round_significant(np.linspace(start, stop, num))
+    values[0], values[-1] = start, stop
+    return values
+
+
+def step_values(start: float, stop: float, step: float) -> np.ndarray:
+    """start + i*step up to stop (inclusive when stop is on the lattice), rounded, exact ends kept."""
+    n, on_lattice = step_count(start, stop, step)
+    values = round_significant(start + np.arange(n, dtype=np.float64) * step)
+    values[0] = start
+    if on_lattice:
+        values[-1] = stop
+    return values
+
+
+def first_not_increasing(values: np.ndarray) -> int | None:
+    """Index of the first value not greater than its predecessor, or None."""
+    bad = np.flatnonzero(np.diff(values) <= 0)
+    return int(bad[0]) + 1 if bad.size else None

@@ -1,0 +1,199 @@
+"""Read spec YAML into plain Python values, remembering where each key and value sits."""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field
+from typing import Any
+
+from ruamel.yaml import YAML
+from ruamel.yaml.constructor import DuplicateKeyError
+from ruamel.yaml.error import MarkedYAMLError, YAMLError
+from ruamel.yaml.nodes import MappingNode, ScalarNode, SequenceNode
+
+from .errors import SpecError
+
+KeyPath = tuple[str | int, ...]
+Position = tuple[int, int]
+
+
+@dataclass
+class Document:
+    """Plain data of one YAML file plus 1-based (line, column) of keys and values by key path."""
+
+    data: Any
+    source: str
+    value_pos: dict[KeyPath, Position] = field(default_factory=dict)
+    key_pos: dict[KeyPath, Position] = field(default_factory=dict)
+    # Block collections and empty values: ruamel places the value at the next token, so use the key.
+    at_key: set[KeyPath] = field(default_factory=set)
+
+    def locate(self, path: KeyPath, *, key: bool = False) -> tuple[int | None, int | None]:
+        """Where to point for a problem at `path`; falls back to the nearest located ancestor."""
+        if path in self.value_pos or path in self.key_pos:
+            if (key or path in self.at_key) and path in self.key_pos:
+                return self.key_pos[path]
+            return self.value_pos.get(path) or self.key_pos[path]
+        for n in range(len(path) - 1, 0, -1):
+            anc = path[:n]
+            if anc in self.key_pos:
+                return self.key_pos[anc]
+            if anc in self.value_pos:
+                return self.value_pos[anc]
+        return (None, None)
+
+
+def read_text(path: str | os.PathLike[str]) -> str:
+    """The file's text, or SpecError if it cannot be read as UTF-8."""
+    source = os.fspath(path)
+    try:
+        with open(source, encoding="utf-8") as fh:
+            return fh.read()
+    except FileNotFoundError:
+        raise SpecError.single(source, "file not found") from None
+    except IsADirectoryError:
+        raise SpecError.single(source, "is a directory, not a spec file") from None
+    except UnicodeDecodeError as e:
+        raise SpecError.single(source, f"not UTF-8 text ({e.reason} at byte {e.start})") from None
+    except OSError as e:
+        raise SpecError.single(source, f"cannot read file: {e.strerror or e}") from None
+
+
+def parse_yaml(text: str, source: str) -> Document:
+    """Parse one YAML document (YAML 1.2, duplicate keys rejected) into a Document."""
+    yaml = YAML(typ="rt")
+    try:
+        tree = yaml.load(text)
+    except DuplicateKeyError as e:
+        raise _duplicate_key_error(e, text, source) from None
+    except MarkedYAMLError as e:
+        raise _marked_error(e, source) from None
+    except (YAMLError, ValueError, TypeError) as e:
+        # e.g. `!!float abc` raises a bare ValueError with no position
+        raise SpecError.single(source, f"invalid YAML: {e}") from None
+    doc = Document(data=None, source=source)
+    doc.data = _plain(tree, (), doc, set())
+    return doc
+
+
+def _marked_error(e: MarkedYAMLError, source: str) -> SpecError:
+    mark = e.problem_mark or e.context_mark
+    reason = f"invalid YAML: {e.problem or e.context or 'syntax error'}"
+    if e.context and e.problem and e.context_mark is not None:
+        cm = e.context_mark
+        reason += f" ({e.context} started at line {cm.line + 1}, column {cm.column + 1})"
+    line, col = (mark.line + 1, mark.column + 1) if mark is not None else (None, None)
+    return SpecError.single(source, reason, line=line, column=col)
+
+
+def _duplicate_key_error(e: DuplicateKeyError, text: str, source: str) -> SpecError:
+    mark = e.problem_mark
+    line, col = mark.line + 1, mark.column + 1
+    # The constructor does not say where the mapping sits; composing (no duplicate check) does.
+    found = _find_key_node(YAML(typ="rt").compose(text), (mark.line, mark.column))
+    if found is None:
+        m = re.search(r'duplicate key "(.*)" with value', e.problem or "")
+        name = m.group(1) if m else "?"
+        return SpecError.single(source, f"duplicate key '{name}'", key=name, line=line, column=col)
+    path, first_line = found
+    name = str(path[-1])
+    return SpecError.single(
+        source,
+        f"duplicate key '{name}' (first given on line {first_line})",
+        key=format_key(path),
+        line=line,
+        column=col,
+    )
+
+
+def _find_key_node(node: Any, at: tuple[int, int]) -> tuple[KeyPath, int] | None:
+    """Key path of the mapping key starting at `at`, and the line of its first occurrence."""
+    stack: list[tuple[Any, KeyPath]] = [(node, ())]
+    seen: set[int] = set()
+    while stack:
+        node, path = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, MappingNode):
+            first: dict[str, int] = {}
+            for knode, vnode in node.value:
+                name = knode.value if isinstance(knode, ScalarNode) else str(knode.value)
+                first.setdefault(name, knode.start_mark.line + 1)
+                if (knode.start_mark.line, knode.start_mark.column) == at:
+                    return path + (name,), first[name]
+                stack.append((vnode, path + (name,)))
+        elif isinstance(node, SequenceNode):
+            stack.extend((child, path + (i,)) for i, child in enumerate(node.value))
+    return None
+
+
+def _plain(node: Any, path: KeyPath, doc: Document, active: set[int]) -> Any:
+    """Round-trip tree -> dict/list/str/int/float/bool/None, recording positions."""
+    if isinstance(node, dict):
+        if id(node) in active:
+            raise SpecError.single(doc.source, "recursive YAML alias", key=format_key(path))
+        active.add(id(node))
+        doc.at_key.add(path)
+        lc = getattr(getattr(node, "lc", None), "data", None) or {}
+        out: dict[str, Any] = {}
+        for k, v in node.items():
+            name = k if isinstance(k, str) else str(_scalar(k))
+            sub = path + (name,)
+            pos = lc.get(k)  # merged (`<<`) keys have no position of their own
+            if pos is not None:
+                doc.key_pos[sub] = (pos[0] + 1, pos[1] + 1)
+                doc.value_pos[sub] = (pos[2] + 1, pos[3] + 1)
+            if name in out:
+                line, col = doc.key_pos.get(sub, (None, None))
+                raise SpecError.single(
+                    doc.source, f"duplicate key '{name}'", key=format_key(sub), line=line, column=col
+                )
+            out[name] = _plain(v, sub, doc, active)
+        active.discard(id(node))
+        return out
+    if isinstance(node, list):
+        if id(node) in active:
+            raise SpecError.single(doc.source, "recursive YAML alias", key=format_key(path))
+        active.add(id(node))
+        doc.at_key.add(path)
+        lc = getattr(getattr(node, "lc", None), "data", None) or {}
+        items = []
+        for i, v in enumerate(node):
+            sub = path + (i,)
+            pos = lc.get(i)
+            if pos is not None:
+                doc.value_pos[sub] = (pos[0] + 1, pos[1] + 1)
+            items.append(_plain(v, sub, doc, active))
+        active.discard(id(node))
+        return items
+    if node is None:
+        doc.at_key.add(path)
+    return _scalar(node)
+
+
+def _scalar(v: Any) -> Any:
+    # bool before int: ruamel's ScalarBoolean (like bool) is an int subclass
+    if v is None or type(v) in (str, int, float, bool):
+        return v
+    if isinstance(v, bool) or type(v).__name__ == "ScalarBoolean":
+        return bool(v)
+    if isinstance(v, int):
+        return int(v)
+    if isinstance(v, float):
+        return float(v)
+    if isinstance(v, str):
+        return str(v)
+    return v  # timestamps, tagged scalars: left for validation to reject
+
+
+def format_key(path: KeyPath) -> str:
+    """('grid', 'force_ratio', 2) -> 'grid.force_ratio[2]'."""
+    out = ""
+    for part in path:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += f".{part}" if out else str(part)
+    return out

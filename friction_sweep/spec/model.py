@@ -1,0 +1,310 @@
+"""Pydantic models of a sweep spec; grid values are computed, never stored as fields."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+import numpy as np
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    PrivateAttr,
+    Strict,
+    Tag,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+from . import grid as g
+
+EXCITATIONS = ("force", "base", "joined")
+METHODS_AVAILABLE = ("theory",)
+METHODS_PLANNED = ("event", "rk4", "paper", "auto")
+OUTPUTS = ("transmissibility", "phase", "regime")
+EFFECTS: tuple[str, ...] = ()
+
+# Union tags appear in pydantic's error locations; the angle brackets keep them apart from YAML keys.
+AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})
+
+Finite = Annotated[float, Strict(), Field(allow_inf_nan=False)]
+Positive = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0)]
+NonNegative = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0)]
+
+
+def show(v: Any) -> str:
+    """A value as the user wrote it in YAML, for error messages."""
+    if v is None:
+        return "null"
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        if v != v:
+            return ".nan"
+        if v in (float("inf"), float("-inf")):
+            return ".inf" if v > 0 else "-.inf"
+    text = repr(v)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _error(kind: str, message: str, at: tuple = ()) -> PydanticCustomError:
+    # `at` extends the error's location, so the report can point at the offending item.
+    # The message is final text: pydantic only substitutes `{at}`, which no message contains.
+    return PydanticCustomError(kind, message, {"at": at})
+
+
+class _Model(BaseModel):
+    # frozen: the computed grid arrays must stay in step with the fields they come from
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class _Range(_Model):
+    start: Finite
+    stop: Finite
+    num: Annotated[int, Strict(), Field(ge=1, le=g.MAX_POINTS)] | None = None
+    step: Positive | None = None
+
+    @field_validator("stop")
+    @classmethod
+    def _stop_not_below_start(cls, stop: float, info: ValidationInfo) -> float:
+        start = info.data.get("start")
+        if start is not None and stop < start:
+            raise _error("stop_below_start", f"must be >= start ({show(start)}) (got {show(stop)})")
+        return stop
+
+    @model_validator(mode="after")
+    def _one_of_num_step(self):
+        if (self.num is None) == (self.step is None):
+            given = "both" if self.num is not None else "neither"
+            raise _error("num_or_step", f"give exactly one of 'num' or 'step' (got {given})")
+        if self.num == 1 and self.start != self.stop:
+            raise _error(
+                "num_one",
+                f"num = 1 needs start == stop (got start {show(self.start)}, stop {show(self.stop)})",
+                ("num",),
+            )
+        if self.step is not None and self.size > g.MAX_POINTS:
+            raise _error("too_many_points", f"step gives more than {g.MAX_POINTS} points", ("step",))
+        return self
+
+    @property
+    def size(self) -> int:
+        if self.num is not None:
+            return self.num
+        return g.step_count(self.start, self.stop, self.step)[0]
+
+    def values(self) -> np.ndarray:
+        if self.num is not None:
+            return g.linspace_values(self.start, self.stop, self.num)
+        return g.step_values(self.start, self.stop, self.step)
+
+
+class FrequencyRange(_Range):
+    start: Positive
+
+
+class ForceRange(_Range):
+    start: NonNegative
+
+
+def _increasing(values: list[float]) -> list[float]:
+    for i in range(1, len(values)):
+        if values[i] <= values[i - 1]:
+            what = "duplicate value" if values[i] == values[i - 1] else "not sorted"
+            raise _error(
+                "not_increasing",
+                f"values must be strictly increasing: {what} "
+                f"{show(values[i])} after {show(values[i - 1])}",
+                (i,),
+            )
+    return values
+
+
+def _axis_kind(v: Any) -> str | None:
+    if isinstance(v, (dict, _Range)):  # a model instance when serialising
+        return "<range>"
+    if isinstance(v, list):
+        return "<list>"
+    if isinstance(v, (int, float, str)):  # strings and booleans get a "must be a number" error
+        return "<number>"
+    return None
+
+
+def _axis(element: Any, range_model: type[_Range]) -> Any:
+    return Annotated[
+        Union[
+            Annotated[element, Tag("<number>")],
+            Annotated[list[element], Field(min_length=1), AfterValidator(_increasing), Tag("<list>")],
+            Annotated[range_model, Tag("<range>")],
+        ],
+        Discriminator(
+            _axis_kind,
+            custom_error_type="grid_axis",
+            custom_error_message="must be a number, a list of numbers, "
+            "or a mapping with start, stop and one of num or step",
+        ),
+    ]
+
+
+FrequencyAxis = _axis(Positive, FrequencyRange)
+ForceAxis = _axis(NonNegative, ForceRange)
+
+
+def _axis_size(axis: float | list[float] | _Range) -> int:
+    if isinstance(axis, _Range):
+        return axis.size
+    return len(axis) if isinstance(axis, list) else 1
+
+
+def _axis_values(axis: float | list[float] | _Range) -> np.ndarray:
+    if isinstance(axis, _Range):
+        return axis.values()
+    return np.atleast_1d(np.asarray(axis, dtype=np.float64)).copy()
+
+
+class Grid(_Model):
+    frequency_ratio: FrequencyAxis
+    force_ratio: ForceAxis
+    _values: dict[str, np.ndarray] = PrivateAttr(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _build(self):
+        nf, nb = _axis_size(self.frequency_ratio), _axis_size(self.force_ratio)
+        if nf * nb > g.MAX_POINTS:
+            raise _error(
+                "too_many_points",
+                f"grid has {nf * nb} points ({nf} x {nb}); at most {g.MAX_POINTS} are allowed",
+            )
+        for name in ("frequency_ratio", "force_ratio"):
+            axis = getattr(self, name)
+            values = _axis_values(axis)
+            if isinstance(axis, _Range) and (
+                g.first_not_increasing(values) is not None or values[-1] > axis.stop
+            ):
+                raise _error(
+                    "grid_too_fine",
+                    f"spacing is finer than {g.SIGNIFICANT_DIGITS} significant digits: values collide",
+                    (name,),
+                )
+            self._values[name] = values
+        return self
+
+    def _read_only(self, name: str) -> np.ndarray:
+        values = self._values[name]
+        values.flags.writeable = False  # shared by every reader; also re-set after unpickling
+        return values
+
+    @property
+    def frequency_ratio_values(self) -> np.ndarray:
+        return self._read_only("frequency_ratio")
+
+    @property
+    def force_ratio_values(self) -> np.ndarray:
+        return self._read_only("force_ratio")
+
+
+class Scene(_Model):
+    excitation: Literal["force", "base", "joined"]
+    effects: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("excitation", mode="before")
+    @classmethod
+    def _known_excitation(cls, v: Any) -> Any:
+        if not isinstance(v, str) or v not in EXCITATIONS:
+            raise _error(
+                "unknown_excitation",
+                f"unknown excitation {show(v)} (expected one of: {', '.join(EXCITATIONS)})",
+            )
+        return v
+
+    @field_validator("effects", mode="before")
+    @classmethod
+    def _no_effects(cls, v: Any) -> Any:
+        if v is None:  # `effects:` left empty
+            return {}
+        if isinstance(v, dict):
+            unknown = [k for k in v if k not in EFFECTS]
+            if unknown:
+                raise _error(
+                    "unknown_effect",
+                    f"unknown effect {show(unknown[0])} (no effects are available yet)",
+                    (unknown[0],),
+                )
+        return v
+
+
+OutputName = Literal["transmissibility", "phase", "regime"]
+
+
+class Spec(_Model):
+    """A validated sweep spec. Grid values: `frequency_ratio`, `force_ratio` (read-only float64)."""
+
+    scene: Scene
+    grid: Grid
+    method: str = "theory"
+    outputs: tuple[OutputName, ...] = OUTPUTS
+    output: Path | None = None
+    _source_path: str = PrivateAttr(default="<string>")
+    _text: str = PrivateAttr(default="")
+
+    @field_validator("method", mode="before")
+    @classmethod
+    def _method_available(cls, v: Any) -> Any:
+        if not isinstance(v, str):
+            raise _error("method_type", f"must be a method name (got {show(v)})")
+        if v in METHODS_PLANNED:
+            raise _error(
+                "method_unavailable",
+                f"method {v!r} is not available yet (available: {', '.join(METHODS_AVAILABLE)})",
+            )
+        if v not in METHODS_AVAILABLE:
+            raise _error(
+                "unknown_method",
+                f"unknown method {v!r} (available: {', '.join(METHODS_AVAILABLE)}; "
+                f"planned: {', '.join(METHODS_PLANNED)})",
+            )
+        return v
+
+    @field_validator("outputs", mode="before")
+    @classmethod
+    def _outputs_canonical(cls, v: Any) -> Any:
+        if not isinstance(v, (list, tuple)):
+            raise _error("outputs_type", f"must be a list of output names (got {show(v)})")
+        if not v:
+            raise _error("outputs_empty", f"must not be empty (choose from: {', '.join(OUTPUTS)})")
+        for i, name in enumerate(v):
+            if not isinstance(name, str) or name not in OUTPUTS:
+                raise _error(
+                    "unknown_output", f"unknown output {show(name)} (known: {', '.join(OUTPUTS)})", (i,)
+                )
+            if name in v[:i]:
+                raise _error("duplicate_output", f"output {name!r} is listed twice", (i,))
+        return tuple(sorted(v, key=OUTPUTS.index))
+
+    @field_validator("output", mode="before")
+    @classmethod
+    def _output_path(cls, v: Any) -> Any:
+        if v is not None and (not isinstance(v, str) or not v.strip()):
+            raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
+        return v
+
+    @property
+    def frequency_ratio(self) -> np.ndarray:
+        return self.grid.frequency_ratio_values
+
+    @property
+    def force_ratio(self) -> np.ndarray:
+        return self.grid.force_ratio_values
+
+    @property
+    def source_path(self) -> str:
+        return self._source_path
+
+    @property
+    def text(self) -> str:
+        return self._text

@@ -1,0 +1,99 @@
+"""Public entry points: YAML text or file -> validated Spec, or SpecError listing every problem."""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+from pydantic import ValidationError
+
+from .errors import SpecError, SpecProblem
+from .load import Document, KeyPath, format_key, parse_yaml, read_text
+from .model import AXIS_TAGS, ForceRange, FrequencyRange, Grid, Scene, Spec, show
+
+# Which model a mapping at a given key path is validated by, to list the keys it allows.
+_MODELS = {
+    (): Spec,
+    ("scene",): Scene,
+    ("grid",): Grid,
+    ("grid", "frequency_ratio"): FrequencyRange,
+    ("grid", "force_ratio"): ForceRange,
+}
+
+
+def load_spec(path: str | os.PathLike[str]) -> Spec:
+    """Read and validate the spec file at `path`."""
+    return parse_spec_text(read_text(path), source=os.fspath(path))
+
+
+def parse_spec_text(text: str, source: str = "<string>") -> Spec:
+    """Validate spec YAML `text`; `source` names it in error messages and `spec.source_path`."""
+    doc = parse_yaml(text, source)
+    if not isinstance(doc.data, dict):
+        got = "an empty document" if doc.data is None else f"a {type(doc.data).__name__}"
+        reason = f"the spec must be a mapping of keys (got {got})"
+        raise SpecError.single(source, reason, line=1, column=1)
+    try:
+        spec = Spec.model_validate(doc.data)
+    except ValidationError as e:
+        raise SpecError(_problems(e, doc)) from None
+    spec._source_path = source
+    spec._text = text
+    return spec
+
+
+def _problems(exc: ValidationError, doc: Document) -> list[SpecProblem]:
+    problems = []
+    for err in exc.errors():
+        path = tuple(p for p in err["loc"] if p not in AXIS_TAGS)
+        path += tuple((err.get("ctx") or {}).get("at", ()))
+        line, column = doc.locate(path, key=err["type"] == "extra_forbidden")
+        problems.append(SpecProblem(doc.source, line, column, format_key(path), _reason(err, path)))
+    # File order reads best; problems without a line (missing top-level keys) go last.
+    return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
+
+
+def _reason(err: dict[str, Any], path: KeyPath) -> str:
+    kind, value, ctx = err["type"], err.get("input"), err.get("ctx") or {}
+    got = f" (got {show(value)})"
+    if kind == "extra_forbidden":
+        model = _MODELS.get(path[:-1])
+        allowed = f" (allowed: {', '.join(model.model_fields)})" if model else ""
+        return f"unknown key {show(path[-1])}{allowed}"
+    if kind == "missing":
+        return f"required key {show(path[-1])} is missing"
+    if kind in ("float_type", "float_parsing"):
+        if isinstance(value, bool):
+            return f"must be a number, not a boolean{got}"
+        if isinstance(value, str):
+            return f"must be a number, not a string{got}"
+        return f"must be a number{got}"
+    if kind in ("int_type", "int_from_float", "int_parsing"):
+        if isinstance(value, bool):
+            return f"must be an integer, not a boolean{got}"
+        return f"must be an integer{got}"
+    if kind == "finite_number":
+        return f"must be a finite number{got}"
+    for kind_, op, limit in (
+        ("greater_than", ">", "gt"),
+        ("greater_than_equal", ">=", "ge"),
+        ("less_than", "<", "lt"),
+        ("less_than_equal", "<=", "le"),
+    ):
+        if kind == kind_:
+            return f"must be {op} {_number(ctx[limit])}{got}"
+    if kind == "too_short":
+        return "must not be empty"
+    if kind == "list_type":
+        return f"must be a list{got}"
+    if kind in ("dict_type", "model_type", "model_attributes_type"):
+        return f"must be a mapping{got}"
+    if kind == "grid_axis":
+        return err["msg"] + got
+    if "at" in ctx:  # our own PydanticCustomError: the message is complete
+        return err["msg"]
+    return f"{err['msg']}{got}"
+
+
+def _number(x: float) -> str:
+    return str(int(x)) if isinstance(x, float) and x.is_integer() and abs(x) < 1e15 else str(x)
