@@ -1,0 +1,22 @@
+"""Motion regimes: small integer codes shared by every method and stored as CF flags."""
+
+from __future__ import annotations
+
+import numpy as np
+
+STUCK = np.int8(0)  # the mass never moves relative to its wall
+STICK_SLIP = np.int8(1)  # the mass stops (sticks) at least once per forcing period
+CONTINUOUS = np.int8(2)  # one velocity reversal per half period, no stops (Den Hartog's regime)
+UNBOUNDED = np.int8(3)  # the amplitude grows without bound (resonance with friction ratio < pi/4)
+UNSETTLED = np.int8(4)  # no periodic steady state was found within the method's budget
+
+#: code -> name, in code order; the names are the CF flag_meanings.
+NAMES = ("stuck", "stick_slip", "continuous", "unbounded", "unsettled")
+FLAG_VALUES = np.arange(len(NAMES), dtype=np.int8)
+FLAG_MEANINGS = " ".join(NAMES)
+
+
+def counts(codes) -> dict[str, int]:
+    """Number of grid points in each regime, by name (every regime listed, zeros included)."""
+    codes = np.asarray(codes).ravel()
+    return {name: int(np.count_nonzero(codes == value)) for value, name in zip(FLAG_VALUES, NAMES)}

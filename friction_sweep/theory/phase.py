@@ -1,0 +1,16 @@
+"""The one phase convention every output shares."""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Phases are lags of the response behind the excitation, in degrees, wrapped into [-90, 270):
+#: physical lags lie in [0, 180], so neither the linear 0 (r < 1) nor the linear 180 (r > 1)
+#: sits on a wrap point, while small leads stay small negative numbers.
+PHASE_RANGE_DEG = (-90.0, 270.0)
+
+
+def wrap_lag_degrees(radians):
+    """Convert a lag in radians to degrees in [-90, 270)."""
+    deg = np.degrees(np.asarray(radians, dtype=float))
+    return np.mod(deg + 90.0, 360.0) - 90.0
