@@ -1,0 +1,189 @@
+"""fsweep: the command line. A thin layer: parse, call the library, report; exit 2 on bad input."""
+
+from __future__ import annotations
+
+import shlex
+import sys
+import time
+from pathlib import Path
+
+import click
+import numpy as np
+
+import friction_sweep
+from friction_sweep import methods, regimes
+from friction_sweep.spec import SpecError, load_spec
+
+EXIT_BAD_INPUT = 2
+EXIT_RUNTIME = 1
+
+
+def _fail(message: str, code: int = EXIT_BAD_INPUT):
+    click.echo(f"fsweep: error: {message}", err=True)
+    sys.exit(code)
+
+
+def _load(path: Path):
+    try:
+        return load_spec(path)
+    except SpecError as err:
+        _fail(f"invalid spec\n{err}")
+
+
+def _output_path(spec_path: Path, spec, override: Path | None) -> Path:
+    if override is not None:
+        return override
+    if spec.output is not None:
+        return Path(spec.output)
+    return Path("results") / f"{spec_path.stem}.h5"
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(friction_sweep.__version__, prog_name="fsweep")
+def main():
+    """Sweep a 1-DoF oscillator with Coulomb friction over frequency ratio r and force ratio beta."""
+
+
+@main.command()
+@click.argument("spec", type=click.Path(dir_okay=False, path_type=Path))
+def validate(spec: Path):
+    """Check SPEC without computing or writing anything."""
+    s = _load(spec)
+    n_r, n_b = s.frequency_ratio.size, s.force_ratio.size
+    click.echo(
+        f"{spec}: ok: excitation {s.scene.excitation}, method {s.method}, "
+        f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
+        f"outputs {', '.join(s.outputs)}, output {_output_path(spec, s, None)}"
+    )
+
+
+@main.command()
+@click.argument("spec", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), help="Result file (overrides the spec's `output`).")
+@click.option("--overwrite", is_flag=True, help="Replace an existing result (atomically).")
+@click.option("-j", "--jobs", type=click.IntRange(min=1), default=1, show_default=True, help="Worker processes.")
+@click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
+def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool):
+    """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
+    # imported here so that `fsweep validate` and `--help` stay fast
+    from friction_sweep.storage import cube, provenance
+    from friction_sweep.sweep.runner import run_grid
+
+    s = _load(spec)
+    out = _output_path(spec, s, output)
+    if out.exists() and not overwrite:
+        _fail(f"{out} exists; pass --overwrite to replace it")
+    if out.exists() and out.is_dir():
+        _fail(f"{out} is a directory")
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        _fail(f"cannot create the output folder {out.parent}: {err.strerror or err}", EXIT_RUNTIME)
+
+    method = methods.get(s.method)
+    r, beta = s.frequency_ratio, s.force_ratio
+    start = time.perf_counter()
+    with _progress(quiet, r.size * beta.size) as advance:
+        arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, jobs=jobs, on_tile=advance)
+    elapsed = time.perf_counter() - start
+
+    command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)] + (["--overwrite"] if overwrite else []))
+    ds = cube.build_dataset(
+        arrays,
+        frequency_ratio=r,
+        force_ratio=beta,
+        excitation=s.scene.excitation,
+        title=f"friction_sweep: {s.scene.excitation} excitation, method {s.method}",
+        history=provenance.history_line(command),
+        attrs=provenance.attributes(
+            spec_text=s.text,
+            spec_path=str(spec),
+            excitation=s.scene.excitation,
+            method=s.method,
+            settings=method.SETTINGS,
+        ),
+    )
+    try:
+        cube.write_atomic(ds, out, overwrite=overwrite)
+    except FileExistsError:
+        _fail(f"{out} appeared while the sweep ran; nothing was replaced (pass --overwrite)")
+    except OSError as err:
+        _fail(f"could not write {out}: {err}; nothing was written", EXIT_RUNTIME)
+
+    click.echo(f"wrote {out}")
+    click.echo(
+        f"  {s.scene.excitation} excitation, method {s.method}: {beta.size} force ratios x "
+        f"{r.size} frequency ratios = {beta.size * r.size} points in {elapsed:.2f} s"
+    )
+    if "regime" in ds:
+        click.echo("  regimes: " + _regime_summary(ds["regime"].values))
+
+
+def _regime_summary(codes) -> str:
+    return ", ".join(f"{name} {n}" for name, n in regimes.counts(codes).items())
+
+
+class _progress:
+    """A rich progress bar on stderr (points done, rate, time left); silent when quiet or not a tty."""
+
+    def __init__(self, quiet: bool, total: int):
+        from rich.console import Console
+
+        self.console = Console(stderr=True)
+        self.enabled = not quiet and self.console.is_terminal
+        self.total = total
+
+    def __enter__(self):
+        if not self.enabled:
+            return lambda n: None
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
+
+        self.bar = Progress(
+            TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TextColumn("points"),
+            TimeRemainingColumn(), console=self.console, transient=True,
+        )
+        self.bar.start()
+        task = self.bar.add_task("sweep", total=self.total)
+        return lambda n: self.bar.advance(task, n)
+
+    def __exit__(self, *exc):
+        if self.enabled:
+            self.bar.stop()
+        return False
+
+
+@main.command()
+@click.argument("result", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+def info(result: Path):
+    """Describe a result cube: dims, method, provenance, regime counts."""
+    from friction_sweep.storage import cube
+
+    try:
+        ds = cube.open_cube(result)
+    except Exception as err:  # any reader failure means: not a cube we can read
+        _fail(f"{result} is not a readable result cube: {err}")
+    a = ds.attrs
+    if "friction_sweep_version" not in a:
+        _fail(f"{result} is not a friction_sweep result cube (no provenance attributes)")
+    click.echo(f"{result}")
+    click.echo("  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()))
+    for name in ("frequency_ratio", "force_ratio"):
+        if name in ds.coords and ds.sizes[name]:
+            v = ds[name].values
+            click.echo(f"  {name}: {v.min():g} .. {v.max():g}")
+    click.echo(f"  excitation: {a.get('excitation')}, method: {a.get('method')}")
+    click.echo(f"  variables: {', '.join(ds.data_vars)}")
+    click.echo(f"  history: {a.get('history')}")
+    versions = ", ".join(
+        f"{k[: -len('_version')]} {v}" for k, v in a.items() if k.endswith("_version")
+    )
+    click.echo(f"  versions: {versions}")
+    click.echo(f"  spec: {a.get('spec_path')}")
+    if "regime" in ds:
+        click.echo("  regimes: " + _regime_summary(ds["regime"].values))
+    for name in ("transmissibility", "peak_transmissibility"):
+        if name in ds:
+            v = ds[name].values
+            finite = np.isfinite(v)
+            if finite.any():
+                click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} ({finite.sum()} finite of {v.size})")

@@ -1,0 +1,22 @@
+"""Registry of sweep methods. A method is one module declaring what it can do:
+
+    NAME, EXCITATIONS, SETTINGS (dict, recorded in the cube),
+    variables_for(excitation, outputs) -> names, compute_tile(excitation, r, beta, outputs) -> arrays
+
+New methods (event, rk4, paper, auto) register here with the same interface.
+"""
+
+from __future__ import annotations
+
+from types import ModuleType
+
+from friction_sweep.methods import theory
+
+REGISTRY: dict[str, ModuleType] = {theory.NAME: theory}
+
+
+def get(name: str) -> ModuleType:
+    try:
+        return REGISTRY[name]
+    except KeyError:
+        raise KeyError(f"unknown method {name!r} (available: {', '.join(sorted(REGISTRY))})") from None

@@ -1,0 +1,149 @@
+"""Den Hartog's theory as a sweep method: closed forms on one tile of the (beta, r) grid.
+
+Validity and the forecast regime, for friction ratio beta (the scene's convention) at r:
+
+    stuck       force/base: beta >= 1 (paper Eq. 24);  joined: beta >= r^2 (Eq. 41-42)
+    unbounded   r == 1 and b < pi/4 (b = beta, or beta/r^2 for joined; Eqs. 14-15)
+    continuous  b == 0 (linear, r != 1), or b < beta*(r) (Eq. 16 / 23b / 40)
+    stick_slip  everything else
+
+Ties go to the side the paper's inequalities put them: beta exactly 1 (or r^2) is stuck, b exactly
+beta*(r) is stick_slip. r^2 is the double-precision product r*r.
+
+Numbers are written only where the theory backs them: continuous points get every output; stuck
+points get the exact no-motion values (force/base: no motion, transmissibility 0, phases undefined;
+joined: the mass rides with the wall, transmissibility 1, phase 0); stick_slip and unbounded
+points get NaN and their regime.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from friction_sweep import regimes
+from friction_sweep.theory import den_hartog as dh
+from friction_sweep.theory import joined
+from friction_sweep.theory.phase import wrap_lag_degrees
+
+NAME = "theory"
+EXCITATIONS = ("force", "base", "joined")
+
+#: what this method writes for each requested output group, per excitation
+VARIABLES = {
+    "transmissibility": ("transmissibility", "peak_transmissibility"),
+    "phase": ("phase", "peak_phase"),
+    "regime": ("regime", "stops_per_period"),
+}
+JOINED_EXTRA = {
+    "transmissibility": ("relative_peak_amplitude",),
+    "phase": ("relative_peak_phase", "peak_phase_xz"),
+}
+
+SETTINGS = {
+    "first_harmonic": "exact x0 cos(r t) term plus Gauss-Legendre projection of the friction part, "
+    "40 + ceil((1 + r) pi / r) nodes over a half period",
+    "continuity_sup_S": "dense samples (>= 2048, 256 per natural period) then golden-section refinement",
+    "joined_peak": "dense samples of |x| then bisection on d|x|/dtau",
+}
+
+
+def variables_for(excitation: str, outputs) -> tuple[str, ...]:
+    """Per-point variable names this method writes for the requested output groups."""
+    names: list[str] = []
+    for group in outputs:
+        names.extend(VARIABLES[group])
+        if excitation == "joined":
+            names.extend(JOINED_EXTRA.get(group, ()))
+    return tuple(names)
+
+
+def forecast_regime(excitation, r, beta, beta_star):
+    """Regime forecast on broadcast arrays (see the module docstring for the rules and ties)."""
+    r, beta, beta_star = np.broadcast_arrays(r, beta, beta_star)
+    b = beta / (r * r) if excitation == "joined" else beta
+    stuck = beta >= (r * r if excitation == "joined" else 1.0)
+    at_resonance = r == 1.0
+    continuous = (b == 0.0) | (b < beta_star)
+    code = np.full(r.shape, regimes.STICK_SLIP, dtype=np.int8)
+    code[continuous] = regimes.CONTINUOUS
+    code[at_resonance & (b < dh.RESONANCE_FRICTION_LIMIT)] = regimes.UNBOUNDED
+    code[stuck] = regimes.STUCK
+    return code
+
+
+def continuous_limit(excitation, r):
+    """beta*(r) in the scene's force-ratio convention: r^2 beta*(r) for joined (Eq. 40)."""
+    r = np.asarray(r, dtype=float)
+    limit = dh.continuous_limit(r)
+    return r * r * limit if excitation == "joined" else limit
+
+
+def compute_tile(excitation: str, r, beta, outputs) -> dict[str, np.ndarray]:
+    """All requested outputs on the tile beta x r, arrays of shape (len(beta), len(r)).
+
+    Returns the per-point variables plus `continuous_limit` (shape (len(r),)).
+    """
+    r = np.asarray(r, dtype=float)
+    beta = np.asarray(beta, dtype=float)
+    bstar = dh.continuous_limit(r)
+    R, B = np.meshgrid(r, beta)
+    code = forecast_regime(excitation, R, B, bstar[None, :])
+    names = variables_for(excitation, outputs)
+    out = {name: np.full(R.shape, np.nan) for name in names if name != "regime"}
+    if "regime" in names:
+        out["regime"] = code
+        out["stops_per_period"] = np.where(
+            (code == regimes.CONTINUOUS) | (code == regimes.STUCK), 0.0, np.nan
+        )
+    _fill_stuck(excitation, out, code == regimes.STUCK)
+    sel = code == regimes.CONTINUOUS
+    if np.any(sel):
+        _fill_continuous(excitation, out, R[sel], B[sel], sel)
+    out["continuous_limit"] = r * r * bstar if excitation == "joined" else bstar
+    return out
+
+
+def _put(out, name, sel, values):
+    if name in out:
+        out[name][sel] = values
+
+
+def _fill_stuck(excitation, out, sel):
+    if excitation == "joined":  # the mass rides with the wall: x = y exactly
+        for name, value in (
+            ("transmissibility", 1.0),
+            ("peak_transmissibility", 1.0),
+            ("phase", 0.0),
+            ("peak_phase", 0.0),
+            ("relative_peak_amplitude", 0.0),
+        ):
+            _put(out, name, sel, value)
+    else:  # no motion: amplitude 0, phase undefined (stays NaN)
+        _put(out, "transmissibility", sel, 0.0)
+        _put(out, "peak_transmissibility", sel, 0.0)
+
+
+def _fill_continuous(excitation, out, r, beta, sel):
+    b = beta / (r * r) if excitation == "joined" else beta
+    x0 = dh.amplitude(r, b)
+    phi = dh.phase(r, b)
+    a1, b1 = dh.first_harmonic(r, b)
+    if excitation == "joined":
+        # x = z + y: first harmonic r^2 (a1, b1) + (cos phi, -sin phi); y lags nothing (theta_y = -phi)
+        xa = r * r * a1 + np.cos(phi)
+        xb = r * r * b1 - np.sin(phi)
+        _put(out, "transmissibility", sel, np.hypot(xa, xb))
+        _put(out, "phase", sel, wrap_lag_degrees(np.arctan2(xb, xa) + phi))
+        _put(out, "relative_peak_amplitude", sel, r * r * x0)  # Eq. 34: z0 / Y
+        _put(out, "relative_peak_phase", sel, wrap_lag_degrees(phi))  # phi_yz, Eq. 33
+        if "peak_transmissibility" in out or "peak_phase" in out:
+            peak, t_pos = joined.peak_of_absolute(r, b, phi)
+            theta_x = r * t_pos  # phase position of the maximum of x; z peaks at 0, y at -phi
+            _put(out, "peak_transmissibility", sel, peak)  # Eq. 37
+            _put(out, "peak_phase", sel, wrap_lag_degrees(theta_x + phi))  # phi_xy, Eq. 44
+            _put(out, "peak_phase_xz", sel, wrap_lag_degrees(-theta_x))  # phi_xz, Eq. 43
+    else:
+        _put(out, "transmissibility", sel, np.hypot(a1, b1))
+        _put(out, "phase", sel, wrap_lag_degrees(np.arctan2(b1, a1) + phi))
+        _put(out, "peak_transmissibility", sel, x0)  # Eq. 11 / 21-22
+        _put(out, "peak_phase", sel, wrap_lag_degrees(phi))  # Eq. 10 / 20

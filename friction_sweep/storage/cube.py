@@ -1,0 +1,76 @@
+"""Assemble method outputs into the labelled cube, and write/read it (netCDF4 via h5netcdf)."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from friction_sweep.storage import provenance
+from friction_sweep.storage.schema import CONVENTIONS, COORDS, VARIABLES
+
+ENGINE = "h5netcdf"
+
+
+def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
+                  history: str) -> xr.Dataset:
+    """A Dataset of the given arrays, each labelled and given CF attributes from the schema table."""
+    coords = {}
+    for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio)):
+        var = COORDS[name]
+        coords[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+    data_vars = {}
+    for name, values in arrays.items():
+        var = VARIABLES[name]  # KeyError here means a method produced an undeclared variable
+        data_vars[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+    ds = xr.Dataset(data_vars, coords=coords)
+    ds.attrs.update({"Conventions": CONVENTIONS, "title": title, "history": history})
+    ds.attrs.update(attrs)
+    return ds
+
+
+def _encoding(ds: xr.Dataset) -> dict:
+    # explicit fill values: NaN for floats, none for the flag variable (every code is meaningful)
+    enc = {}
+    for name, var in ds.variables.items():
+        if np.issubdtype(var.dtype, np.floating):
+            enc[name] = {"_FillValue": np.nan if name not in ds.coords else None}
+        else:
+            enc[name] = {"_FillValue": None}
+    return enc
+
+
+def write_atomic(ds: xr.Dataset, path: Path, *, overwrite: bool) -> None:
+    """Write to a temporary file in the target folder, then rename into place.
+
+    A run that fails or is interrupted leaves the target untouched and removes its temporary file.
+    Without `overwrite`, an existing target is never replaced (checked again at the final link).
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine=ENGINE, encoding=_encoding(ds))
+        with open(tmp, "rb") as fh:
+            os.fsync(fh.fileno())
+        if overwrite:
+            os.replace(tmp, path)
+        else:
+            os.link(tmp, path)  # fails if the target appeared meanwhile: never clobber
+            os.unlink(tmp)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def open_cube(path) -> xr.Dataset:
+    """Open a result cube (loaded into memory, the file closed)."""
+    with xr.open_dataset(path, engine=ENGINE) as ds:
+        return ds.load()
+
+
+__all__ = ["ENGINE", "build_dataset", "write_atomic", "open_cube", "provenance"]

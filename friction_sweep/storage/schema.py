@@ -1,0 +1,115 @@
+"""The result cube contract: every stored variable's dims, dtype and CF attributes, in one table.
+
+Figure scripts and users rely on these names; methods only produce arrays keyed by them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from friction_sweep import regimes
+from friction_sweep.theory.phase import PHASE_RANGE_DEG
+
+GRID_DIMS = ("force_ratio", "frequency_ratio")
+CONVENTIONS = "CF-1.10"
+
+
+@dataclass(frozen=True)
+class Variable:
+    dims: tuple[str, ...]
+    dtype: type
+    long_name: str
+    units: str
+    extra: dict = field(default_factory=dict)
+
+    def attrs(self, excitation: str) -> dict:
+        attrs = {"long_name": self.long_name.format(ref=_reference(excitation)), "units": self.units}
+        attrs.update(self.extra)
+        return attrs
+
+
+def _reference(excitation: str) -> str:
+    return "F0/k" if excitation == "force" else "Y"
+
+
+_PHASE_NOTE = {
+    "comment": "lag of the response behind the excitation, positive when the response follows; "
+    f"wrapped into [{PHASE_RANGE_DEG[0]:g}, {PHASE_RANGE_DEG[1]:g}) degrees"
+}
+
+COORDS = {
+    "frequency_ratio": Variable(("frequency_ratio",), np.float64, "frequency ratio r = omega / omega_n", "1"),
+    "force_ratio": Variable(
+        ("force_ratio",),
+        np.float64,
+        "force ratio beta = friction force / amplitude of the spring or external force",
+        "1",
+    ),
+}
+
+VARIABLES = {
+    "transmissibility": Variable(
+        GRID_DIMS,
+        np.float64,
+        "first-harmonic displacement transmissibility |X(r)|/|Y(r)| (response amplitude at the "
+        "forcing frequency over {ref})",
+        "1",
+    ),
+    "peak_transmissibility": Variable(
+        GRID_DIMS, np.float64, "peak displacement transmissibility max|x| / {ref}", "1"
+    ),
+    "phase": Variable(
+        GRID_DIMS,
+        np.float64,
+        "first-harmonic phase lag of the response behind the excitation",
+        "degree",
+        _PHASE_NOTE,
+    ),
+    "peak_phase": Variable(
+        GRID_DIMS,
+        np.float64,
+        "phase lag between the maxima of excitation and response",
+        "degree",
+        _PHASE_NOTE,
+    ),
+    "regime": Variable(
+        GRID_DIMS,
+        np.int8,
+        "motion regime of the steady state",
+        "1",
+        {"flag_values": regimes.FLAG_VALUES, "flag_meanings": regimes.FLAG_MEANINGS},
+    ),
+    "stops_per_period": Variable(
+        GRID_DIMS,
+        np.float64,
+        "number of stops (slip to stick transitions) per forcing period; NaN where unknown",
+        "1",
+    ),
+    "continuous_limit": Variable(
+        ("frequency_ratio",),
+        np.float64,
+        "largest force ratio with continuous (non-stop) motion, Den Hartog's beta*(r) in the "
+        "scene's force-ratio convention",
+        "1",
+    ),
+    # joined base-wall excitation only: the relative motion z = x - y (paper Sect. 4)
+    "relative_peak_amplitude": Variable(
+        GRID_DIMS, np.float64, "peak relative mass-wall displacement |Z|/|Y| (paper Eq. 34)", "1"
+    ),
+    "relative_peak_phase": Variable(
+        GRID_DIMS,
+        np.float64,
+        "phase lag phi_yz of the relative motion z behind the base motion y, between maxima (Eq. 33)",
+        "degree",
+        _PHASE_NOTE,
+    ),
+    "peak_phase_xz": Variable(
+        GRID_DIMS,
+        np.float64,
+        "phase lag phi_xz of the relative motion z behind the absolute motion x, between maxima (Eq. 43)",
+        "degree",
+        _PHASE_NOTE,
+    ),
+}

@@ -1,0 +1,251 @@
+"""The command line, driven through click's CliRunner: run, validate, info, and bad input."""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+
+from friction_sweep import regimes
+from friction_sweep.cli import main
+from friction_sweep.storage import cube, schema
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIGS = sorted((ROOT / "configs").glob("*.yaml"))
+
+SMALL = """\
+scene:
+  excitation: {excitation}
+  effects: {{}}
+grid:
+  frequency_ratio: {{start: 0.2, stop: 3.0, num: 15}}
+  force_ratio: [0.0, 0.3, 0.9]
+method: theory
+outputs: [transmissibility, phase, regime]
+output: {output}
+"""
+
+
+@pytest.fixture
+def runner():
+    return CliRunner()
+
+
+def write_spec(tmp_path, excitation="base", output="out.h5", text=None):
+    path = tmp_path / "spec.yaml"
+    path.write_text(text if text is not None else SMALL.format(excitation=excitation, output=output))
+    return path
+
+
+def in_dir(path):
+    """Run the CLI from `path` so relative outputs land there."""
+    class _Cwd:
+        def __enter__(self):
+            self.old = os.getcwd()
+            os.chdir(path)
+
+        def __exit__(self, *exc):
+            os.chdir(self.old)
+
+    return _Cwd()
+
+
+@pytest.mark.parametrize("excitation", ["force", "base", "joined"])
+def test_run_writes_a_cube_that_keeps_the_contract(runner, tmp_path, excitation):
+    spec = write_spec(tmp_path, excitation)
+    with in_dir(tmp_path):
+        res = runner.invoke(main, ["run", str(spec)])
+    assert res.exit_code == 0, res.output
+    out = tmp_path / "out.h5"
+    assert f"wrote {Path('out.h5')}" in res.output
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert tuple(ds["transmissibility"].dims) == ("force_ratio", "frequency_ratio")
+    assert ds.sizes == {"force_ratio": 3, "frequency_ratio": 15}
+    for name in ("transmissibility", "peak_transmissibility", "phase", "peak_phase", "regime",
+                 "stops_per_period", "continuous_limit"):
+        assert name in ds, name
+        assert ds[name].attrs["long_name"]
+        assert ds[name].attrs["units"] in ("1", "degree")
+    assert ds["phase"].attrs["units"] == "degree"
+    assert ds["regime"].dtype == np.int8
+    assert list(ds["regime"].attrs["flag_values"]) == [0, 1, 2, 3, 4]
+    assert ds["regime"].attrs["flag_meanings"].split() == list(regimes.NAMES)
+    assert ds.attrs["Conventions"].startswith("CF-")
+    assert "fsweep run" in ds.attrs["history"]
+    assert ds.attrs["spec"] == spec.read_text()
+    for key in ("friction_sweep_version", "numpy_version", "numba_version", "xarray_version", "method_settings"):
+        assert ds.attrs[key]
+    assert ds.attrs["method"] == "theory" and ds.attrs["excitation"] == excitation
+    # joined scenes also carry the relative motion of Sect. 4
+    assert ("relative_peak_amplitude" in ds) == (excitation == "joined")
+    # and the default engine opens it too
+    xr.open_dataset(out).close()
+    ds.close()
+
+
+def test_cube_round_trips_unchanged(tmp_path):
+    from friction_sweep.methods import theory
+    from friction_sweep.storage import provenance
+
+    r = np.linspace(0.2, 3.0, 12)
+    beta = np.array([0.0, 0.4, 1.0])
+    arrays = theory.compute_tile("joined", r, beta, ("transmissibility", "phase", "regime"))
+    ds = cube.build_dataset(arrays, frequency_ratio=r, force_ratio=beta, excitation="joined", title="t",
+                            history=provenance.history_line("test"),
+                            attrs=provenance.attributes(spec_text="x: 1\n", spec_path="s.yaml",
+                                                        excitation="joined", method="theory", settings={}))
+    path = tmp_path / "c.h5"
+    cube.write_atomic(ds, path, overwrite=False)
+    back = cube.open_cube(path)
+    xr.testing.assert_identical(back, ds)
+    for name in arrays:
+        np.testing.assert_array_equal(back[name].values, arrays[name])  # NaNs in the same places
+        assert back[name].dtype == ds[name].dtype
+
+
+def test_existing_output_is_never_replaced_without_overwrite(runner, tmp_path):
+    spec = write_spec(tmp_path)
+    out = tmp_path / "out.h5"
+    out.write_bytes(b"precious")
+    with in_dir(tmp_path):
+        res = runner.invoke(main, ["run", str(spec)])
+        assert res.exit_code == 2
+        assert "exists" in res.output and "--overwrite" in res.output
+        assert out.read_bytes() == b"precious"
+        res = runner.invoke(main, ["run", str(spec), "--overwrite"])
+    assert res.exit_code == 0, res.output
+    assert xr.open_dataset(out, engine="h5netcdf").sizes["frequency_ratio"] == 15
+    assert [p.name for p in tmp_path.iterdir() if p.name.endswith(".tmp")] == []
+
+
+def test_failed_write_leaves_target_and_no_temporary(tmp_path, monkeypatch):
+    from friction_sweep.methods import theory
+
+    r, beta = np.array([0.5, 2.0]), np.array([0.1])
+    ds = cube.build_dataset(theory.compute_tile("base", r, beta, ("regime",)), frequency_ratio=r,
+                            force_ratio=beta, excitation="base", title="t", history="h", attrs={})
+    target = tmp_path / "c.h5"
+    target.write_bytes(b"old result")
+
+    def boom(self, *a, **k):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", boom)
+    with pytest.raises(OSError):
+        cube.write_atomic(ds, target, overwrite=True)
+    assert target.read_bytes() == b"old result"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.h5"]
+
+
+def test_output_option_overrides_spec(runner, tmp_path):
+    spec = write_spec(tmp_path)
+    other = tmp_path / "sub" / "x.h5"
+    res = runner.invoke(main, ["run", str(spec), "-o", str(other), "--quiet"])
+    assert res.exit_code == 0, res.output
+    assert other.exists() and not (tmp_path / "out.h5").exists()
+
+
+def test_jobs_do_not_change_the_numbers(runner, tmp_path):
+    text = SMALL.format(excitation="joined", output="a.h5").replace("num: 15", "num: 70")
+    spec = write_spec(tmp_path, text=text)
+    a, b = tmp_path / "a.h5", tmp_path / "b.h5"
+    assert runner.invoke(main, ["run", str(spec), "-o", str(a), "-j", "1"]).exit_code == 0
+    res = runner.invoke(main, ["run", str(spec), "-o", str(b), "-j", "2"])
+    assert res.exit_code == 0, res.output
+    da, db = cube.open_cube(a), cube.open_cube(b)
+    for name in da.data_vars:
+        np.testing.assert_array_equal(da[name].values, db[name].values)
+
+
+def test_validate_checks_only(runner, tmp_path):
+    spec = write_spec(tmp_path)
+    with in_dir(tmp_path):
+        res = runner.invoke(main, ["validate", str(spec)])
+    assert res.exit_code == 0
+    assert "ok" in res.output and "45 points" in res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
+
+
+BAD = {
+    "negative force ratio": ("force_ratio: [0.0, 0.3, 0.9]", "force_ratio: [0.0, -0.3, 0.9]", "grid.force_ratio[1]"),
+    "nan": ("force_ratio: [0.0, 0.3, 0.9]", "force_ratio: [0.0, .nan]", "grid.force_ratio[1]"),
+    "zero frequency": ("{start: 0.2, stop: 3.0, num: 15}", "[0.0, 1.0]", "grid.frequency_ratio[0]"),
+    "empty grid": ("force_ratio: [0.0, 0.3, 0.9]", "force_ratio: []", "grid.force_ratio"),
+    "unknown key": ("method: theory", "method: theory\nsolver: fast", "solver"),
+    "unknown excitation": ("excitation: base", "excitation: wall", "scene.excitation"),
+    "duplicate key": ("method: theory", "method: theory\nmethod: theory", "method"),
+    "string number": ("force_ratio: [0.0, 0.3, 0.9]", "force_ratio: ['0.3']", "grid.force_ratio[0]"),
+    "unknown effect": ("effects: {}", "effects: {magnets: 1}", "scene.effects"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_specs_exit_2_name_the_key_and_write_nothing(runner, tmp_path, case):
+    old, new, key = BAD[case]
+    text = SMALL.format(excitation="base", output="out.h5")
+    assert old in text
+    spec = write_spec(tmp_path, text=text.replace(old, new, 1))
+    with in_dir(tmp_path):
+        for command in ("run", "validate"):
+            res = runner.invoke(main, [command, str(spec)])
+            assert res.exit_code == 2, (command, res.output)
+            assert str(spec) in res.output and key in res.output, res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
+
+
+def test_malformed_yaml_reports_line_and_column(runner, tmp_path):
+    spec = write_spec(tmp_path, text="scene:\n  excitation: base\ngrid: [unclosed\n")
+    res = runner.invoke(main, ["run", str(spec)])
+    assert res.exit_code == 2
+    # the parser notices the unclosed flow sequence at the end of the stream, line 4
+    assert f"{spec}:4:1: invalid YAML" in res.output
+    assert "line 3, column 7" in res.output  # and says where the sequence started
+
+
+def test_missing_spec_file_exits_2(runner, tmp_path):
+    res = runner.invoke(main, ["run", str(tmp_path / "nope.yaml")])
+    assert res.exit_code == 2
+    assert "nope.yaml" in res.output
+
+
+def test_info_describes_the_cube(runner, tmp_path):
+    spec = write_spec(tmp_path, "joined")
+    with in_dir(tmp_path):
+        assert runner.invoke(main, ["run", str(spec)]).exit_code == 0
+        res = runner.invoke(main, ["info", "out.h5"])
+    assert res.exit_code == 0, res.output
+    for text in ("force_ratio 3", "frequency_ratio 15", "excitation: joined", "method: theory",
+                 "numpy", "numba", "xarray", "regimes:", "stuck", "continuous"):
+        assert text in res.output
+    ds = cube.open_cube(tmp_path / "out.h5")
+    counts = regimes.counts(ds["regime"].values)
+    assert f"stuck {counts['stuck']}," in res.output
+
+
+def test_info_refuses_a_foreign_file(runner, tmp_path):
+    junk = tmp_path / "junk.h5"
+    junk.write_bytes(b"not hdf5")
+    res = runner.invoke(main, ["info", str(junk)])
+    assert res.exit_code == 2
+    assert "not a readable result cube" in res.output
+
+
+@pytest.mark.parametrize("config", CONFIGS, ids=[c.stem for c in CONFIGS])
+def test_every_shipped_config_runs_and_keeps_the_contract(runner, tmp_path, config):
+    out = tmp_path / f"{config.stem}.h5"
+    res = runner.invoke(main, ["run", str(config), "-o", str(out), "--quiet"])
+    assert res.exit_code == 0, res.output
+    ds = cube.open_cube(out)
+    assert set(ds.dims) == {"force_ratio", "frequency_ratio"}
+    for name, var in ds.data_vars.items():
+        spec = schema.VARIABLES[name]
+        assert var.dims == spec.dims
+        assert var.attrs["units"] == spec.units
+    # the theory writes numbers only where it can back them
+    if "regime" in ds and "transmissibility" in ds:
+        code = ds["regime"].values
+        t = ds["transmissibility"].values
+        assert np.all(np.isnan(t[code == regimes.STICK_SLIP]))
+        assert np.all(np.isfinite(t[code == regimes.CONTINUOUS]))
