@@ -20,3 +20,16 @@ def counts(codes) -> dict[str, int]:
     """Number of grid points in each regime, by name (every regime listed, zeros included)."""
     codes = np.asarray(codes).ravel()
     return {name: int(np.count_nonzero(codes == value)) for value, name in zip(FLAG_VALUES, NAMES)}
+
+
+# Why the steady-state search of a simulation method stopped (variable `steady_state`).
+CONVERGED = np.int8(0)  # the stroboscopic map repeated (period 1 or k) within tolerance
+PERIOD_CAP = np.int8(1)  # no periodic state within the cap on forcing periods
+EVENT_BUDGET = np.int8(2)  # the per-point work budget (events or steps) ran out
+NONFINITE = np.int8(3)  # a state became NaN or infinite
+GROWING = np.int8(4)  # the amplitude kept growing at a steady rate (reported as `unbounded`)
+NOT_SIMULATED = np.int8(5)  # the point was not simulated (e.g. `auto` used the theory)
+
+STEADY_NAMES = ("converged", "period_cap", "event_budget", "nonfinite", "growing", "not_simulated")
+STEADY_FLAG_VALUES = np.arange(len(STEADY_NAMES), dtype=np.int8)
+STEADY_FLAG_MEANINGS = " ".join(STEADY_NAMES)
