@@ -1,0 +1,185 @@
+"""Closed-form pieces of the motion between events (DESIGN.md §3).
+
+Equation in slip direction sig = +-1 (period-local time t, forcing phase r t):
+
+    q'' + 2 zeta q' + q + sig bk = A cos(r t)
+
+A slip segment is written from its own start t0 in local time s = t - t0, with the forcing split as
+A cos(r t0) cos(r s) - A sin(r t0) sin(r s). For zeta = 0 the responses from rest to cos(r s) and
+sin(r s) are written without dividing by 1 - r^2:
+
+    C(s)  = (cos rs - cos s)/(1 - r^2)   = 2/(1+r) sin((1+r)s/2) g(s)
+    Sn(s) = (sin rs - r sin s)/(1 - r^2) = (sin s - 2 cos((1+r)s/2) g(s)) / (1+r)
+    g(s)  = sin((1-r)s/2)/(1-r) = (s/2) sin(u)/u,  u = (1-r)s/2
+
+so the kernel is exact and cancellation-free at r = 1. With viscous damping (zeta > 0, a declared
+effect) the standard damped closed form is used instead; zeta == 0 never touches that branch.
+"""
+
+from __future__ import annotations
+
+import math
+
+from friction_sweep.kernels.jit import jit
+
+TWO_PI = 2.0 * math.pi
+
+
+@jit
+def sin_over(u):
+    """sin(u)/u, with its series near 0."""
+    if abs(u) < 1e-4:
+        u2 = u * u
+        return 1.0 - u2 / 6.0 * (1.0 - u2 / 20.0)
+    return math.sin(u) / u
+
+
+@jit
+def slip_state(s, q0, v0, sig, A, r, bk, zeta, ca, sa):
+    """(q, v) at local time s of a slip segment that starts at (q0, v0) with cos/sin(r t0) = ca, sa."""
+    if zeta == 0.0:
+        h = 0.5 * (1.0 + r) * s
+        g = 0.5 * s * sin_over(0.5 * (1.0 - r) * s)
+        sh = math.sin(h)
+        ch = math.cos(h)
+        inv = 1.0 / (1.0 + r)
+        c_resp = 2.0 * inv * sh * g
+        s_resp = (math.sin(s) - 2.0 * ch * g) * inv
+        c_rate = (2.0 * ch * g + math.sin(r * s)) * inv
+        s_rate = r * c_resp
+        cs = math.cos(s)
+        ss = math.sin(s)
+        q = q0 * cs + v0 * ss - sig * bk * (1.0 - cs) + A * (ca * c_resp - sa * s_resp)
+        v = -(q0 + sig * bk) * ss + v0 * cs + A * (ca * c_rate - sa * s_rate)
+        return q, v
+    # viscous damping, 0 < zeta < 1: particular solution Re[G e^{i r (t0 + s)}], G = A / (1 - r^2 + 2i zeta r)
+    den_re = 1.0 - r * r
+    den_im = 2.0 * zeta * r
+    den2 = den_re * den_re + den_im * den_im
+    g_re = A * den_re / den2
+    g_im = -A * den_im / den2
+    h_re = g_re * ca - g_im * sa
+    h_im = g_re * sa + g_im * ca
+    crs = math.cos(r * s)
+    srs = math.sin(r * s)
+    p = h_re * crs - h_im * srs
+    dp = -r * (h_re * srs + h_im * crs)
+    wd = math.sqrt(1.0 - zeta * zeta)
+    c1 = q0 + sig * bk - h_re
+    c2 = (v0 + r * h_im + zeta * c1) / wd
+    e = math.exp(-zeta * s)
+    cw = math.cos(wd * s)
+    sw = math.sin(wd * s)
+    q = -sig * bk + p + e * (c1 * cw + c2 * sw)
+    v = dp + e * ((wd * c2 - zeta * c1) * cw - (zeta * c2 + wd * c1) * sw)
+    return q, v
+
+
+@jit
+def acceleration(q, v, sig, A, bk, zeta, phase):
+    """q'' in slip direction sig at forcing phase r t = phase."""
+    return A * math.cos(phase) - q - sig * bk - 2.0 * zeta * v
+
+
+@jit
+def curvature_bounds(rho, A, r, bk, zeta, hmax):
+    """Bounds M2 >= |v''| and M3 >= |v'''| over the next hmax of a slip segment.
+
+    In slip, d|(q, v)|/ds <= A + bk (damping only removes energy), so |(q, v)| <= rho_max below;
+    then v' = A cos - q - sig bk - 2 zeta v, v'' = -A r sin - v - 2 zeta v', v''' = -A r^2 cos - v'' ...
+    """
+    rho_max = rho + (A + bk) * hmax
+    a_max = A + bk + rho_max * (1.0 + 2.0 * zeta)
+    m2 = A * r + rho_max + 2.0 * zeta * a_max
+    m3 = A * r * r + a_max + 2.0 * zeta * m2
+    return m2, m3
+
+
+@jit
+def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
+    """First local time s in [0, s_end] at which the velocity in direction sig falls to vtol.
+
+    Returns (s, found, work). No stop can be skipped: from a sample with w = sig v > 0 and
+    w' = sig v', the bound sig v(s + d) >= w + w' d - M2 d^2 / 2 proves the next step d safe.
+    Near a simple root this is a Newton step with a safety margin (quadratic convergence); at a
+    grazing contact the steps shrink geometrically until w <= vtol, so no Zeno stall.
+    A segment that starts at rest (after a stop) skips its initial zero with the same bounds:
+    sig v >= w'(0) s - M2 s^2 / 2, or, if the start is a tie (w'(0) = 0), >= w''(0) s^2/2 - M3 s^3/6.
+    """
+    ca = math.cos(r * t0)
+    sa = math.sin(r * t0)
+    w = sig * v0
+    if w < 0.0:
+        return 0.0, True, 0
+    s = 0.0
+    if w <= vtol:
+        a0 = acceleration(q0, v0, sig, A, bk, zeta, r * t0)
+        wa = sig * a0
+        m2, m3 = curvature_bounds(math.hypot(q0, v0), A, r, bk, zeta, hmax)
+        s1 = 0.0
+        if wa > 0.0:
+            s1 = wa / m2
+        wj = sig * (-A * r * sa - v0 - 2.0 * zeta * a0)
+        # A tie: the force sits on the band edge (to rounding, |wa| <= atol) and moves outwards
+        # (wj > 0). Then sig v >= -|wa| s + wj s^2/2 - M3 s^3/6, positive on (2|wa|/wj, 3wj/M3).
+        atol = 1e-13 * (A + bk + abs(q0))
+        if wj > 0.0 and wa >= -atol:
+            s_tie = 1.5 * wj / m3
+            if wa >= 0.0 or s_tie > 4.0 * (-wa) / wj:
+                s1 = max(s1, s_tie)
+        if s1 <= 0.0:
+            return 0.0, True, 0  # cannot move in this direction: the caller decides again
+        s = min(s1, hmax, s_end)
+    work = 0
+    while True:
+        q, v = slip_state(s, q0, v0, sig, A, r, bk, zeta, ca, sa)
+        w = sig * v
+        if w <= vtol and s > 0.0:
+            return s, True, work
+        if s >= s_end:
+            return s_end, False, work
+        work += 1
+        if work > budget:
+            return s, False, work
+        phase = r * (t0 + s)
+        wa = sig * acceleration(q, v, sig, A, bk, zeta, phase)
+        m2, _ = curvature_bounds(math.hypot(q, v), A, r, bk, zeta, hmax)
+        disc = math.sqrt(wa * wa + 2.0 * m2 * w)
+        if wa >= 0.0:
+            d = (wa + disc) / m2
+        else:
+            d = 2.0 * w / (disc - wa)
+        s = min(s + min(d, hmax), s_end)
+
+
+@jit
+def stick_exit(t0, qs, A, r, bs):
+    """First time t >= t0 at which |A cos(r t) - qs| > bs (static friction), or inf if never.
+
+    Closed form: the force leaves the band through cos(r t) = (qs + bs)/A upwards or
+    cos(r t) = (qs - bs)/A downwards; each is an arccos, repeated every forcing period.
+    """
+    if A <= 0.0:
+        return math.inf
+    u0 = r * t0
+    f = A * math.cos(u0)
+    fdot = -A * r * math.sin(u0)
+    # on the band edge and moving out: leave now (avoids waiting a period because of rounding)
+    if (f - qs >= bs and fdot > 0.0) or (f - qs <= -bs and fdot < 0.0):
+        return t0
+    best = math.inf
+    c_hi = (qs + bs) / A
+    if c_hi < 1.0:
+        if c_hi < -1.0:
+            return t0
+        al = math.acos(c_hi)
+        k = math.ceil((u0 + al) / TWO_PI)
+        best = min(best, TWO_PI * k - al)
+    c_lo = (qs - bs) / A
+    if c_lo > -1.0:
+        if c_lo > 1.0:
+            return t0
+        al = math.acos(c_lo)
+        k = math.ceil((u0 - al) / TWO_PI)
+        best = min(best, al + TWO_PI * k)
+    return max(best / r, t0)
