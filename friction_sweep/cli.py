@@ -84,7 +84,8 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     r, beta = s.frequency_ratio, s.force_ratio
     start = time.perf_counter()
     with _progress(quiet, r.size * beta.size) as advance:
-        arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, jobs=jobs, on_tile=advance)
+        arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
+                          settings=s.settings, jobs=jobs, on_tile=advance)
     elapsed = time.perf_counter() - start
 
     command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)] + (["--overwrite"] if overwrite else []))
@@ -100,7 +101,7 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
             spec_path=str(spec),
             excitation=s.scene.excitation,
             method=s.method,
-            settings=method.SETTINGS,
+            settings={**method.SETTINGS, **s.settings, "effects": s.scene.effects.declared()},
         ),
     )
     try:

@@ -1,7 +1,8 @@
 """Registry of sweep methods. A method is one module declaring what it can do:
 
-    NAME, EXCITATIONS, SETTINGS (dict, recorded in the cube),
-    variables_for(excitation, outputs) -> names, compute_tile(excitation, r, beta, outputs) -> arrays
+    NAME, EXCITATIONS, EFFECTS (the physical effects it models), SETTINGS (defaults, recorded in the cube),
+    variables_for(excitation, outputs) -> names,
+    compute_tile(excitation, r, beta, outputs, effects=None, settings=None) -> arrays
 
 New methods (event, rk4, paper, auto) register here with the same interface.
 """
@@ -10,9 +11,9 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from friction_sweep.methods import theory
+from friction_sweep.methods import event, theory
 
-REGISTRY: dict[str, ModuleType] = {theory.NAME: theory}
+REGISTRY: dict[str, ModuleType] = {m.NAME: m for m in (theory, event)}
 
 
 def get(name: str) -> ModuleType:

@@ -27,6 +27,7 @@ from friction_sweep.theory.phase import wrap_lag_degrees
 
 NAME = "theory"
 EXCITATIONS = ("force", "base", "joined")
+EFFECTS: tuple[str, ...] = ()
 
 #: what this method writes for each requested output group, per excitation
 VARIABLES = {
@@ -78,11 +79,14 @@ def continuous_limit(excitation, r):
     return r * r * limit if excitation == "joined" else limit
 
 
-def compute_tile(excitation: str, r, beta, outputs) -> dict[str, np.ndarray]:
+def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
     """All requested outputs on the tile beta x r, arrays of shape (len(beta), len(r)).
 
-    Returns the per-point variables plus `continuous_limit` (shape (len(r),)).
+    Returns the per-point variables plus `continuous_limit` (shape (len(r),)). The theory models
+    no effects and has no settings (the spec layer refuses both before this is called).
     """
+    if effects:
+        raise ValueError(f"the theory models no effects (got {sorted(effects)})")
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
     bstar = dh.continuous_limit(r)

@@ -94,6 +94,18 @@ VARIABLES = {
         "scene's force-ratio convention",
         "1",
     ),
+    "stuck_fraction": Variable(GRID_DIMS, np.float64, "fraction of the steady-state period spent stuck", "1"),
+    "periods": Variable(GRID_DIMS, np.float64, "forcing periods simulated before the steady state was measured", "1"),
+    "steady_state": Variable(
+        GRID_DIMS,
+        np.int8,
+        "why the steady-state search stopped",
+        "1",
+        {"flag_values": regimes.STEADY_FLAG_VALUES, "flag_meanings": regimes.STEADY_FLAG_MEANINGS},
+    ),
+    "orbit_period": Variable(
+        GRID_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, k subharmonic)", "1"
+    ),
     # joined base-wall excitation only: the relative motion z = x - y (paper Sect. 4)
     "relative_peak_amplitude": Variable(
         GRID_DIMS, np.float64, "peak relative mass-wall displacement |Z|/|Y| (paper Eq. 34)", "1"

@@ -22,17 +22,18 @@ def tiles(n_frequencies: int, size: int = TILE_FREQUENCIES) -> list[slice]:
 
 
 def _compute(args):
-    method_name, excitation, r, beta, outputs = args
-    return methods.get(method_name).compute_tile(excitation, r, beta, outputs)
+    method_name, excitation, r, beta, outputs, effects, settings = args
+    return methods.get(method_name).compute_tile(excitation, r, beta, outputs, effects=effects, settings=settings)
 
 
-def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, outputs, *, jobs: int = 1,
-             on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
+def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, outputs, *, effects=None,
+             settings=None, jobs: int = 1, on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
     """Compute every requested variable on the full grid; `on_tile(points)` reports progress."""
     r = np.asarray(frequency_ratio, dtype=float)
     beta = np.asarray(force_ratio, dtype=float)
     parts = tiles(r.size)
-    work = [(method_name, excitation, r[s], beta, tuple(outputs)) for s in parts]
+    work = [(method_name, excitation, r[s], beta, tuple(outputs), dict(effects or {}), dict(settings or {}))
+            for s in parts]
     results: dict[str, np.ndarray] = {}
 
     def place(s: slice, tile: dict) -> None:

@@ -1,0 +1,85 @@
+"""The exact event-driven simulation as a sweep method (kernels in friction_sweep.kernels).
+
+Per grid point: from rest, march the stroboscopic map with closed-form slip and stick segments
+until it repeats (or shoot for the periodic orbit), then measure over whole periods. Valid in every
+regime; the theory's continuous limit is written alongside for reference.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from friction_sweep.kernels import steady
+from friction_sweep.methods import theory
+
+NAME = "event"
+EXCITATIONS = ("force", "base", "joined")
+EFFECTS = ("viscous_damping", "static_friction_ratio")
+
+VARIABLES = {
+    "transmissibility": ("transmissibility", "peak_transmissibility"),
+    "phase": ("phase", "peak_phase"),
+    "regime": ("regime", "stops_per_period", "stuck_fraction", "periods", "steady_state", "orbit_period"),
+}
+_SLOTS = {
+    "transmissibility": steady.OUT_TRANS,
+    "peak_transmissibility": steady.OUT_PEAK,
+    "phase": steady.OUT_PHASE,
+    "peak_phase": steady.OUT_PEAK_PHASE,
+    "regime": steady.OUT_REGIME,
+    "stops_per_period": steady.OUT_STOPS,
+    "stuck_fraction": steady.OUT_STUCK,
+    "periods": steady.OUT_PERIODS,
+    "steady_state": steady.OUT_STEADY,
+    "orbit_period": steady.OUT_ORBIT,
+}
+_INTEGER = {"regime": np.int8, "steady_state": np.int8}
+
+SETTINGS = dict(steady.DEFAULT_SETTINGS)
+
+
+def variables_for(excitation: str, outputs) -> tuple[str, ...]:
+    names: list[str] = []
+    for group in outputs:
+        names.extend(VARIABLES.get(group, ()))
+    return tuple(names)
+
+
+def point_parameters(excitation: str, r, beta, effects=None):
+    """Kernel parameters per point: forcing amplitude A, response offset c, kinetic and static
+    friction, damping ratio (DESIGN.md §1: joined is z'' + z + beta sgn z' = r^2 cos, x = z + cos)."""
+    effects = effects or {}
+    r = np.asarray(r, dtype=float)
+    beta = np.asarray(beta, dtype=float)
+    joined = excitation == "joined"
+    A = r * r if joined else np.ones_like(r)
+    c = np.full_like(r, 1.0 if joined else 0.0)
+    bk = beta.copy()
+    bs = beta * float(effects.get("static_friction_ratio", 1.0))
+    zeta = np.full_like(r, float(effects.get("viscous_damping", 0.0)))
+    return A, c, bk, bs, zeta
+
+
+def solve_flat(excitation, r, beta, effects=None, **settings):
+    """Raw kernel outputs (n, OUT_SIZE) for 1-D arrays of points."""
+    r = np.ascontiguousarray(r, dtype=float)
+    beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
+    A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
+    out = np.empty((r.size, steady.OUT_SIZE))
+    steady.solve_points(A, r, bk, bs, zeta, c, steady.settings_array(**settings), out)
+    return out
+
+
+def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
+    r = np.asarray(r, dtype=float)
+    beta = np.asarray(beta, dtype=float)
+    R, B = np.meshgrid(r, beta)
+    raw = solve_flat(excitation, R.ravel(), B.ravel(), effects, **(settings or {}))
+    result = {}
+    for name in variables_for(excitation, outputs):
+        values = raw[:, _SLOTS[name]].reshape(R.shape)
+        if name in _INTEGER:
+            values = values.astype(_INTEGER[name])
+        result[name] = values
+    result["continuous_limit"] = theory.continuous_limit(excitation, r)
+    return result
