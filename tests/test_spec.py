@@ -77,7 +77,7 @@ def test_demo_spec_from_file(tmp_path: Path):
     assert np.all(np.diff(r) > 0)
     assert spec.force_ratio.tolist() == [0.1, 0.3, 0.5]
     assert spec.scene.excitation == "base"
-    assert spec.scene.effects == {}
+    assert spec.scene.effects.declared() == {}
     assert spec.method == "theory"
     assert spec.outputs == ("transmissibility", "phase", "regime")
     assert spec.output == Path("results/demo.h5")
@@ -128,7 +128,7 @@ def test_defaults():
     assert spec.method == "theory"
     assert spec.outputs == OUTPUTS
     assert spec.output is None
-    assert spec.scene.effects == {}
+    assert spec.scene.effects.declared() == {}
     assert spec.source_path == "<string>"
 
 
@@ -139,12 +139,12 @@ def test_outputs_subset_in_canonical_order():
 
 def test_empty_effects_value_means_none():
     spec = parse_spec_text(spec_text(effects=""))
-    assert spec.scene.effects == {}
+    assert spec.scene.effects.declared() == {}
 
 
 def test_constants():
     assert EXCITATIONS == ("force", "base", "joined")
-    assert METHODS_AVAILABLE == ("theory",)
+    assert METHODS_AVAILABLE[0] == "theory" and "event" in METHODS_AVAILABLE
     assert OUTPUTS == ("transmissibility", "phase", "regime")
 
 
@@ -417,7 +417,7 @@ def test_unknown_excitation():
 def test_unknown_effect():
     p = only(spec_error(spec_text(effects="{stribeck: true}")))
     assert p.key == "scene.effects.stribeck" and p.line == 3
-    assert p.reason == "unknown effect 'stribeck' (no effects are available yet)"
+    assert p.reason == "unknown effect 'stribeck' (known: viscous_damping, static_friction_ratio)"
 
 
 def test_unknown_method():
@@ -426,11 +426,50 @@ def test_unknown_method():
     assert p.reason.startswith("unknown method 'magic'")
 
 
-@pytest.mark.parametrize("name", ["event", "rk4", "paper", "auto"])
+@pytest.mark.parametrize("name", ["rk4", "paper", "auto"])
 def test_planned_method_not_available_yet(name):
     p = only(spec_error(spec_text(tail=f"method: {name}\n")))
     assert p.key == "method" and p.line == 7
-    assert p.reason == f"method '{name}' is not available yet (available: theory)"
+    assert p.reason == f"method '{name}' is not available yet (available: theory, event)"
+
+
+def test_spec_methods_match_the_registry():
+    from friction_sweep import methods
+    from friction_sweep.spec import METHOD_EFFECTS, METHOD_SETTINGS, METHODS_AVAILABLE
+
+    assert set(METHODS_AVAILABLE) == set(methods.REGISTRY)
+    for name, module in methods.REGISTRY.items():
+        assert set(METHOD_EFFECTS[name]) == set(module.EFFECTS)
+        assert set(METHOD_SETTINGS[name]) <= set(module.SETTINGS)
+
+
+def test_effects_are_validated_and_declared():
+    spec = parse_spec_text(spec_text(effects="{viscous_damping: 0.05, static_friction_ratio: 1.2}",
+                                     tail="method: event\n"))
+    assert spec.scene.effects.declared() == {"viscous_damping": 0.05, "static_friction_ratio": 1.2}
+    p = only(spec_error(spec_text(effects="{viscous_damping: 1.0}", tail="method: event\n")))
+    assert p.key == "scene.effects.viscous_damping" and p.line == 3 and "< 1" in p.reason
+    p = only(spec_error(spec_text(effects="{static_friction_ratio: 0.9}", tail="method: event\n")))
+    assert p.key == "scene.effects.static_friction_ratio" and ">= 1" in p.reason
+
+
+def test_theory_refuses_effects_it_does_not_model():
+    p = only(spec_error(spec_text(effects="{viscous_damping: 0.05}", tail="method: theory\n")))
+    assert p.key == "scene.effects.viscous_damping" and p.line == 3
+    assert "method 'theory' does not model viscous_damping (methods that do: event)" == p.reason
+
+
+def test_method_settings_are_validated():
+    spec = parse_spec_text(spec_text(tail="method: event\nsettings: {steady_tol: 1.0e-9, max_periods: 500}\n"))
+    assert spec.settings == {"steady_tol": 1e-9, "max_periods": 500}
+    p = only(spec_error(spec_text(tail="method: event\nsettings: {speed: 11}\n")))
+    assert p.key == "settings.speed" and p.line == 8 and "unknown setting 'speed'" in p.reason
+    p = only(spec_error(spec_text(tail="method: event\nsettings: {max_periods: 2.5}\n")))
+    assert p.key == "settings.max_periods" and "integer" in p.reason
+    p = only(spec_error(spec_text(tail="method: event\nsettings: {steady_tol: 0}\n")))
+    assert p.key == "settings.steady_tol" and "> 0" in p.reason
+    p = only(spec_error(spec_text(tail="method: theory\nsettings: {steady_tol: 1.0e-9}\n")))
+    assert "allowed: none" in p.reason
 
 
 def test_unknown_output():
@@ -459,7 +498,7 @@ def test_bad_output_path(value):
 
 
 def test_all_problems_are_collected_in_file_order():
-    text = spec_text(excitation="shaker", fo="[0.1, -0.3]", tail="method: event\nbogus: 1\n")
+    text = spec_text(excitation="shaker", fo="[0.1, -0.3]", tail="method: rk4\nbogus: 1\n")
     err = spec_error(text)
     assert [p.key for p in err.errors] == ["scene.excitation", "grid.force_ratio[1]", "method", "bogus"]
     assert [p.line for p in err.errors] == [2, 6, 7, 8]

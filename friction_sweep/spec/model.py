@@ -24,10 +24,26 @@ from pydantic_core import PydanticCustomError
 from . import grid as g
 
 EXCITATIONS = ("force", "base", "joined")
-METHODS_AVAILABLE = ("theory",)
-METHODS_PLANNED = ("event", "rk4", "paper", "auto")
+METHODS_AVAILABLE = ("theory", "event")
+METHODS_PLANNED = ("rk4", "paper", "auto")
 OUTPUTS = ("transmissibility", "phase", "regime")
-EFFECTS: tuple[str, ...] = ()
+EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
+
+#: which physical effects each method models (a spec asking for more is refused)
+METHOD_EFFECTS = {"theory": (), "event": EFFECTS}
+#: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound)
+METHOD_SETTINGS = {
+    "theory": {},
+    "event": {
+        "steady_tol": ("float", 0.0),
+        "stop_tol": ("float", 0.0),
+        "max_periods": ("int", 1),
+        "max_orbit_period": ("int", 1),
+        "work_budget": ("int", 1),
+        "shoot_after": ("int", 1),
+        "shoot_every": ("int", 1),
+    },
+}
 
 # Union tags appear in pydantic's error locations; the angle brackets keep them apart from YAML keys.
 AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})
@@ -208,9 +224,20 @@ class Grid(_Model):
         return self._read_only("force_ratio")
 
 
+class Effects(_Model):
+    """Physical effects beyond the plain model; absent means off (bit-identical to the plain model)."""
+
+    viscous_damping: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0, lt=1)] | None = None
+    static_friction_ratio: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=1)] | None = None
+
+    def declared(self) -> dict[str, float]:
+        """The effects the spec names, as a plain dict."""
+        return {k: float(v) for k, v in self.model_dump().items() if v is not None}
+
+
 class Scene(_Model):
     excitation: Literal["force", "base", "joined"]
-    effects: dict[str, Any] = Field(default_factory=dict)
+    effects: Effects = Field(default_factory=Effects)
 
     @field_validator("excitation", mode="before")
     @classmethod
@@ -232,7 +259,7 @@ class Scene(_Model):
             if unknown:
                 raise _error(
                     "unknown_effect",
-                    f"unknown effect {show(unknown[0])} (no effects are available yet)",
+                    f"unknown effect {show(unknown[0])} (known: {', '.join(EFFECTS)})",
                     (unknown[0],),
                 )
         return v
@@ -249,6 +276,7 @@ class Spec(_Model):
     method: str = "theory"
     outputs: tuple[OutputName, ...] = OUTPUTS
     output: Path | None = None
+    settings: dict[str, Any] = Field(default_factory=dict)
     _source_path: str = PrivateAttr(default="<string>")
     _text: str = PrivateAttr(default="")
 
@@ -292,6 +320,34 @@ class Spec(_Model):
         if v is not None and (not isinstance(v, str) or not v.strip()):
             raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
         return v
+
+    @model_validator(mode="after")
+    def _method_capabilities(self):
+        for name in self.scene.effects.declared():
+            if name not in METHOD_EFFECTS[self.method]:
+                able = [m for m, effects in METHOD_EFFECTS.items() if name in effects]
+                raise _error(
+                    "effect_unsupported",
+                    f"method {self.method!r} does not model {name} (methods that do: {', '.join(able)})",
+                    ("scene", "effects", name),
+                )
+        known = METHOD_SETTINGS[self.method]
+        for key, value in self.settings.items():
+            if key not in known:
+                allowed = ", ".join(known) or "none"
+                raise _error(
+                    "unknown_setting",
+                    f"unknown setting {show(key)} for method {self.method!r} (allowed: {allowed})",
+                    ("settings", key),
+                )
+            kind, lower = known[key]
+            ok_type = isinstance(value, int) if kind == "int" else isinstance(value, (int, float))
+            if isinstance(value, bool) or not ok_type or not np.isfinite(value):
+                raise _error("setting_type", f"must be a finite {'integer' if kind == 'int' else 'number'} (got {show(value)})", ("settings", key))
+            if (kind == "float" and value <= lower) or (kind == "int" and value < lower):
+                op = ">" if kind == "float" else ">="
+                raise _error("setting_range", f"must be {op} {lower} (got {show(value)})", ("settings", key))
+        return self
 
     @property
     def frequency_ratio(self) -> np.ndarray:
