@@ -1,0 +1,214 @@
+"""The exact event-driven method against independent truths (issue: exact stick-slip simulation)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from friction_sweep import regimes
+from friction_sweep.kernels import event as ev
+from friction_sweep.kernels import steady
+from friction_sweep.methods import event, theory
+from friction_sweep.theory import den_hartog as dh
+
+OUTPUTS = ("transmissibility", "phase", "regime")
+
+
+def solve(excitation, r, beta, effects=None, **settings):
+    return event.compute_tile(excitation, np.atleast_1d(r), np.atleast_1d(beta), OUTPUTS, effects, settings)
+
+
+# --- continuous region: agreement with Den Hartog to 1e-8 ----------------------------------
+
+
+@pytest.mark.parametrize("excitation", ["base", "joined", "force"])
+def test_continuous_region_matches_theory(excitation):
+    r = np.array([0.55, 0.7, 0.85, 0.95, 1.05, 1.2, 1.5, 2.0, 3.0, 5.0])
+    beta = np.array([0.05, 0.2, 0.4, 0.6]) if excitation != "joined" else np.array([0.1, 0.4, 0.8, 1.2])
+    th = theory.compute_tile(excitation, r, beta, OUTPUTS)
+    ev_ = event.compute_tile(excitation, r, beta, OUTPUTS)
+    cont = th["regime"] == regimes.CONTINUOUS
+    # keep clear of the continuous limit, where the theory's tie is decided by rounding
+    margin = (theory.forecast_regime(excitation, *np.meshgrid(r, beta * 1.01), dh.continuous_limit(r)[None, :])
+              == regimes.CONTINUOUS)
+    sel = cont & margin
+    assert sel.sum() >= 20
+    assert np.all(ev_["regime"][sel] == regimes.CONTINUOUS)
+    assert np.all(ev_["stops_per_period"][sel] == 0)
+    for name in ("peak_transmissibility", "transmissibility"):
+        rel = np.abs(ev_[name][sel] / th[name][sel] - 1)
+        assert rel.max() <= 1e-8, (name, rel.max())
+    for name in ("phase", "peak_phase"):
+        assert np.abs(ev_[name][sel] - th[name][sel]).max() <= 1e-6, name
+
+
+def test_just_beyond_the_continuous_limit_the_mass_stops_twice():
+    r = np.array([0.7, 0.9, 1.2, 2.0, 3.0])
+    bstar = dh.continuous_limit(r)
+    for j, rr in enumerate(r):
+        below = solve("base", rr, bstar[j] * 0.97)
+        beyond = solve("base", rr, bstar[j] * 1.03)
+        assert below["regime"][0, 0] == regimes.CONTINUOUS
+        assert beyond["regime"][0, 0] == regimes.STICK_SLIP
+        assert beyond["stops_per_period"][0, 0] == 2
+
+
+def test_stops_grow_as_r_goes_to_zero():
+    # (r = 1/2 itself is a neutral, grazing case: see test_half_frequency_is_reported_honestly)
+    r = np.array([0.05, 0.1, 0.2, 0.3, 0.45])
+    out = event.compute_tile("base", r, np.array([0.3]), OUTPUTS)
+    stops = out["stops_per_period"][0]
+    assert np.all(out["regime"][0] == regimes.STICK_SLIP)
+    assert np.all(np.diff(stops) <= 0), stops  # more stops at lower r
+    assert stops[0] >= 8 and stops[-1] == 2
+    assert np.all(stops % 2 == 0)  # the orbit is symmetric: stops come in pairs
+
+
+def test_resonance_below_pi_over_4_is_unbounded_and_above_is_finite():
+    out = event.compute_tile("base", np.array([1.0]), np.array([0.3, 0.7, 0.85, 1.2]), OUTPUTS)
+    np.testing.assert_array_equal(out["regime"][:, 0], [regimes.UNBOUNDED, regimes.UNBOUNDED,
+                                                        regimes.STICK_SLIP, regimes.STUCK])
+    assert np.all(np.isnan(out["transmissibility"][:2, 0]))
+    np.testing.assert_array_equal(out["steady_state"][:2, 0], [regimes.GROWING] * 2)
+    assert np.isfinite(out["transmissibility"][2, 0])
+
+
+def test_half_frequency_is_reported_honestly():
+    """r = 1/2: two natural periods per forcing period make the free motion neutral on the
+    stroboscopic map; with friction the orbit creeps towards its limit algebraically. The tool must
+    not invent a converged number: it reports `unsettled` with the reason, or a converged state."""
+    out = solve("base", 0.5, 0.3)
+    if out["regime"][0, 0] == regimes.UNSETTLED:
+        assert out["steady_state"][0, 0] == regimes.PERIOD_CAP
+        assert np.isnan(out["transmissibility"][0, 0])
+    else:
+        assert out["steady_state"][0, 0] == regimes.CONVERGED
+    linear = solve("base", 0.5, 0.0)  # without friction the orbit from rest is periodic at once
+    assert linear["periods"][0, 0] == 1
+    assert linear["transmissibility"][0, 0] == pytest.approx(4 / 3, rel=1e-12)
+
+
+# --- exact limits -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("beta", [0.05, 0.3, 1.0])
+def test_free_decay_loses_4_beta_per_natural_period(beta):
+    acc = ev.new_accumulator()
+    q, v, mode = 10.0, 0.0, -1
+    r = 1.0  # the map's period is then the natural period 2 pi
+    amplitudes = [q]
+    for _ in range(200):
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, 0.0, r, beta, beta, 0.0, 0.0, 1e-13, 10**6, False, acc)
+        assert status == ev.OK
+        amplitudes.append(q)
+        if mode == 0:
+            break
+    moving = [a for a in amplitudes if abs(a) > 3 * beta]
+    drops = -np.diff(moving)
+    np.testing.assert_allclose(drops, 4 * beta, rtol=1e-12)
+    assert mode == 0 and abs(q) <= beta  # stopped inside the band |x| <= beta
+    assert v == 0.0
+
+
+def test_from_rest_with_beta_at_least_one_nothing_moves():
+    out = event.compute_tile("base", np.array([0.3, 1.0, 4.0]), np.array([1.0, 1.5]), OUTPUTS)
+    assert np.all(out["regime"] == regimes.STUCK)
+    assert np.all(out["transmissibility"] == 0.0) and np.all(out["peak_transmissibility"] == 0.0)
+    assert np.all(out["stuck_fraction"] == 1.0)
+
+
+def test_joined_with_beta_at_least_r2_moves_with_the_wall():
+    r = np.array([0.3, 0.5, 0.9])
+    out = event.compute_tile("joined", r, np.array([0.81, 1.0]), OUTPUTS)
+    assert np.all(out["regime"] == regimes.STUCK)
+    assert np.all(out["transmissibility"] == 1.0)  # exactly: the relative motion is identically zero
+    assert np.all(out["peak_transmissibility"] == 1.0)
+    assert np.all(out["phase"] == 0.0)
+
+
+def test_zero_friction_is_linear():
+    r = np.array([0.3, 0.6, 1.4, 2.5])
+    out = event.compute_tile("base", r, np.array([0.0]), OUTPUTS)
+    np.testing.assert_allclose(out["transmissibility"][0], 1 / np.abs(1 - r**2), rtol=1e-9)
+
+
+# --- stick-slip: an independent integrator ---------------------------------------------------------
+
+
+@pytest.mark.parametrize("excitation,r,beta", [("base", 0.5, 0.5), ("base", 0.3, 0.3), ("joined", 0.95, 0.8),
+                                               ("base", 1.0, 0.9)])
+def test_stick_slip_matches_independent_dop853(excitation, r, beta):
+    from reference_dop853 import measure
+
+    A, c = (r * r, 1.0) if excitation == "joined" else (1.0, 0.0)
+    out = solve(excitation, r, beta)
+    assert out["regime"][0, 0] == regimes.STICK_SLIP
+    periods = int(out["periods"][0, 0]) + 3
+    t_ref, p_ref = measure(A, r, beta, beta, periods, c)
+    assert out["transmissibility"][0, 0] == pytest.approx(t_ref, rel=1e-7)
+    assert out["peak_transmissibility"][0, 0] == pytest.approx(p_ref, rel=1e-6)
+
+
+# --- steady-state machinery -----------------------------------------------------------------------
+
+
+def test_shooting_and_marching_agree():
+    r, beta = np.array([0.8, 1.3, 2.5]), np.array([0.1, 0.4])
+    shot = event.compute_tile("base", r, beta, OUTPUTS)
+    marched = event.compute_tile("base", r, beta, OUTPUTS, settings={"shoot_after": 10**6, "max_periods": 20000})
+    ok = marched["steady_state"] == regimes.CONVERGED
+    assert ok.sum() >= 4
+    np.testing.assert_allclose(shot["transmissibility"][ok], marched["transmissibility"][ok], rtol=1e-8)
+    assert np.all(shot["periods"] <= marched["periods"])
+
+
+def test_small_friction_is_not_labelled_converged_early():
+    """beta tiny: the transient barely decays; the answer must still be the steady state."""
+    out = solve("base", 2.0, 1e-6)
+    th = theory.compute_tile("base", np.array([2.0]), np.array([1e-6]), OUTPUTS)
+    assert out["regime"][0, 0] == regimes.CONTINUOUS
+    assert out["transmissibility"][0, 0] == pytest.approx(th["transmissibility"][0, 0], rel=1e-8)
+
+
+def test_period_cap_is_reported_as_unsettled():
+    out = solve("base", 2.0, 0.01, shoot_after=10**6, max_periods=5)
+    assert out["regime"][0, 0] == regimes.UNSETTLED
+    assert out["steady_state"][0, 0] == regimes.PERIOD_CAP
+    assert np.isnan(out["transmissibility"][0, 0])
+
+
+def test_work_budget_is_reported():
+    out = solve("base", 0.05, 0.3, work_budget=50)
+    assert out["regime"][0, 0] == regimes.UNSETTLED
+    assert out["steady_state"][0, 0] == regimes.EVENT_BUDGET
+
+
+# --- effects --------------------------------------------------------------------------------------
+
+
+def test_absent_effects_are_bit_identical_to_plain():
+    r, beta = np.array([0.3, 0.9, 2.0]), np.array([0.2, 0.6])
+    plain = event.compute_tile("base", r, beta, OUTPUTS)
+    neutral = event.compute_tile("base", r, beta, OUTPUTS, effects={"static_friction_ratio": 1.0})
+    for name in plain:
+        np.testing.assert_array_equal(plain[name], neutral[name])
+
+
+def test_viscous_damping_alone_is_the_linear_viscous_oscillator():
+    r = np.array([0.5, 1.0, 1.5, 3.0])
+    zeta = 0.1
+    out = event.compute_tile("force", r, np.array([0.0]), OUTPUTS, effects={"viscous_damping": zeta})
+    expected = 1 / np.sqrt((1 - r**2) ** 2 + (2 * zeta * r) ** 2)
+    np.testing.assert_allclose(out["transmissibility"][0], expected, rtol=1e-8)
+    lag = np.degrees(np.arctan2(2 * zeta * r, 1 - r**2))
+    np.testing.assert_allclose(out["phase"][0], lag, atol=1e-6)
+
+
+def test_static_friction_above_kinetic_keeps_the_mass_stuck_longer():
+    r, beta = np.array([0.4]), np.array([0.4])
+    plain = event.compute_tile("base", r, beta, OUTPUTS)
+    sticky = event.compute_tile("base", r, beta, OUTPUTS, effects={"static_friction_ratio": 1.5})
+    assert sticky["stuck_fraction"][0, 0] > plain["stuck_fraction"][0, 0]
+    # static friction 1.5 x 0.7 >= 1: once stopped... from rest it never starts
+    never = event.compute_tile("base", r, np.array([0.7]), OUTPUTS, effects={"static_friction_ratio": 1.5})
+    assert never["regime"][0, 0] == regimes.STUCK
