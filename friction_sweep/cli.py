@@ -86,6 +86,11 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     with _progress(quiet, r.size * beta.size) as advance:
         arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
                           settings=s.settings, jobs=jobs, on_tile=advance)
+        if s.time_history is not None:
+            pts = np.asarray(s.time_history.points, dtype=float)
+            hist = method.time_histories(s.scene.excitation, pts, s.time_history.samples_per_period,
+                                         s.scene.effects.declared(), s.settings)
+            arrays.update(hist, history_frequency_ratio=pts[:, 0], history_force_ratio=pts[:, 1])
     elapsed = time.perf_counter() - start
 
     command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)] + (["--overwrite"] if overwrite else []))

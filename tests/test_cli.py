@@ -249,3 +249,24 @@ def test_every_shipped_config_runs_and_keeps_the_contract(runner, tmp_path, conf
         t = ds["transmissibility"].values
         assert np.all(np.isnan(t[code == regimes.STICK_SLIP]))
         assert np.all(np.isfinite(t[code == regimes.CONTINUOUS]))
+
+
+def test_simulation_spec_with_time_history(runner, tmp_path):
+    text = """\
+scene: {excitation: joined}
+grid: {frequency_ratio: [0.5, 0.95, 2.0], force_ratio: [0.3, 0.8]}
+method: auto
+outputs: [transmissibility, regime, time_history]
+time_history: {points: [[0.95, 0.8]], samples_per_period: 32}
+"""
+    spec = write_spec(tmp_path, text=text)
+    out = tmp_path / "h.h5"
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    ds = cube.open_cube(out)
+    assert ds["history_displacement"].dims == ("history", "sample")
+    assert ds.sizes["sample"] == 32 * int(ds["history_orbit_period"].max())
+    assert list(ds["method_used"].attrs["flag_meanings"].split()) == ["theory", "event"]
+    assert ds["history_regime"].values[0] == regimes.STICK_SLIP  # the paper's Fig. 22 point
+    assert "phase" not in ds  # not asked for, not written
+    assert ds.attrs["method"] == "auto"

@@ -98,7 +98,8 @@ def test_free_decay_loses_4_beta_per_natural_period(beta):
     r = 1.0  # the map's period is then the natural period 2 pi
     amplitudes = [q]
     for _ in range(200):
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 0.0, r, beta, beta, 0.0, 0.0, 1e-13, 10**6, False, acc)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, 0.0, r, beta, beta, 0.0, 0.0, 1e-13, 10**6, False, acc,
+                                                          ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
         assert status == ev.OK
         amplitudes.append(q)
         if mode == 0:
@@ -212,3 +213,45 @@ def test_static_friction_above_kinetic_keeps_the_mass_stuck_longer():
     # static friction 1.5 x 0.7 >= 1: once stopped... from rest it never starts
     never = event.compute_tile("base", r, np.array([0.7]), OUTPUTS, effects={"static_friction_ratio": 1.5})
     assert never["regime"][0, 0] == regimes.STUCK
+
+
+# --- auto -----------------------------------------------------------------------------------------
+
+
+def test_auto_uses_theory_only_inside_the_margin_and_agrees_with_event():
+    from friction_sweep.methods import auto
+
+    r = np.array([0.3, 0.7, 1.0, 1.5, 3.0])
+    beta = np.array([0.1, 0.5, 0.8])
+    a = auto.compute_tile("base", r, beta, OUTPUTS)
+    e = event.compute_tile("base", r, beta, OUTPUTS)
+    used = a["method_used"]
+    th_forecast = theory.compute_tile("base", r, beta, OUTPUTS)["regime"]
+    assert np.all(th_forecast[used == auto.THEORY_USED] == regimes.CONTINUOUS)
+    assert np.all(used[:, 2] == auto.EVENT_USED)  # r = 1 is always simulated
+    assert (used == auto.THEORY_USED).sum() >= 5 and (used == auto.EVENT_USED).sum() >= 5
+    np.testing.assert_array_equal(a["regime"], e["regime"])
+    ok = np.isfinite(e["transmissibility"])
+    np.testing.assert_allclose(a["transmissibility"][ok], e["transmissibility"][ok], rtol=1e-8)
+    assert np.all(a["steady_state"][used == auto.THEORY_USED] == regimes.NOT_SIMULATED)
+
+
+# --- time histories --------------------------------------------------------------------------------
+
+
+def test_time_histories_are_the_measured_orbits():
+    pts = [[2.0, 0.3], [0.3, 0.5], [0.95, 0.8]]
+    for excitation in ("base", "joined"):
+        h = event.time_histories(excitation, pts, 512)
+        grid = [event.compute_tile(excitation, np.array([r]), np.array([b]), OUTPUTS) for r, b in pts]
+        for i, g in enumerate(grid):
+            m = int(h["history_orbit_period"][i]) * 512
+            x = h["history_displacement"][i, :m]
+            t = h["history_time"][i, :m] * 2 * np.pi  # forcing phase r t
+            a1, b1 = 2 * np.mean(x * np.cos(t)), 2 * np.mean(x * np.sin(t))
+            assert np.hypot(a1, b1) == pytest.approx(g["transmissibility"][0, 0], rel=1e-4)
+            assert np.max(np.abs(x)) <= g["peak_transmissibility"][0, 0] * (1 + 1e-12)
+            assert np.max(np.abs(x)) == pytest.approx(g["peak_transmissibility"][0, 0], rel=1e-3)
+            assert h["history_regime"][i] == g["regime"][0, 0]
+            # the excitation is cos(r t) with its maximum at the section
+            assert h["history_excitation"][i, 0] == 1.0

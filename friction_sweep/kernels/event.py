@@ -36,6 +36,9 @@ ACC_PMIN = 17
 ACC_SIZE = 24
 
 
+NO_SAMPLES = np.empty(0)  # for callers from Python; jitted callers allocate their own
+
+
 def new_accumulator():
     acc = np.zeros(ACC_SIZE)
     reset_accumulator(acc)
@@ -171,13 +174,31 @@ def refine_extremes(acc, A, r, bk, zeta, c):
 
 
 @jit
-def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure, acc):
-    """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work)."""
+def _sample(ts, sq, sv, j, ta, tb, t0, q0, v0, sig, A, r, bk, zeta):
+    """Fill the samples with ta <= ts[j] < tb from the piece anchored at t0; returns the next j."""
+    while j < ts.size and ts[j] < tb:
+        if ts[j] >= ta:
+            if sig == 0:
+                sq[j], sv[j] = q0, 0.0
+            else:
+                sq[j], sv[j] = slip_state(ts[j] - t0, q0, v0, sig, A, r, bk, zeta,
+                                          math.cos(r * t0), math.sin(r * t0))
+        j += 1
+    return j
+
+
+@jit
+def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure, acc, ts, sq, sv):
+    """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work).
+
+    ts: sorted period-local sample times (empty when not sampling); q, v there go to sq, sv.
+    """
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
     t = 0.0
     work = 0
     new_stop = False
+    j = 0
     while True:
         if mode == 0:
             te = stick_exit(t, q, A, r, bs)
@@ -188,6 +209,8 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
             acc[ACC_STUCK] += tb - t
             if measure:
                 _measure_stick(acc, q, t, tb, A, r, c)
+            if ts.size:
+                j = _sample(ts, sq, sv, j, t, tb if te < T else math.inf, t, q, 0.0, 0, A, r, bk, zeta)
             if te >= T:
                 return q, 0.0, 0, OK, work
             t = te
@@ -202,6 +225,8 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
                 return q, v, mode, BUDGET, work
             if measure:
                 _measure_slip(acc, t, q, v, mode, s, A, r, bk, zeta, c)
+            if ts.size:
+                j = _sample(ts, sq, sv, j, t, t + s if found else math.inf, t, q, v, mode, A, r, bk, zeta)
             q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, math.cos(r * t), math.sin(r * t))
             t = t + s
             q = q1

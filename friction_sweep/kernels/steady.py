@@ -25,8 +25,8 @@ STUCK, STICK_SLIP, CONTINUOUS, UNBOUNDED, UNSETTLED = 0, 1, 2, 3, 4
 
 # output slots of solve_point
 (OUT_TRANS, OUT_PEAK, OUT_PHASE, OUT_PEAK_PHASE, OUT_STOPS, OUT_STUCK, OUT_REGIME, OUT_PERIODS,
- OUT_STEADY, OUT_ORBIT, OUT_WORK) = range(11)
-OUT_SIZE = 11
+ OUT_STEADY, OUT_ORBIT, OUT_WORK, OUT_Q, OUT_V, OUT_MODE) = range(14)
+OUT_SIZE = 14
 
 # settings slots (one float array, so a new knob never changes a signature)
 SET_STEADY_TOL, SET_VTOL, SET_MAX_PERIODS, SET_KMAX, SET_BUDGET, SET_SHOOT_AFTER, SET_SHOOT_EVERY = range(7)
@@ -62,7 +62,8 @@ def wrap_lag_degrees(rad):
 @jit
 def _period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, acc):
     reset_accumulator(acc)
-    return advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, False, acc)
+    none = np.empty(0)  # no samples (a global array would be a read-only constant to numba)
+    return advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, False, acc, none, none, none)
 
 
 @jit
@@ -206,11 +207,12 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     if status != CONVERGED:
         out[OUT_REGIME] = UNSETTLED
         return
-    # measure over the k periods of the orbit
+    # measure over the k periods of the orbit (the state on the orbit is kept for replays)
+    out[OUT_Q], out[OUT_V], out[OUT_MODE] = q, v, mode
     reset_accumulator(acc)
     for _ in range(orbit):
-        stops_before = acc[ACC_STOPS]
-        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, True, acc)
+        none = np.empty(0)
+        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, True, acc, none, none, none)
         work += w
     refine_extremes(acc, A, r, bk, zeta, c)
     T = TWO_PI / r
@@ -238,6 +240,17 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
         out[OUT_REGIME] = STICK_SLIP
     else:
         out[OUT_REGIME] = CONTINUOUS
+
+
+@jit
+def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, sq, sv):
+    """Replay `periods` forcing periods from a state on the orbit, sampling q, v at the local
+    times ts (sorted, in [0, T)) of every period; sq, sv have shape (periods, ts.size)."""
+    acc = np.empty(ACC_SIZE)
+    for k in range(periods):
+        reset_accumulator(acc)
+        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, False, acc,
+                                           ts, sq[k], sv[k])
 
 
 @jit

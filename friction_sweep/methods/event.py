@@ -83,3 +83,46 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
         result[name] = values
     result["continuous_limit"] = theory.continuous_limit(excitation, r)
     return result
+
+
+def time_histories(excitation: str, points, samples_per_period: int, effects=None, settings=None):
+    """Steady-state orbits of the given (r, beta) points, sampled uniformly in time.
+
+    Returns arrays of shape (n_points, n_samples) with n_samples = samples_per_period times the
+    longest orbit period among the points (shorter orbits are padded with NaN): time in forcing
+    periods, the response x, the excitation, the relative displacement (the equation's q or z)
+    and its velocity; plus per point the orbit period and the regime.
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    r, beta = pts[:, 0], pts[:, 1]
+    raw = solve_flat(excitation, r, beta, effects, **(settings or {}))
+    sett = steady.settings_array(**(settings or {}))
+    A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
+    orbit = np.where(np.isfinite(raw[:, steady.OUT_ORBIT]), raw[:, steady.OUT_ORBIT], 0).astype(int)
+    n = samples_per_period * max(1, int(orbit.max(initial=1)))
+    shape = (pts.shape[0], n)
+    out = {name: np.full(shape, np.nan) for name in
+           ("history_time", "history_displacement", "history_excitation", "history_relative_displacement",
+            "history_relative_velocity")}
+    frac = np.arange(samples_per_period) / samples_per_period
+    for i in range(pts.shape[0]):
+        k = orbit[i]
+        if k == 0:  # no steady state: nothing honest to show
+            continue
+        T = 2 * np.pi / r[i]
+        ts = frac * T
+        sq = np.empty((k, samples_per_period))
+        sv = np.empty((k, samples_per_period))
+        steady.sample_orbit(raw[i, steady.OUT_Q], raw[i, steady.OUT_V], int(raw[i, steady.OUT_MODE]), A[i], r[i],
+                            bk[i], bs[i], zeta[i], c[i], sett[steady.SET_VTOL], int(sett[steady.SET_BUDGET]), k, ts,
+                            sq, sv)
+        m = k * samples_per_period
+        phase = r[i] * np.tile(ts, k)
+        out["history_time"][i, :m] = (np.arange(m) / samples_per_period)
+        out["history_relative_displacement"][i, :m] = sq.ravel()
+        out["history_relative_velocity"][i, :m] = sv.ravel()
+        out["history_excitation"][i, :m] = np.cos(phase)
+        out["history_displacement"][i, :m] = sq.ravel() + c[i] * np.cos(phase)
+    out["history_orbit_period"] = orbit.astype(float)
+    out["history_regime"] = raw[:, steady.OUT_REGIME].astype(np.int8)
+    return out

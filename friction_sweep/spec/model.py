@@ -24,13 +24,16 @@ from pydantic_core import PydanticCustomError
 from . import grid as g
 
 EXCITATIONS = ("force", "base", "joined")
-METHODS_AVAILABLE = ("theory", "event")
-METHODS_PLANNED = ("rk4", "paper", "auto")
-OUTPUTS = ("transmissibility", "phase", "regime")
+METHODS_AVAILABLE = ("theory", "event", "auto")
+METHODS_PLANNED = ("rk4", "paper")
+OUTPUTS = ("transmissibility", "phase", "regime", "time_history")
+DEFAULT_OUTPUTS = ("transmissibility", "phase", "regime")
 EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
 
+#: methods that can store steady-state time histories
+HISTORY_METHODS = ("event", "auto")
 #: which physical effects each method models (a spec asking for more is refused)
-METHOD_EFFECTS = {"theory": (), "event": EFFECTS}
+METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "auto": ()}
 #: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound)
 METHOD_SETTINGS = {
     "theory": {},
@@ -44,6 +47,7 @@ METHOD_SETTINGS = {
         "shoot_every": ("int", 1),
     },
 }
+METHOD_SETTINGS["auto"] = {**METHOD_SETTINGS["event"], "theory_margin": ("float", 0.0)}
 
 # Union tags appear in pydantic's error locations; the angle brackets keep them apart from YAML keys.
 AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})
@@ -265,7 +269,23 @@ class Scene(_Model):
         return v
 
 
-OutputName = Literal["transmissibility", "phase", "regime"]
+OutputName = Literal["transmissibility", "phase", "regime", "time_history"]
+
+
+class TimeHistory(_Model):
+    """Points whose steady-state orbits are stored (outputs: time_history)."""
+
+    points: Annotated[list[Annotated[list[Positive | NonNegative], Field(min_length=2, max_length=2)]],
+                      Field(min_length=1, max_length=1000)]
+    samples_per_period: Annotated[int, Strict(), Field(ge=8, le=100_000)] = 256
+
+    @field_validator("points")
+    @classmethod
+    def _positive_frequency(cls, v):
+        for i, (r, beta) in enumerate(v):
+            if r <= 0:
+                raise _error("history_r", f"frequency ratio must be > 0 (got {show(r)})", (i, 0))
+        return v
 
 
 class Spec(_Model):
@@ -274,7 +294,8 @@ class Spec(_Model):
     scene: Scene
     grid: Grid
     method: str = "theory"
-    outputs: tuple[OutputName, ...] = OUTPUTS
+    outputs: tuple[OutputName, ...] = DEFAULT_OUTPUTS
+    time_history: TimeHistory | None = None
     output: Path | None = None
     settings: dict[str, Any] = Field(default_factory=dict)
     _source_path: str = PrivateAttr(default="<string>")
@@ -320,6 +341,19 @@ class Spec(_Model):
         if v is not None and (not isinstance(v, str) or not v.strip()):
             raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
         return v
+
+    @model_validator(mode="after")
+    def _time_history_declared(self):
+        wanted = "time_history" in self.outputs
+        if wanted and self.time_history is None:
+            raise _error("history_missing", "outputs lists time_history: give `time_history: {points: [[r, beta], ...]}`",
+                         ("outputs",))
+        if not wanted and self.time_history is not None:
+            raise _error("history_unused", "time_history is given but not listed in outputs", ("time_history",))
+        if wanted and self.method not in HISTORY_METHODS:
+            raise _error("history_method", f"method {self.method!r} cannot store time histories "
+                         f"(methods that can: {', '.join(HISTORY_METHODS)})", ("outputs",))
+        return self
 
     @model_validator(mode="after")
     def _method_capabilities(self):

@@ -9,13 +9,14 @@ from pydantic import ValidationError
 
 from .errors import SpecError, SpecProblem
 from .load import Document, KeyPath, format_key, parse_yaml, read_text
-from .model import AXIS_TAGS, Effects, ForceRange, FrequencyRange, Grid, Scene, Spec, show
+from .model import AXIS_TAGS, Effects, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
 
 # Which model a mapping at a given key path is validated by, to list the keys it allows.
 _MODELS = {
     (): Spec,
     ("scene",): Scene,
     ("scene", "effects"): Effects,
+    ("time_history",): TimeHistory,
     ("grid",): Grid,
     ("grid", "frequency_ratio"): FrequencyRange,
     ("grid", "force_ratio"): ForceRange,

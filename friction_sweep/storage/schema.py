@@ -13,6 +13,7 @@ from friction_sweep import regimes
 from friction_sweep.theory.phase import PHASE_RANGE_DEG
 
 GRID_DIMS = ("force_ratio", "frequency_ratio")
+HISTORY_DIMS = ("history", "sample")
 CONVENTIONS = "CF-1.10"
 
 
@@ -105,6 +106,33 @@ VARIABLES = {
     ),
     "orbit_period": Variable(
         GRID_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, k subharmonic)", "1"
+    ),
+    "method_used": Variable(
+        GRID_DIMS,
+        np.int8,
+        "method that produced the point (method auto)",
+        "1",
+        {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "theory event"},
+    ),
+    # time histories of selected points (outputs: time_history), on their own dims
+    "history_frequency_ratio": Variable(("history",), np.float64, "frequency ratio of the time-history point", "1"),
+    "history_force_ratio": Variable(("history",), np.float64, "force ratio of the time-history point", "1"),
+    "history_orbit_period": Variable(("history",), np.float64, "period of the stored orbit in forcing periods", "1"),
+    "history_regime": Variable(
+        ("history",),
+        np.int8,
+        "motion regime of the time-history point",
+        "1",
+        {"flag_values": regimes.FLAG_VALUES, "flag_meanings": regimes.FLAG_MEANINGS},
+    ),
+    "history_time": Variable(HISTORY_DIMS, np.float64, "time in forcing periods from a steady-state section", "1"),
+    "history_displacement": Variable(HISTORY_DIMS, np.float64, "response displacement x / {ref}", "1"),
+    "history_excitation": Variable(HISTORY_DIMS, np.float64, "excitation (force or base displacement) / its amplitude", "1"),
+    "history_relative_displacement": Variable(
+        HISTORY_DIMS, np.float64, "displacement in the equation of motion (x; z = x - y for joined) / {ref}", "1"
+    ),
+    "history_relative_velocity": Variable(
+        HISTORY_DIMS, np.float64, "velocity in the equation of motion, in {ref} per 1/omega_n", "1"
     ),
     # joined base-wall excitation only: the relative motion z = x - y (paper Sect. 4)
     "relative_peak_amplitude": Variable(

@@ -13,6 +13,8 @@ import numpy as np
 
 from friction_sweep import methods
 
+GRID_OUTPUTS = ("transmissibility", "phase", "regime")
+
 #: frequency ratios per tile; fixed so results never depend on how tiles are scheduled
 TILE_FREQUENCIES = 32
 
@@ -32,7 +34,8 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
     r = np.asarray(frequency_ratio, dtype=float)
     beta = np.asarray(force_ratio, dtype=float)
     parts = tiles(r.size)
-    work = [(method_name, excitation, r[s], beta, tuple(outputs), dict(effects or {}), dict(settings or {}))
+    grid_outputs = tuple(o for o in outputs if o in GRID_OUTPUTS)  # time histories are not per grid point
+    work = [(method_name, excitation, r[s], beta, grid_outputs, dict(effects or {}), dict(settings or {}))
             for s in parts]
     results: dict[str, np.ndarray] = {}
 

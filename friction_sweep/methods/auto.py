@@ -1,0 +1,79 @@
+"""method: auto -- Den Hartog's closed form where the mass provably slides without stops, the
+exact event simulation everywhere else. The cube records which produced each point (`method_used`).
+
+"Provably" means the theory's continuous forecast with a margin from its boundary:
+b < (1 - margin) beta*(r), b the friction ratio against the force amplitude (beta, or beta/r^2 for
+joined), and r != 1. On the boundary itself the theory and the simulation agree only in the limit,
+so those points are simulated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from friction_sweep import regimes
+from friction_sweep.methods import event, theory
+from friction_sweep.theory import den_hartog as dh
+
+NAME = "auto"
+EXCITATIONS = ("force", "base", "joined")
+EFFECTS: tuple[str, ...] = ()  # the theory models none; a scene with effects should use `event`
+SETTINGS = {**event.SETTINGS, "theory_margin": 0.02}
+
+#: flag values of `method_used`
+USED = ("theory", "event")
+THEORY_USED, EVENT_USED = np.int8(0), np.int8(1)
+
+
+time_histories = event.time_histories
+
+
+def variables_for(excitation: str, outputs) -> tuple[str, ...]:
+    return event.variables_for(excitation, outputs) + ("method_used",)
+
+
+def theory_mask(excitation, r, beta, margin):
+    """Points (beta x r) where the theory is used."""
+    R, B = np.meshgrid(np.asarray(r, float), np.asarray(beta, float))
+    b = B / (R * R) if excitation == "joined" else B
+    bstar = dh.continuous_limit(np.asarray(r, float))[None, :]
+    code = theory.forecast_regime(excitation, R, B, bstar)
+    return (code == regimes.CONTINUOUS) & (b < (1.0 - margin) * bstar) & (R != 1.0)
+
+
+def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
+    if effects:
+        raise ValueError(f"method auto models no effects (got {sorted(effects)}); use event")
+    settings = dict(settings or {})
+    margin = float(settings.pop("theory_margin", SETTINGS["theory_margin"]))
+    r = np.asarray(r, dtype=float)
+    beta = np.asarray(beta, dtype=float)
+    use_theory = theory_mask(excitation, r, beta, margin)
+    names = variables_for(excitation, outputs)
+    shape = use_theory.shape
+    out = {name: np.full(shape, np.nan) for name in names}
+    out["method_used"] = np.where(use_theory, THEORY_USED, EVENT_USED).astype(np.int8)
+
+    th = theory.compute_tile(excitation, r, beta, outputs)
+    for name in names:
+        if name in th:
+            out[name][use_theory] = th[name][use_theory]
+    if "regime" in outputs:
+        out["stuck_fraction"][use_theory] = 0.0
+        out["periods"][use_theory] = 0.0
+        out["orbit_period"][use_theory] = 1.0
+        out["steady_state"] = np.where(use_theory, regimes.NOT_SIMULATED, regimes.CONVERGED).astype(np.int8)
+
+    if np.any(~use_theory):
+        R, B = np.meshgrid(r, beta)
+        sim = ~use_theory
+        raw = event.solve_flat(excitation, R[sim], B[sim], None, **settings)
+        for name in names:
+            slot = event._SLOTS.get(name)
+            if slot is not None:
+                out[name][sim] = raw[:, slot]
+    for name, dtype in (("regime", np.int8), ("steady_state", np.int8)):
+        if name in out:
+            out[name] = out[name].astype(dtype)
+    out["continuous_limit"] = th["continuous_limit"]
+    return out
