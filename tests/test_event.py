@@ -255,3 +255,23 @@ def test_time_histories_are_the_measured_orbits():
             assert h["history_regime"][i] == g["regime"][0, 0]
             # the excitation is cos(r t) with its maximum at the section
             assert h["history_excitation"][i, 0] == 1.0
+
+
+# --- rk4 as a sweep method ---------------------------------------------------------------------------
+
+
+def test_rk4_method_converges_to_event_with_order_four():
+    from friction_sweep.methods import rk4
+
+    r, beta = np.array([0.8, 2.0]), np.array([0.2])
+    exact = event.compute_tile("base", r, beta, OUTPUTS)["transmissibility"]
+    errs = []
+    for n in (32, 64, 128):
+        t = rk4.compute_tile("base", r, beta, OUTPUTS, settings={"steps_per_period": n})["transmissibility"]
+        errs.append(np.max(np.abs(t / exact - 1)))
+    slopes = np.log2(np.array(errs[:-1]) / np.array(errs[1:]))
+    assert np.all((slopes > 3.5) & (slopes < 4.6)), (errs, slopes)
+    stick = rk4.compute_tile("base", np.array([0.3]), np.array([0.3]), OUTPUTS, settings={"steps_per_period": 512})
+    ev_ = event.compute_tile("base", np.array([0.3]), np.array([0.3]), OUTPUTS)
+    assert stick["regime"][0, 0] == regimes.STICK_SLIP and stick["stops_per_period"][0, 0] == 2
+    assert stick["transmissibility"][0, 0] == pytest.approx(ev_["transmissibility"][0, 0], rel=1e-7)

@@ -17,6 +17,7 @@ from friction_sweep.kernels.event import (
     advance_period, decide, refine_extremes, reset_accumulator,
 )
 from friction_sweep.kernels.jit import jit
+from friction_sweep.kernels.rk4 import advance_period_rk4
 from friction_sweep.kernels.segments import TWO_PI
 
 # status codes: the values of friction_sweep.regimes (kept literal so kernels import no Python objects)
@@ -29,8 +30,10 @@ STUCK, STICK_SLIP, CONTINUOUS, UNBOUNDED, UNSETTLED = 0, 1, 2, 3, 4
 OUT_SIZE = 14
 
 # settings slots (one float array, so a new knob never changes a signature)
-SET_STEADY_TOL, SET_VTOL, SET_MAX_PERIODS, SET_KMAX, SET_BUDGET, SET_SHOOT_AFTER, SET_SHOOT_EVERY = range(7)
-SET_SIZE = 7
+(SET_STEADY_TOL, SET_VTOL, SET_MAX_PERIODS, SET_KMAX, SET_BUDGET, SET_SHOOT_AFTER, SET_SHOOT_EVERY, SET_KERNEL,
+ SET_STEPS) = range(9)
+SET_SIZE = 9
+KERNEL_EVENT, KERNEL_RK4 = 0, 1
 DEFAULT_SETTINGS = {
     "steady_tol": 1e-10,  # |P^k(x) - x| <= steady_tol * |x| on the stroboscopic map
     "stop_tol": 1e-12,  # a stop is declared when |v| <= stop_tol * max(A, |(q, v)|)
@@ -39,8 +42,11 @@ DEFAULT_SETTINGS = {
     "work_budget": 5_000_000,  # stop-search steps and events per point
     "shoot_after": 12,  # periods marched before the first shooting attempt
     "shoot_every": 48,
+    "kernel": KERNEL_EVENT,  # which period integrator the driver marches: event (exact) or rk4
+    "steps_per_period": 256,  # rk4 only
 }
-_ORDER = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after", "shoot_every")
+_ORDER = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after", "shoot_every",
+          "kernel", "steps_per_period")
 
 
 def settings_array(**overrides) -> np.ndarray:
@@ -60,10 +66,19 @@ def wrap_lag_degrees(rad):
 
 
 @jit
-def _period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, acc):
-    reset_accumulator(acc)
+def _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, measure, acc):
+    """One period with the chosen integrator (a runtime switch: cached kernels cannot take functions)."""
+    if settings[SET_KERNEL] == KERNEL_RK4:
+        return advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, int(settings[SET_STEPS]), budget, measure, acc)
     none = np.empty(0)  # no samples (a global array would be a read-only constant to numba)
-    return advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, False, acc, none, none, none)
+    return advance_period(q, v, mode, A, r, bk, bs, zeta, c, settings[SET_VTOL], budget, measure, acc, none, none,
+                          none)
+
+
+@jit
+def _period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, acc):
+    reset_accumulator(acc)
+    return _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, False, acc)
 
 
 @jit
@@ -76,7 +91,7 @@ def _mode_of(q, v, A, r, bs):
 
 
 @jit
-def _shoot(q, v, A, r, bk, bs, zeta, c, vtol, tol, budget, acc):
+def _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
     """Newton on F(x) = P(x) - x for a period-1 orbit. Returns (q, v, ok, work)."""
     work = 0
     # Accept only after a small Newton step: where the map has no fixed point (r = 1, friction
@@ -85,7 +100,7 @@ def _shoot(q, v, A, r, bk, bs, zeta, c, vtol, tol, budget, acc):
     size = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
     for _ in range(40):
         scale = max(math.hypot(q, v), size)
-        q1, v1, m1, st, w = _period(q, v, _mode_of(q, v, A, r, bs), A, r, bk, bs, zeta, c, vtol, budget, acc)
+        q1, v1, m1, st, w = _period(q, v, _mode_of(q, v, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, acc)
         work += w
         if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
             return q, v, False, work
@@ -94,8 +109,8 @@ def _shoot(q, v, A, r, bk, bs, zeta, c, vtol, tol, budget, acc):
         if abs(fq) + abs(fv) <= tol * scale and last_step <= 1e-6 * scale:
             return q, v, True, work
         h = 1e-6 * scale
-        qa, va, _, st1, w1 = _period(q + h, v, _mode_of(q + h, v, A, r, bs), A, r, bk, bs, zeta, c, vtol, budget, acc)
-        qb, vb, _, st2, w2 = _period(q, v + h, _mode_of(q, v + h, A, r, bs), A, r, bk, bs, zeta, c, vtol, budget, acc)
+        qa, va, _, st1, w1 = _period(q + h, v, _mode_of(q + h, v, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, acc)
+        qb, vb, _, st2, w2 = _period(q, v + h, _mode_of(q, v + h, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, acc)
         work += w1 + w2
         if st1 != 0 or st2 != 0:
             return q, v, False, work
@@ -120,7 +135,6 @@ def _shoot(q, v, A, r, bk, bs, zeta, c, vtol, tol, budget, acc):
 def solve_point(A, r, bk, bs, zeta, c, settings, out):
     """Steady state and measurements of one grid point; results in `out` (OUT_* slots)."""
     tol = settings[SET_STEADY_TOL]
-    vtol = settings[SET_VTOL]
     max_periods = int(settings[SET_MAX_PERIODS])
     kmax = int(settings[SET_KMAX])
     budget = int(settings[SET_BUDGET])
@@ -143,7 +157,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     n = 0
     while n < max_periods:
         n += 1
-        q, v, mode, st, w = _period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget - work, acc)
+        q, v, mode, st, w = _period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, acc)
         work += w
         if st == BUDGET or work > budget:
             status = EVENT_BUDGET
@@ -174,7 +188,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
         hq[i], hv[i], hm[i] = q, v, mode
         no_stops = acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
         if no_stops and n >= shoot_after and (n - shoot_after) % shoot_every == 0:
-            qs, vs, ok, w = _shoot(q, v, A, r, bk, bs, zeta, c, vtol, tol, budget - work, acc)
+            qs, vs, ok, w = _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
             work += w
             if ok:
                 q, v = qs, vs
@@ -211,8 +225,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     out[OUT_Q], out[OUT_V], out[OUT_MODE] = q, v, mode
     reset_accumulator(acc)
     for _ in range(orbit):
-        none = np.empty(0)
-        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, True, acc, none, none, none)
+        q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, True, acc)
         work += w
     refine_extremes(acc, A, r, bk, zeta, c)
     T = TWO_PI / r

@@ -35,7 +35,7 @@ _SLOTS = {
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
 
-SETTINGS = dict(steady.DEFAULT_SETTINGS)
+SETTINGS = {k: v for k, v in steady.DEFAULT_SETTINGS.items() if k not in ("kernel", "steps_per_period")}
 
 
 def variables_for(excitation: str, outputs) -> tuple[str, ...]:

@@ -24,8 +24,8 @@ from pydantic_core import PydanticCustomError
 from . import grid as g
 
 EXCITATIONS = ("force", "base", "joined")
-METHODS_AVAILABLE = ("theory", "event", "auto")
-METHODS_PLANNED = ("rk4", "paper")
+METHODS_AVAILABLE = ("theory", "event", "rk4", "auto")
+METHODS_PLANNED = ("paper",)
 OUTPUTS = ("transmissibility", "phase", "regime", "time_history")
 DEFAULT_OUTPUTS = ("transmissibility", "phase", "regime")
 EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
@@ -33,7 +33,7 @@ EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
 #: methods that can store steady-state time histories
 HISTORY_METHODS = ("event", "auto")
 #: which physical effects each method models (a spec asking for more is refused)
-METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "auto": ()}
+METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "rk4": EFFECTS, "auto": ()}
 #: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound)
 METHOD_SETTINGS = {
     "theory": {},
@@ -48,6 +48,8 @@ METHOD_SETTINGS = {
     },
 }
 METHOD_SETTINGS["auto"] = {**METHOD_SETTINGS["event"], "theory_margin": ("float", 0.0)}
+METHOD_SETTINGS["rk4"] = {**{k: v for k, v in METHOD_SETTINGS["event"].items() if k != "stop_tol"},
+                          "steps_per_period": ("int", 4)}
 
 # Union tags appear in pydantic's error locations; the angle brackets keep them apart from YAML keys.
 AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})

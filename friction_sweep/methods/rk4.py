@@ -1,0 +1,23 @@
+"""method: rk4 -- the same steady-state search and measurements as `event`, but each forcing period
+is integrated by classical fixed-step Runge-Kutta (`steps_per_period`) with a real stick mode
+(kernels/rk4.py). Fourth order in the step; a baseline that shows what the closed forms buy.
+"""
+
+from __future__ import annotations
+
+from friction_sweep.kernels import steady
+from friction_sweep.methods import event
+
+NAME = "rk4"
+EXCITATIONS = event.EXCITATIONS
+EFFECTS = event.EFFECTS
+SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "stop_tol"},
+            "steps_per_period": steady.DEFAULT_SETTINGS["steps_per_period"]}
+ORDER = 4
+
+variables_for = event.variables_for
+
+
+def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None):
+    settings = {**(settings or {}), "kernel": steady.KERNEL_RK4}
+    return event.compute_tile(excitation, r, beta, outputs, effects, settings)
