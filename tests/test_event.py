@@ -1,13 +1,10 @@
 """The exact event-driven method against independent truths (issue: exact stick-slip simulation)."""
 
-import math
-
 import numpy as np
 import pytest
 
 from friction_sweep import regimes
 from friction_sweep.kernels import event as ev
-from friction_sweep.kernels import steady
 from friction_sweep.methods import event, theory
 from friction_sweep.theory import den_hartog as dh
 

@@ -174,6 +174,26 @@ def refine_extremes(acc, A, r, bk, zeta, c):
 
 
 @jit
+def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure):
+    """A stick from t (exact for every integrator): count a new stop if it lasts, add the time stuck,
+    measure it if asked. Returns the exit time (>= T when the mass stays stuck to the period end)."""
+    te = stick_exit(t, q, A, r, bs)
+    if te > t and new_stop:
+        acc[ACC_STOPS] += 1.0
+    tb = min(te, T)
+    acc[ACC_STUCK] += tb - t
+    if measure:
+        _measure_stick(acc, q, t, tb, A, r, c)
+    return te
+
+
+@jit
+def slip_direction(t, q, A, r):
+    """Direction in which the force sets the mass sliding when it leaves a stick at t."""
+    return 1 if A * math.cos(r * t) - q > 0.0 else -1
+
+
+@jit
 def _sample(ts, sq, sv, j, ta, tb, t0, q0, v0, sig, A, r, bk, zeta):
     """Fill the samples with ta <= ts[j] < tb from the piece anchored at t0; returns the next j."""
     while j < ts.size and ts[j] < tb:
@@ -201,21 +221,15 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
     j = 0
     while True:
         if mode == 0:
-            te = stick_exit(t, q, A, r, bs)
-            if te > t and new_stop:
-                acc[ACC_STOPS] += 1.0
+            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure)
             new_stop = False
-            tb = min(te, T)
-            acc[ACC_STUCK] += tb - t
-            if measure:
-                _measure_stick(acc, q, t, tb, A, r, c)
             if ts.size:
-                j = _sample(ts, sq, sv, j, t, tb if te < T else math.inf, t, q, 0.0, 0, A, r, bk, zeta)
+                j = _sample(ts, sq, sv, j, t, te if te < T else math.inf, t, q, 0.0, 0, A, r, bk, zeta)
             if te >= T:
                 return q, 0.0, 0, OK, work
             t = te
             v = 0.0
-            mode = 1 if A * math.cos(r * t) - q > 0.0 else -1
+            mode = slip_direction(t, q, A, r)
             work += 1
         else:
             vtol = vtol_rel * max(A, math.hypot(q, v))

@@ -36,10 +36,10 @@ import numpy as np
 
 from friction_sweep.kernels.event import (
     ACC_EVENTS, ACC_IC, ACC_IS, ACC_PMAX, ACC_PMIN, ACC_QMAX, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_TMIN, ACC_XMAX,
-    ACC_XMIN, BUDGET, OK, decide,
+    ACC_XMIN, BUDGET, OK, _measure_stick, decide, slip_direction, stick_phase,
 )
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.segments import TWO_PI, stick_exit
+from friction_sweep.kernels.segments import TWO_PI
 
 _GL3_X, _GL3_W = np.polynomial.legendre.leggauss(3)
 #: 3-point Gauss-Legendre on [0, 1]: nodes and weights
@@ -203,21 +203,6 @@ def _candidate(acc, x, t, q):
 
 
 @jit
-def _measure_stick(acc, qs, ta, tb, r, c):
-    acc[ACC_IC] += qs * (math.sin(r * tb) - math.sin(r * ta)) / r
-    acc[ACC_IS] += qs * (math.cos(r * ta) - math.cos(r * tb)) / r
-    _candidate(acc, qs + c * math.cos(r * ta), ta, qs)
-    _candidate(acc, qs + c * math.cos(r * tb), tb, qs)
-    if c != 0.0:
-        # x = qs + c cos(r t) peaks where r t is a multiple of pi inside the stick
-        k = math.ceil(r * ta / math.pi)
-        while k * math.pi < r * tb:
-            t = k * math.pi / r
-            _candidate(acc, qs + c * math.cos(k * math.pi), t, qs)
-            k += 1
-
-
-@jit
 def _herm_q(q0, v0, q1, v1, H, x):
     """Cubic Hermite interpolant of q at fraction x of a step of length H."""
     x2 = x * x
@@ -299,20 +284,14 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
     while True:
         if mode == 0:
             have_a = False
-            te = stick_exit(t, q, A, r, bs)
-            if te > t and new_stop:
-                acc[ACC_STOPS] += 1.0
+            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure)
             new_stop = False
             after_stop = False
-            tb = min(te, T)
-            acc[ACC_STUCK] += tb - t
-            if measure:
-                _measure_stick(acc, q, t, tb, r, c)
             if te >= T:
                 return q, 0.0, 0, OK, work
             t = te
             v = 0.0
-            mode = 1 if A * math.cos(r * t) - q > 0.0 else -1
+            mode = slip_direction(t, q, A, r)
             work += 1
             # the grid step that holds t
             k = min(int(t / h), n - 1)
@@ -366,7 +345,7 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
                 if after_stop:
                     acc[ACC_STOPS] += 1.0  # the stop turned out to be a stick of positive duration
                 if measure:
-                    _measure_stick(acc, q, t, tk1, r, c)
+                    _measure_stick(acc, q, t, tk1, A, r, c)
                 t = tk1
                 v = 0.0
                 have_a = False

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from friction_sweep.kernels.event import (
-    ACC_EVENTS, ACC_IC, ACC_IS, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX, ACC_XMIN, BUDGET,
+    ACC_IC, ACC_IS, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX, ACC_XMIN, BUDGET,
     advance_period, decide, refine_extremes, reset_accumulator,
 )
 from friction_sweep.kernels.jit import jit
