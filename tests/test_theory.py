@@ -249,13 +249,17 @@ def test_continuous_limit_tie_is_stick_slip():
     assert np.isnan(out["transmissibility"][1, 0])
 
 
-def test_resonance_unbounded_below_pi_over_4():
-    beta = np.array([0.0, 0.5, np.nextafter(np.pi / 4, 0), np.pi / 4, 0.9])
+def test_resonance_unbounded_up_to_pi_over_4():
+    beta = np.array([0.0, 0.5, np.nextafter(np.pi / 4, 0), np.pi / 4, np.nextafter(np.pi / 4, 1), 0.9])
     out = theory.compute_tile("base", np.array([1.0]), beta, OUTPUTS)
     np.testing.assert_array_equal(
         out["regime"][:, 0],
-        [regimes.UNBOUNDED, regimes.UNBOUNDED, regimes.UNBOUNDED, regimes.STICK_SLIP, regimes.STICK_SLIP],
+        [regimes.UNBOUNDED] * 4 + [regimes.STICK_SLIP] * 2,
     )
+    # the tie: at b = pi/4 the continuous amplitude still diverges as r -> 1 (like 1/sqrt|1 - r|)
+    r = 1 - np.array([1e-4, 1e-6, 1e-8])
+    x0 = dh.amplitude(r, np.pi / 4)
+    assert np.all(np.diff(x0) > 0) and x0[-1] > 10 * x0[0]
     assert np.all(np.isnan(out["transmissibility"][:, 0]))
     # next to resonance the steady state is finite, large, and grows like 1/|1 - r|
     near = theory.compute_tile("base", np.array([1 - 1e-9, 1 + 1e-9]), np.array([0.5]), OUTPUTS)

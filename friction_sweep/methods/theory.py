@@ -3,12 +3,14 @@
 Validity and the forecast regime, for friction ratio beta (the scene's convention) at r:
 
     stuck       force/base: beta >= 1 (paper Eq. 24);  joined: beta >= r^2 (Eq. 41-42)
-    unbounded   r == 1 and b < pi/4 (b = beta, or beta/r^2 for joined; Eqs. 14-15)
+    unbounded   r == 1 and b <= pi/4 (b = beta, or beta/r^2 for joined; Eqs. 14-15)
     continuous  b == 0 (linear, r != 1), or b < beta*(r) (Eq. 16 / 23b / 40)
     stick_slip  everything else
 
 Ties go to the side the paper's inequalities put them: beta exactly 1 (or r^2) is stuck, b exactly
-beta*(r) is stick_slip. r^2 is the double-precision product r*r.
+beta*(r) is stick_slip. At r = 1, b exactly pi/4 is unbounded: the finite peak needs b > pi/4
+strictly, since at b = pi/4 the continuous amplitude still diverges like 1/sqrt|1 - r| (the event
+simulation agrees: the amplitude keeps growing). r^2 is the double-precision product r*r.
 
 Numbers are written only where the theory backs them: continuous points get every output; stuck
 points get the exact no-motion values (force/base: no motion, transmissibility 0, phases undefined;
@@ -67,7 +69,7 @@ def forecast_regime(excitation, r, beta, beta_star):
     continuous = (b == 0.0) | (b < beta_star)
     code = np.full(r.shape, regimes.STICK_SLIP, dtype=np.int8)
     code[continuous] = regimes.CONTINUOUS
-    code[at_resonance & (b < dh.RESONANCE_FRICTION_LIMIT)] = regimes.UNBOUNDED
+    code[at_resonance & (b <= dh.RESONANCE_FRICTION_LIMIT)] = regimes.UNBOUNDED
     code[stuck] = regimes.STUCK
     return code
 
