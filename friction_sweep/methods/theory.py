@@ -4,11 +4,13 @@ Validity and the forecast regime, for friction ratio beta (the scene's conventio
 
     stuck       force/base: beta >= 1 (paper Eq. 24);  joined: beta >= r^2 (Eq. 41-42)
     unbounded   r == 1 and b <= pi/4 (b = beta, or beta/r^2 for joined; Eqs. 14-15)
-    continuous  b == 0 (linear, r != 1), or b < beta*(r) (Eq. 16 / 23b / 40)
+    continuous  b == 0 (linear, r != 1), or b <= beta*(r) (Eq. 16 / 23b / 40)
     stick_slip  everything else
 
-Ties go to the side the paper's inequalities put them: beta exactly 1 (or r^2) is stuck, b exactly
-beta*(r) is stick_slip. At r = 1, b exactly pi/4 is unbounded: the finite peak needs b > pi/4
+Ties: beta exactly 1 (or r^2) is stuck, as the paper's Eqs. (24) and (41) put it. b exactly beta*(r)
+is continuous: there the velocity only touches zero (a grazing contact) and the mass never rests for
+a positive time; the simulation counts such contacts, and any stick shorter than 1e-10 of a period,
+as grazing, not as stops. At r = 1, b exactly pi/4 is unbounded: the finite peak needs b > pi/4
 strictly, since at b = pi/4 the continuous amplitude still diverges like 1/sqrt|1 - r| (the event
 simulation agrees: the amplitude keeps growing). r^2 is the double-precision product r*r.
 
@@ -66,7 +68,7 @@ def forecast_regime(excitation, r, beta, beta_star):
     b = beta / (r * r) if excitation == "joined" else beta
     stuck = beta >= (r * r if excitation == "joined" else 1.0)
     at_resonance = r == 1.0
-    continuous = (b == 0.0) | (b < beta_star)
+    continuous = (b == 0.0) | (b <= beta_star)
     code = np.full(r.shape, regimes.STICK_SLIP, dtype=np.int8)
     code[continuous] = regimes.CONTINUOUS
     code[at_resonance & (b <= dh.RESONANCE_FRICTION_LIMIT)] = regimes.UNBOUNDED
