@@ -16,6 +16,13 @@ from friction_sweep.spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
 EXIT_RUNTIME = 1
+EXIT_INTERRUPTED = 130
+
+# A grid is "huge" (run only with --yes) past any of these: the run would take long, need much
+# memory, or both; the refusal says how much.
+HUGE_SECONDS = 1800.0
+HUGE_BYTES = 4 * 2**30
+BYTES_PER_POINT = 400  # ~20 float64 outputs and working copies per grid point
 
 
 def _fail(message: str, code: int = EXIT_BAD_INPUT):
@@ -38,7 +45,17 @@ def _output_path(spec_path: Path, spec, override: Path | None) -> Path:
     return Path("results") / f"{spec_path.stem}.h5"
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Group(click.Group):
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            # nothing half-written: results are only ever renamed into place when complete
+            click.echo("fsweep: interrupted; no result was written or changed", err=True)
+            sys.exit(EXIT_INTERRUPTED)
+
+
+@click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(friction_sweep.__version__, prog_name="fsweep")
 def main():
     """Sweep a 1-DoF oscillator with Coulomb friction over frequency ratio r and force ratio beta."""
@@ -63,7 +80,8 @@ def validate(spec: Path):
 @click.option("--overwrite", is_flag=True, help="Replace an existing result (atomically).")
 @click.option("-j", "--jobs", type=click.IntRange(min=1), default=1, show_default=True, help="Worker processes.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
-def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool):
+@click.option("--yes", is_flag=True, help="Run even a huge grid (one estimated to take over 30 min or 4 GiB).")
+def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool, yes: bool):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast
     from friction_sweep.storage import cube, provenance
@@ -75,15 +93,17 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
         _fail(f"{out} exists; pass --overwrite to replace it")
     if out.exists() and out.is_dir():
         _fail(f"{out} is a directory")
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as err:
-        _fail(f"cannot create the output folder {out.parent}: {err.strerror or err}", EXIT_RUNTIME)
-
     method = methods.get(s.method)
     r, beta = s.frequency_ratio, s.force_ratio
+    points = r.size * beta.size
+    seconds = points * method.COST_PER_POINT_S / jobs
+    memory = points * BYTES_PER_POINT
+    if (seconds > HUGE_SECONDS or memory > HUGE_BYTES) and not yes:
+        _fail(f"{spec}: grid: {points} points with method {s.method} would take about {_duration(seconds)} "
+              f"with {jobs} worker(s) and {memory / 2**30:.1f} GiB of memory; pass --yes to run it")
+    _check_writable(out)
     start = time.perf_counter()
-    with _progress(quiet, r.size * beta.size) as advance:
+    with _progress(quiet, points) as advance:
         arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
                           settings=s.settings, jobs=jobs, on_tile=advance)
         if s.time_history is not None:
@@ -123,6 +143,26 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     )
     if "regime" in ds:
         click.echo("  regimes: " + _regime_summary(ds["regime"].values))
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def _check_writable(out: Path) -> None:
+    """Fail before computing, not after, if the result could not be written there."""
+    import tempfile
+
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=out.parent, prefix=f".{out.name}.", suffix=".probe"):
+            pass
+    except OSError as err:
+        _fail(f"cannot write the output {out}: {err.strerror or err}", EXIT_RUNTIME)
 
 
 def _regime_summary(codes) -> str:

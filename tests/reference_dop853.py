@@ -8,13 +8,16 @@ import numpy as np
 from scipy.integrate import quad, solve_ivp
 
 
-def simulate(A, r, bk, bs, periods, c=0.0, rtol=1e-12, atol=1e-13):
-    """March `periods` forcing periods from rest; returns a list of dense pieces of the last period."""
+def simulate(A, r, bk, bs, periods, c=0.0, rtol=1e-12, atol=1e-13, w2=1.0):
+    """March `periods` forcing periods from rest; returns a list of dense pieces of the last period.
+
+    Solves q'' + w2 q + b sgn(q') = A cos(r t): w2 = 1 is the dimensionless problem; other values
+    let a test integrate in physical units (then r is the forcing's angular frequency)."""
     T = 2 * np.pi / r
     t, q, v = 0.0, 0.0, 0.0
 
     def decide(t, q):
-        d = A * np.cos(r * t) - q
+        d = A * np.cos(r * t) - w2 * q
         return 0 if abs(d) <= bs else int(np.sign(d))
 
     mode = decide(t, q)
@@ -23,7 +26,7 @@ def simulate(A, r, bk, bs, periods, c=0.0, rtol=1e-12, atol=1e-13):
     while t < t_end - 1e-14:
         if mode == 0:
             def band(tt, y, qs=q):
-                return (A * np.cos(r * tt) - qs) ** 2 - bs**2
+                return (A * np.cos(r * tt) - w2 * qs) ** 2 - bs**2
             band.terminal, band.direction = True, 1
             sol = solve_ivp(lambda tt, y: [0.0], (t, t_end), [q], events=band, rtol=rtol, atol=atol,
                             max_step=T / 16)
@@ -32,13 +35,13 @@ def simulate(A, r, bk, bs, periods, c=0.0, rtol=1e-12, atol=1e-13):
                 pieces.append(("stick", t, t_new, q))
             t = t_new
             if t < t_end:
-                mode = 1 if A * np.cos(r * t) - q > 0 else -1
+                mode = 1 if A * np.cos(r * t) - w2 * q > 0 else -1
                 v = 0.0
         else:
             sig = mode
 
             def rhs(tt, y):
-                return [y[1], A * np.cos(r * tt) - y[0] - sig * bk]
+                return [y[1], A * np.cos(r * tt) - w2 * y[0] - sig * bk]
 
             def stop(tt, y):
                 return y[1]
@@ -58,9 +61,9 @@ def simulate(A, r, bk, bs, periods, c=0.0, rtol=1e-12, atol=1e-13):
     return pieces, T, t_end
 
 
-def measure(A, r, bk, bs, periods, c=0.0):
-    """First-harmonic transmissibility and peak over the last period (response x = q + c cos r t)."""
-    pieces, T, t_end = simulate(A, r, bk, bs, periods, c)
+def measure(A, r, bk, bs, periods, c=0.0, w2=1.0):
+    """First-harmonic amplitude and peak over the last period (response x = q + c cos r t)."""
+    pieces, T, t_end = simulate(A, r, bk, bs, periods, c, w2=w2)
     t0 = t_end - T
 
     def x_of(t):

@@ -270,3 +270,81 @@ time_history: {points: [[0.95, 0.8]], samples_per_period: 32}
     assert ds["history_regime"].values[0] == regimes.STICK_SLIP  # the paper's Fig. 22 point
     assert "phase" not in ds  # not asked for, not written
     assert ds.attrs["method"] == "auto"
+
+
+# --- faults: nothing is lost ------------------------------------------------------------------------------
+
+
+def test_huge_grid_is_refused_with_an_estimate_unless_yes(runner, tmp_path, monkeypatch):
+    import friction_sweep.cli as cli
+
+    text = SMALL.format(excitation="base", output="out.h5").replace("method: theory", "method: event")
+    spec = write_spec(tmp_path, text=text)
+    monkeypatch.setattr(cli, "HUGE_SECONDS", 1e-6)  # make this small grid count as huge
+    with in_dir(tmp_path):
+        res = runner.invoke(main, ["run", str(spec)])
+        assert res.exit_code == 2
+        assert "45 points with method event would take about" in res.output and "GiB" in res.output
+        assert "--yes" in res.output
+        assert not (tmp_path / "out.h5").exists()
+        res = runner.invoke(main, ["run", str(spec), "--yes", "--quiet"])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "out.h5").exists()
+
+
+def test_unwritable_output_folder_fails_before_computing(runner, tmp_path, monkeypatch):
+    import friction_sweep.sweep.runner as runner_module
+
+    spec = write_spec(tmp_path)
+    blocker = tmp_path / "afile"
+    blocker.write_text("not a folder")
+    called = []
+    monkeypatch.setattr(runner_module, "run_grid", lambda *a, **k: called.append(1))
+    res = runner.invoke(main, ["run", str(spec), "-o", str(blocker / "out.h5")])
+    assert res.exit_code == 1
+    assert "cannot write the output" in res.output and "out.h5" in res.output
+    assert called == []  # nothing computed in vain
+    assert blocker.read_text() == "not a folder"
+
+
+def test_full_disk_at_the_end_keeps_the_old_result(runner, tmp_path, monkeypatch):
+    spec = write_spec(tmp_path)
+    out = tmp_path / "out.h5"
+    with in_dir(tmp_path):
+        assert runner.invoke(main, ["run", str(spec)]).exit_code == 0
+    before = out.read_bytes()
+
+    def no_space(self, *a, **k):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", no_space)
+    with in_dir(tmp_path):
+        res = runner.invoke(main, ["run", str(spec), "--overwrite"])
+    assert res.exit_code == 1
+    assert "No space left on device" in res.output and "nothing was written" in res.output
+    assert out.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "spec.yaml"]
+
+
+def test_a_killed_run_leaves_the_old_result_intact(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(SMALL.format(excitation="base", output="out.h5"))
+    out = tmp_path / "out.h5"
+    fsweep = [sys.executable, "-m", "friction_sweep", "run", str(spec), "-o", str(out), "--quiet"]
+    subprocess.run(fsweep, check=True, capture_output=True)
+    before = out.read_bytes()
+    # a long sweep over the same output, killed with SIGKILL while it computes
+    spec.write_text(SMALL.format(excitation="base", output="out.h5")
+                    .replace("{start: 0.2, stop: 3.0, num: 15}", "{start: 0.2, stop: 3.0, num: 40000}")
+                    .replace("method: theory", "method: event"))
+    proc = subprocess.Popen(fsweep + ["--overwrite", "--yes"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    time.sleep(4)
+    assert proc.poll() is None, "the sweep finished before it could be killed"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert out.read_bytes() == before

@@ -426,11 +426,9 @@ def test_unknown_method():
     assert p.reason.startswith("unknown method 'magic'")
 
 
-@pytest.mark.parametrize("name", ["paper"])
-def test_planned_method_not_available_yet(name):
-    p = only(spec_error(spec_text(tail=f"method: {name}\n")))
-    assert p.key == "method" and p.line == 7
-    assert p.reason == f"method '{name}' is not available yet (available: theory, event, rk4, auto)"
+def test_every_method_is_available():
+    for name in ("theory", "event", "rk4", "paper", "auto"):
+        assert parse_spec_text(spec_text(tail=f"method: {name}\n")).method == name
 
 
 def test_spec_methods_match_the_registry():
@@ -498,7 +496,7 @@ def test_bad_output_path(value):
 
 
 def test_all_problems_are_collected_in_file_order():
-    text = spec_text(excitation="shaker", fo="[0.1, -0.3]", tail="method: paper\nbogus: 1\n")
+    text = spec_text(excitation="shaker", fo="[0.1, -0.3]", tail="method: magic\nbogus: 1\n")
     err = spec_error(text)
     assert [p.key for p in err.errors] == ["scene.excitation", "grid.force_ratio[1]", "method", "bogus"]
     assert [p.line for p in err.errors] == [2, 6, 7, 8]

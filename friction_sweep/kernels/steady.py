@@ -31,8 +31,8 @@ OUT_SIZE = 14
 
 # settings slots (one float array, so a new knob never changes a signature)
 (SET_STEADY_TOL, SET_VTOL, SET_MAX_PERIODS, SET_KMAX, SET_BUDGET, SET_SHOOT_AFTER, SET_SHOOT_EVERY, SET_KERNEL,
- SET_STEPS) = range(9)
-SET_SIZE = 9
+ SET_STEPS, SET_Q0, SET_V0) = range(11)
+SET_SIZE = 11
 KERNEL_EVENT, KERNEL_RK4 = 0, 1
 DEFAULT_SETTINGS = {
     "steady_tol": 1e-10,  # |P^k(x) - x| <= steady_tol * |x| on the stroboscopic map
@@ -44,9 +44,11 @@ DEFAULT_SETTINGS = {
     "shoot_every": 48,
     "kernel": KERNEL_EVENT,  # which period integrator the driver marches: event (exact) or rk4
     "steps_per_period": 256,  # rk4 only
+    "initial_displacement": 0.0,  # the march starts here (in the equation's length unit) at forcing phase 0
+    "initial_velocity": 0.0,
 }
 _ORDER = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after", "shoot_every",
-          "kernel", "steps_per_period")
+          "kernel", "steps_per_period", "initial_displacement", "initial_velocity")
 
 
 def settings_array(**overrides) -> np.ndarray:
@@ -147,9 +149,9 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     hm = np.empty(kmax + 1, dtype=np.int64)
     rho_hist = np.empty(64)
 
-    q = 0.0
-    v = 0.0
-    mode = decide(0.0, q, A, r, bs)
+    q = settings[SET_Q0]
+    v = settings[SET_V0]
+    mode = _mode_of(q, v, A, r, bs)
     hq[0], hv[0], hm[0] = q, v, mode
     work = 0
     status = PERIOD_CAP

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from friction_sweep.methods import auto, event, rk4, theory
+from friction_sweep.methods import auto, event, paper, rk4, theory
 
-REGISTRY: dict[str, ModuleType] = {m.NAME: m for m in (theory, event, rk4, auto)}
+REGISTRY: dict[str, ModuleType] = {m.NAME: m for m in (theory, event, rk4, paper, auto)}
 
 
 def get(name: str) -> ModuleType:

@@ -16,6 +16,8 @@ from friction_sweep.methods import event, theory
 from friction_sweep.theory import den_hartog as dh
 
 NAME = "auto"
+#: rough wall time per grid point on one core, for the huge-grid estimate (measured, rounded up)
+COST_PER_POINT_S = 5e-4
 EXCITATIONS = ("force", "base", "joined")
 EFFECTS: tuple[str, ...] = ()  # the theory models none; a scene with effects should use `event`
 SETTINGS = {**event.SETTINGS, "theory_margin": 0.02}

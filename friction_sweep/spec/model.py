@@ -24,8 +24,7 @@ from pydantic_core import PydanticCustomError
 from . import grid as g
 
 EXCITATIONS = ("force", "base", "joined")
-METHODS_AVAILABLE = ("theory", "event", "rk4", "auto")
-METHODS_PLANNED = ("paper",)
+METHODS_AVAILABLE = ("theory", "event", "rk4", "paper", "auto")
 OUTPUTS = ("transmissibility", "phase", "regime", "time_history")
 DEFAULT_OUTPUTS = ("transmissibility", "phase", "regime")
 EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
@@ -33,7 +32,7 @@ EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
 #: methods that can store steady-state time histories
 HISTORY_METHODS = ("event", "auto")
 #: which physical effects each method models (a spec asking for more is refused)
-METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "rk4": EFFECTS, "auto": ()}
+METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "rk4": EFFECTS, "paper": (), "auto": ()}
 #: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound)
 METHOD_SETTINGS = {
     "theory": {},
@@ -45,9 +44,21 @@ METHOD_SETTINGS = {
         "work_budget": ("int", 1),
         "shoot_after": ("int", 1),
         "shoot_every": ("int", 1),
+        "initial_displacement": ("real", None),
+        "initial_velocity": ("real", None),
     },
 }
 METHOD_SETTINGS["auto"] = {**METHOD_SETTINGS["event"], "theory_margin": ("float", 0.0)}
+METHOD_SETTINGS["paper"] = {
+    "periods": ("int", 2),
+    "samples_per_period": ("int", 4),
+    "transient_fraction": ("float", 0.0),
+    "rtol": ("float", 0.0),
+    "atol": ("float", 0.0),
+    "stick_velocity": ("float", 0.0),
+    "stuck_displacement_per_atol": ("float", 0.0),
+    "max_evaluations": ("int", 1),
+}
 METHOD_SETTINGS["rk4"] = {**{k: v for k, v in METHOD_SETTINGS["event"].items() if k != "stop_tol"},
                           "steps_per_period": ("int", 4)}
 
@@ -308,17 +319,8 @@ class Spec(_Model):
     def _method_available(cls, v: Any) -> Any:
         if not isinstance(v, str):
             raise _error("method_type", f"must be a method name (got {show(v)})")
-        if v in METHODS_PLANNED:
-            raise _error(
-                "method_unavailable",
-                f"method {v!r} is not available yet (available: {', '.join(METHODS_AVAILABLE)})",
-            )
         if v not in METHODS_AVAILABLE:
-            raise _error(
-                "unknown_method",
-                f"unknown method {v!r} (available: {', '.join(METHODS_AVAILABLE)}; "
-                f"planned: {', '.join(METHODS_PLANNED)})",
-            )
+            raise _error("unknown_method", f"unknown method {v!r} (available: {', '.join(METHODS_AVAILABLE)})")
         return v
 
     @field_validator("outputs", mode="before")
@@ -380,7 +382,7 @@ class Spec(_Model):
             ok_type = isinstance(value, int) if kind == "int" else isinstance(value, (int, float))
             if isinstance(value, bool) or not ok_type or not np.isfinite(value):
                 raise _error("setting_type", f"must be a finite {'integer' if kind == 'int' else 'number'} (got {show(value)})", ("settings", key))
-            if (kind == "float" and value <= lower) or (kind == "int" and value < lower):
+            if lower is not None and ((kind == "float" and value <= lower) or (kind == "int" and value < lower)):
                 op = ">" if kind == "float" else ">="
                 raise _error("setting_range", f"must be {op} {lower} (got {show(value)})", ("settings", key))
         return self
