@@ -261,3 +261,16 @@ def test_small_sweep_with_numba_debug_switches(tmp_path, env):
     a, b = cube.open_cube(ref), cube.open_cube(out)
     for name in a.data_vars:
         np.testing.assert_array_equal(a[name].values, b[name].values)
+
+
+@pytest.mark.parametrize("r,beta,stops", [(0.05, 0.3, 8), (0.1, 0.5, 6), (0.03, 0.4, 14)])
+def test_clustered_stops_are_all_found(r, beta, stops):
+    """Many stops per period at low r, some of them brief (at r = 0.1, beta = 0.5 the force leaves
+    the band for only 2 % of a period): the independent integrator counts the same sticks."""
+    from reference_dop853 import simulate
+
+    p = point("base", r, beta)
+    pieces, T, t_end = simulate(1.0, r, beta, beta, int(p["periods"]) + 20)
+    sticks = [piece for piece in pieces if piece[0] == "stick" and t_end - T - 1e-9 <= piece[1] < t_end
+              and piece[2] - piece[1] > 1e-10 * T]
+    assert p["stops_per_period"] == len(sticks) == stops
