@@ -178,12 +178,18 @@ def refine_extremes(acc, A, r, bk, zeta, c):
             acc[tslot] = t0 + sm
 
 
+#: After a slip that could not start (the force touched the band edge tangentially and turned back,
+#: a tie that rounding can decide either way), the next stick exit is searched this fraction of a
+#: period later, so that time always advances (no Zeno cycle of exit -> no motion -> stick).
+TANGENT_SKIP = 1e-13
+
+
 @jit
-def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure):
+def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, skip):
     """A stick from t (exact for every integrator): count a new stop if it lasts longer than a grazing
     contact, add the time stuck, measure it if asked. Returns the exit time (>= T when the mass stays
-    stuck to the period end)."""
-    te = stick_exit(t, q, A, r, bs)
+    stuck to the period end). skip: search the exit only from t + skip."""
+    te = max(stick_exit(t + skip, q, A, r, bs), t + skip)
     if new_stop and te - t > GRAZING_STICK * T:
         acc[ACC_STOPS] += 1.0
     tb = min(te, T)
@@ -224,11 +230,14 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
     t = 0.0
     work = 0
     new_stop = False
+    from_stick = False
     j = 0
+    stalled = False  # the last slip could not start from its stick exit
     while True:
         if mode == 0:
-            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure)
+            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, TANGENT_SKIP * T if stalled else 0.0)
             new_stop = False
+            stalled = False
             if ts.size:
                 j = _sample(ts, sq, sv, j, t, te if te < T else math.inf, t, q, 0.0, 0, A, r, bk, zeta)
             if te >= T:
@@ -237,12 +246,20 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
             v = 0.0
             mode = slip_direction(t, q, A, r)
             work += 1
+            from_stick = True
         else:
             vtol = vtol_rel * max(A, math.hypot(q, v))
             s, found, w = find_stop(t, q, v, mode, A, r, bk, zeta, T - t, vtol, hmax, budget - work)
             work += w + 1
             if work > budget:
                 return q, v, mode, BUDGET, work
+            if found and s == 0.0 and from_stick:
+                # the force touched the band edge and turned back: the mass stays stuck
+                mode = 0
+                stalled = True
+                from_stick = False
+                continue
+            from_stick = False
             if measure:
                 _measure_slip(acc, t, q, v, mode, s, A, r, bk, zeta, c)
             if ts.size:

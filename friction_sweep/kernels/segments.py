@@ -99,7 +99,9 @@ def curvature_bounds(rho, A, r, bk, zeta, hmax):
 def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
     """First local time s in [0, s_end] at which the velocity in direction sig falls to vtol.
 
-    Returns (s, found, work). No stop can be skipped: from a sample with w = sig v > 0 and
+    Returns (s, found, work). A stop is the velocity in direction sig falling to vtol while it
+    decelerates (a slow start from rest, w tiny but rising, is not one). No stop can be skipped: from a
+    sample with w = sig v > 0 and
     w' = sig v', the bound sig v(s + d) >= w + w' d - M2 d^2 / 2 proves the next step d safe.
     Near a simple root this is a Newton step with a safety margin (quadratic convergence); at a
     grazing contact the steps shrink geometrically until w <= vtol, so no Zeno stall.
@@ -134,15 +136,17 @@ def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
     while True:
         q, v = slip_state(s, q0, v0, sig, A, r, bk, zeta, ca, sa)
         w = sig * v
-        if w <= vtol and s > 0.0:
+        phase = r * (t0 + s)
+        wa = sig * acceleration(q, v, sig, A, bk, zeta, phase)
+        # a stop is the velocity falling to zero: a slow start from rest (w tiny but rising) is not one,
+        # or each restart would stop at once and time would creep forward geometrically (Zeno)
+        if s > 0.0 and (w <= 0.0 or (w <= vtol and wa <= 0.0)):
             return s, True, work
         if s >= s_end:
             return s_end, False, work
         work += 1
         if work > budget:
             return s, False, work
-        phase = r * (t0 + s)
-        wa = sig * acceleration(q, v, sig, A, bk, zeta, phase)
         m2, _ = curvature_bounds(math.hypot(q, v), A, r, bk, zeta, hmax)
         disc = math.sqrt(wa * wa + 2.0 * m2 * w)
         if wa >= 0.0:
