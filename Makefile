@@ -4,13 +4,14 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: demo test cubes clean distclean help
+.PHONY: demo test cubes bench bench-quick clean distclean help
 .DELETE_ON_ERROR:
 
 help:
 	@echo "make demo   set up, then run configs/demo.yaml and summarise the cube"
 	@echo "make test   set up, then run the whole test suite"
 	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
+	@echo "make bench  set up, then measure speed and scaling (results/bench/scale.md)"
 	@echo "make clean  remove results and caches; make distclean also removes $(VENV)"
 
 $(STAMP): pyproject.toml
@@ -26,6 +27,12 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+bench: $(STAMP)
+	$(BIN)/python benchmarks/scale.py
+
+bench-quick: $(STAMP)
+	$(BIN)/python benchmarks/scale.py --quick
 
 # one cube per figure spec; fsweep writes atomically, so an interrupted run leaves no partial file
 FIG_SPECS := $(wildcard configs/fig*.yaml)

@@ -81,15 +81,25 @@ def validate(spec: Path):
 @click.option("-j", "--jobs", type=click.IntRange(min=1), default=1, show_default=True, help="Worker processes.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("--yes", is_flag=True, help="Run even a huge grid (one estimated to take over 30 min or 4 GiB).")
-def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool, yes: bool):
+@click.option("--executor", type=click.Choice(["threads", "processes", "dask", "serial"]), default="threads",
+              show_default=True, help="Where tiles run (dask: a LocalCluster of -j workers, or --scheduler).")
+@click.option("--scheduler", metavar="ADDRESS", help="A Dask scheduler to run on (implies --executor dask).")
+@click.option("--resume", is_flag=True, help="Continue an interrupted run from its finished tiles.")
+@click.option("-v", "--verbose", count=True, help="Log what happens (-vv: more).")
+def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool, yes: bool, executor: str,
+        scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast
-    from friction_sweep.storage import cube, provenance
-    from friction_sweep.sweep.runner import run_grid
+    from friction_sweep.sweep import checkpoint
+    from friction_sweep.sweep.runner import TILE_FREQUENCIES, run_grid, tiles
+
+    _logging(verbose)
+    if scheduler:
+        executor = "dask"
 
     s = _load(spec)
     out = _output_path(spec, s, output)
-    if out.exists() and not overwrite:
+    if out.exists() and not overwrite and not resume:
         _fail(f"{out} exists; pass --overwrite to replace it")
     if out.exists() and out.is_dir():
         _fail(f"{out} is a directory")
@@ -102,10 +112,36 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
         _fail(f"{spec}: grid: {points} points with method {s.method} would take about {_duration(seconds)} "
               f"with {jobs} worker(s) and {memory / 2**30:.1f} GiB of memory; pass --yes to run it")
     _check_writable(out)
+    key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
+                                 tile=TILE_FREQUENCIES, version=friction_sweep.__version__)
+    store = checkpoint.Checkpoint(out, key, len(tiles(r.size)))
+    try:
+        with checkpoint.Lock(out):
+            _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid)
+    except checkpoint.Busy as err:
+        _fail(str(err))
+
+
+def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid):
+    """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up."""
+    from friction_sweep.storage import cube, provenance
+    from friction_sweep.sweep import checkpoint
+
+    if store.exists() and not resume:
+        _fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
+              f"continue it, or delete that folder to start afresh")
+    if resume and out.exists() and not store.exists():
+        _fail(f"{out} is complete: there is nothing to resume (pass --overwrite to recompute it)")
+    try:
+        done = store.start(resume)
+    except checkpoint.Mismatch as err:
+        _fail(str(err))
+    r, beta = s.frequency_ratio, s.force_ratio
     start = time.perf_counter()
-    with _progress(quiet, points) as advance:
+    with _progress(quiet, r.size * beta.size) as advance:
         arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
-                          settings=s.settings, jobs=jobs, on_tile=advance)
+                          settings=s.settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
+                          on_done=store.save, on_tile=advance)
         if s.time_history is not None:
             pts = np.asarray(s.time_history.points, dtype=float)
             hist = method.time_histories(s.scene.excitation, pts, s.time_history.samples_per_period,
@@ -113,7 +149,7 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
             arrays.update(hist, history_frequency_ratio=pts[:, 0], history_force_ratio=pts[:, 1])
     elapsed = time.perf_counter() - start
 
-    command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)] + (["--overwrite"] if overwrite else []))
+    command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)])
     ds = cube.build_dataset(
         arrays,
         frequency_ratio=r,
@@ -130,12 +166,13 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
         ),
     )
     try:
-        cube.write_atomic(ds, out, overwrite=overwrite)
+        cube.write_atomic(ds, out, overwrite=overwrite or resume)
     except FileExistsError:
         _fail(f"{out} appeared while the sweep ran; nothing was replaced (pass --overwrite)")
     except OSError as err:
         _fail(f"could not write {out}: {err}; nothing was written", EXIT_RUNTIME)
 
+    store.remove()
     click.echo(f"wrote {out}")
     click.echo(
         f"  {s.scene.excitation} excitation, method {s.method}: {beta.size} force ratios x "
@@ -143,6 +180,14 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     )
     if "regime" in ds:
         click.echo("  regimes: " + _regime_summary(ds["regime"].values))
+
+
+def _logging(verbose: int) -> None:
+    import logging
+
+    level = logging.WARNING if verbose == 0 else logging.INFO if verbose == 1 else logging.DEBUG
+    logging.basicConfig(level=level, format="fsweep: %(levelname)s: %(message)s", stream=sys.stderr)
+    logging.getLogger("friction_sweep").setLevel(level)
 
 
 def _duration(seconds: float) -> str:
@@ -186,11 +231,19 @@ class _progress:
 
         self.bar = Progress(
             TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TextColumn("points"),
-            TimeRemainingColumn(), console=self.console, transient=True,
+            TextColumn("{task.fields[rate]}"), TimeRemainingColumn(), console=self.console, transient=True,
         )
         self.bar.start()
-        task = self.bar.add_task("sweep", total=self.total)
-        return lambda n: self.bar.advance(task, n)
+        task = self.bar.add_task("sweep", total=self.total, rate="")
+        start = time.perf_counter()
+        done = [0]
+
+        def advance(n):
+            done[0] += n
+            rate = done[0] / max(time.perf_counter() - start, 1e-9)
+            self.bar.update(task, advance=n, rate=f"{rate:,.0f} points/s")
+
+        return advance
 
     def __exit__(self, *exc):
         if self.enabled:

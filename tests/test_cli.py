@@ -323,7 +323,16 @@ def test_full_disk_at_the_end_keeps_the_old_result(runner, tmp_path, monkeypatch
     assert res.exit_code == 1
     assert "No space left on device" in res.output and "nothing was written" in res.output
     assert out.read_bytes() == before
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "spec.yaml"]
+    # no temporary file; the finished tiles wait in the checkpoint for --resume
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".out.h5.lock", ".out.h5.partial", "out.h5", "spec.yaml"]
+    monkeypatch.undo()
+    import friction_sweep.methods.theory as theory_module
+
+    monkeypatch.setattr(theory_module, "compute_tile", lambda *a, **k: pytest.fail("recomputed a finished tile"))
+    with in_dir(tmp_path):
+        res = runner.invoke(main, ["run", str(spec), "--resume"])
+    assert res.exit_code == 0, res.output
+    assert not (tmp_path / ".out.h5.partial").exists()
 
 
 def test_a_killed_run_leaves_the_old_result_intact(tmp_path):
@@ -348,3 +357,132 @@ def test_a_killed_run_leaves_the_old_result_intact(tmp_path):
     proc.send_signal(signal.SIGKILL)
     proc.wait()
     assert out.read_bytes() == before
+
+
+# --- scale: executors, determinism, resume, one run at a time ----------------------------------------
+
+EVENT_SPEC = """\
+scene: {excitation: joined}
+grid: {frequency_ratio: {start: 0.1, stop: 3.0, num: 100}, force_ratio: [0.0, 0.3, 0.6, 1.2]}
+method: event
+"""
+
+
+def _cube_arrays(path):
+    ds = cube.open_cube(path)
+    return {name: ds[name].values for name in ds.data_vars}
+
+
+def _assert_same_bits(a, b):
+    assert a.keys() == b.keys()
+    for name in a:
+        np.testing.assert_array_equal(a[name], b[name])
+
+
+@pytest.mark.parametrize("args", [["-j", "2", "--executor", "threads"], ["-j", "2", "--executor", "processes"],
+                                  ["--executor", "serial"]], ids=["threads", "processes", "serial"])
+def test_executors_and_worker_counts_give_the_same_bits(runner, tmp_path, args):
+    spec = write_spec(tmp_path, text=EVENT_SPEC)
+    ref, out = tmp_path / "ref.h5", tmp_path / "out.h5"
+    assert runner.invoke(main, ["run", str(spec), "-o", str(ref), "-j", "1"]).exit_code == 0
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out), *args])
+    assert res.exit_code == 0, res.output
+    _assert_same_bits(_cube_arrays(ref), _cube_arrays(out))
+
+
+def test_dask_local_cluster_gives_the_same_bits(runner, tmp_path):
+    spec = write_spec(tmp_path, text=EVENT_SPEC)
+    ref, out = tmp_path / "ref.h5", tmp_path / "out.h5"
+    assert runner.invoke(main, ["run", str(spec), "-o", str(ref)]).exit_code == 0
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--executor", "dask", "-j", "2"])
+    assert res.exit_code == 0, res.output
+    _assert_same_bits(_cube_arrays(ref), _cube_arrays(out))
+
+
+def test_interrupted_run_resumes_to_the_same_bits(runner, tmp_path, monkeypatch):
+    import friction_sweep.methods.event as event_module
+
+    spec = write_spec(tmp_path, text=EVENT_SPEC)
+    ref, out = tmp_path / "ref.h5", tmp_path / "out.h5"
+    assert runner.invoke(main, ["run", str(spec), "-o", str(ref)]).exit_code == 0
+    real = event_module.compute_tile
+    calls = []
+
+    def interrupted_after_two(*a, **k):
+        calls.append(1)
+        if len(calls) > 2:
+            raise KeyboardInterrupt
+        return real(*a, **k)
+
+    monkeypatch.setattr(event_module, "compute_tile", interrupted_after_two)
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--executor", "serial"])
+    assert res.exit_code == 130 and "interrupted" in res.output
+    assert not out.exists()
+    partial = tmp_path / ".out.h5.partial"
+    assert sorted(p.name for p in partial.glob("tile-*.npz")) == ["tile-00000.npz", "tile-00001.npz"]
+    # without --resume the leftover is not silently thrown away
+    monkeypatch.setattr(event_module, "compute_tile", real)
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out)])
+    assert res.exit_code == 2 and "--resume" in res.output and "2 finished tiles" in res.output
+    computed = []
+
+    def counting(*a, **k):
+        computed.append(1)
+        return real(*a, **k)
+
+    monkeypatch.setattr(event_module, "compute_tile", counting)
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--resume", "--executor", "serial"])
+    assert res.exit_code == 0, res.output
+    assert len(computed) == 2  # 4 tiles of 32 frequency ratios: only the 2 missing ones
+    _assert_same_bits(_cube_arrays(ref), _cube_arrays(out))
+    assert not partial.exists()
+
+
+def test_resume_refuses_a_checkpoint_of_another_sweep(runner, tmp_path, monkeypatch):
+    import friction_sweep.methods.event as event_module
+
+    spec = write_spec(tmp_path, text=EVENT_SPEC)
+    out = tmp_path / "out.h5"
+    monkeypatch.setattr(event_module, "compute_tile", lambda *a, **k: (_ for _ in ()).throw(KeyboardInterrupt))
+    assert runner.invoke(main, ["run", str(spec), "-o", str(out)]).exit_code == 130
+    spec.write_text(EVENT_SPEC.replace("1.2]", "1.3]"))
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--resume"])
+    assert res.exit_code == 2 and "different sweep" in res.output
+
+
+def test_a_second_run_on_the_same_output_is_refused(runner, tmp_path):
+    from friction_sweep.sweep import checkpoint
+
+    spec = write_spec(tmp_path)
+    out = tmp_path / "out.h5"
+    with checkpoint.Lock(out):  # as a running fsweep holds it
+        res = runner.invoke(main, ["run", str(spec), "-o", str(out)])
+    assert res.exit_code == 2
+    assert "another fsweep run is writing" in res.output and "out.h5" in res.output
+    assert not out.exists()
+    assert runner.invoke(main, ["run", str(spec), "-o", str(out)]).exit_code == 0  # released
+
+
+def test_kill_9_then_resume_gives_the_same_bits(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(EVENT_SPEC.replace("num: 100", "num: 1500").replace("method: event", "method: event\n"
+                    "settings: {max_periods: 3000}"))
+    ref, out = tmp_path / "ref.h5", tmp_path / "out.h5"
+    fsweep = [sys.executable, "-m", "friction_sweep", "run", str(spec), "--quiet", "--executor", "serial"]
+    proc = subprocess.Popen(fsweep + ["-o", str(out)], stderr=subprocess.PIPE)
+    partial = tmp_path / ".out.h5.partial"
+    deadline = time.time() + 60
+    while time.time() < deadline and len(list(partial.glob("tile-*.npz"))) < 3:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    finished = len(list(partial.glob("tile-*.npz")))
+    assert 3 <= finished < 47 and not out.exists()
+    subprocess.run(fsweep + ["-o", str(out), "--resume"], check=True, capture_output=True)
+    subprocess.run(fsweep + ["-o", str(ref)], check=True, capture_output=True)
+    _assert_same_bits(_cube_arrays(ref), _cube_arrays(out))

@@ -1,36 +1,50 @@
-"""Run a validated spec: cut the grid into tiles, compute them (in processes if asked), assemble.
+"""Run a validated spec: cut the grid into tiles, compute them where asked, assemble.
 
 Tiles are fixed blocks of frequency ratios (all force ratios each), independent of the number of
-workers, so the cube is the same whatever `jobs` is.
+workers and of the executor, so the cube is the same bit for bit however it was scheduled.
 """
 
 from __future__ import annotations
 
-from concurrent.futures import ProcessPoolExecutor
+import logging
 from typing import Callable
 
 import numpy as np
 
 from friction_sweep import methods
+from friction_sweep.sweep.executors import execute
+
+log = logging.getLogger("friction_sweep")
 
 GRID_OUTPUTS = ("transmissibility", "phase", "regime")
 
 #: frequency ratios per tile; fixed so results never depend on how tiles are scheduled
 TILE_FREQUENCIES = 32
 
+#: chosen by measurement on 2 cores (README, make bench): threads share one compiled kernel and skip
+#: process start-up; the kernels release the GIL
+DEFAULT_EXECUTOR = "threads"
+
 
 def tiles(n_frequencies: int, size: int = TILE_FREQUENCIES) -> list[slice]:
     return [slice(i, min(i + size, n_frequencies)) for i in range(0, n_frequencies, size)]
 
 
-def _compute(args):
+def compute_tile(args):
+    """One tile: a pure function of its arguments (picklable for processes and Dask)."""
     method_name, excitation, r, beta, outputs, effects, settings = args
     return methods.get(method_name).compute_tile(excitation, r, beta, outputs, effects=effects, settings=settings)
 
 
 def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, outputs, *, effects=None,
-             settings=None, jobs: int = 1, on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
-    """Compute every requested variable on the full grid; `on_tile(points)` reports progress."""
+             settings=None, jobs: int = 1, executor: str = DEFAULT_EXECUTOR, scheduler: str | None = None,
+             done: dict | None = None, on_done: Callable[[int, dict], None] | None = None,
+             on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
+    """Compute every requested variable on the full grid.
+
+    done: tiles already computed (index -> arrays, from a checkpoint); on_done(index, arrays) is
+    called for each newly computed tile (to checkpoint it); on_tile(points) reports progress.
+    """
     r = np.asarray(frequency_ratio, dtype=float)
     beta = np.asarray(force_ratio, dtype=float)
     parts = tiles(r.size)
@@ -41,6 +55,7 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
 
     def place(s: slice, tile: dict) -> None:
         for name, values in tile.items():
+            values = np.asarray(values)
             if name not in results:
                 shape = (r.size,) if values.ndim == 1 else (beta.size, r.size)
                 results[name] = np.empty(shape, dtype=values.dtype)
@@ -48,11 +63,21 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         if on_tile is not None:
             on_tile(beta.size * (s.stop - s.start))
 
-    if jobs <= 1 or len(parts) == 1:
-        for s, args in zip(parts, work):
-            place(s, _compute(args))
-    else:
-        with ProcessPoolExecutor(max_workers=jobs) as pool:
-            for s, tile in zip(parts, pool.map(_compute, work)):
-                place(s, tile)
+    done = done or {}
+    for i, tile in done.items():
+        place(parts[i], tile)
+    todo = [i for i in range(len(parts)) if i not in done]
+    if done:
+        log.info("resuming: %d of %d tiles already done", len(done), len(parts))
+    if todo and executor in ("processes", "threads") and jobs > 1:
+        # compile (or load from the cache) once here, before workers start: no compile storm
+        compute_tile((method_name, excitation, r[:1], beta[:1], grid_outputs, dict(effects or {}),
+                      dict(settings or {})))
+    log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
+             sum(beta.size * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
+    for k, tile in execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler):
+        index = todo[k]
+        if on_done is not None:
+            on_done(index, tile)
+        place(parts[index], tile)
     return results
