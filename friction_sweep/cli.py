@@ -114,15 +114,31 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     _check_writable(out)
     key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
                                  tile=TILE_FREQUENCIES, version=friction_sweep.__version__)
+    settings, extra = dict(s.settings), {}
+    if s.accuracy is not None:
+        import json
+
+        from friction_sweep.bench.workprecision import choose
+
+        try:
+            chosen, row = choose("event" if s.method == "auto" else s.method, s.accuracy)
+        except LookupError as err:
+            _fail(f"{spec}: accuracy: {err}")
+        settings.update(chosen)
+        extra = {"accuracy_requested": s.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
+        click.echo(f"accuracy {s.accuracy:g}: {s.method} with {chosen} (benchmark worst error "
+                   f"{row['worst_error']:.1e}, {row['seconds_per_point'] * 1e3:.3g} ms per point)", err=True)
     store = checkpoint.Checkpoint(out, key, len(tiles(r.size)))
     try:
         with checkpoint.Lock(out):
-            _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid)
+            _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid,
+                        settings, extra)
     except checkpoint.Busy as err:
         _fail(str(err))
 
 
-def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid):
+def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid, settings,
+                extra_attrs):
     """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up."""
     from friction_sweep.storage import cube, provenance
     from friction_sweep.sweep import checkpoint
@@ -140,12 +156,12 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
     start = time.perf_counter()
     with _progress(quiet, r.size * beta.size) as advance:
         arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
-                          settings=s.settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
+                          settings=settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
                           on_done=store.save, on_tile=advance)
         if s.time_history is not None:
             pts = np.asarray(s.time_history.points, dtype=float)
             hist = method.time_histories(s.scene.excitation, pts, s.time_history.samples_per_period,
-                                         s.scene.effects.declared(), s.settings)
+                                         s.scene.effects.declared(), settings)
             arrays.update(hist, history_frequency_ratio=pts[:, 0], history_force_ratio=pts[:, 1])
     elapsed = time.perf_counter() - start
 
@@ -162,9 +178,10 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
             spec_path=str(spec),
             excitation=s.scene.excitation,
             method=s.method,
-            settings={**method.SETTINGS, **s.settings, "effects": s.scene.effects.declared()},
+            settings={**method.SETTINGS, **settings, "effects": s.scene.effects.declared()},
         ),
     )
+    ds.attrs.update(extra_attrs)
     try:
         cube.write_atomic(ds, out, overwrite=overwrite or resume)
     except FileExistsError:
@@ -286,3 +303,30 @@ def info(result: Path):
             finite = np.isfinite(v)
             if finite.any():
                 click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} ({finite.sum()} finite of {v.size})")
+
+
+@main.command()
+@click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
+@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
+              default=Path("results/bench/workprecision.h5"), show_default=True, help="Dataset to write.")
+@click.option("--calibrate", is_flag=True, help="Also rewrite the calibration that `accuracy:` in specs uses.")
+def bench(quick: bool, output: Path, calibrate: bool):
+    """Measure what accuracy costs in time: error and time per point of every method and setting."""
+    import json
+
+    from friction_sweep.bench import workprecision as wp
+    from friction_sweep.storage import cube
+
+    if calibrate and quick:
+        _fail("--calibrate needs the full benchmark, not --quick")
+    _check_writable(output)
+    ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
+    cube.write_atomic(ds, output, overwrite=True)
+    wp.figure(ds, output.with_suffix(".png"))
+    table = wp.markdown(ds)
+    output.with_suffix(".md").write_text(table + "\n")
+    if calibrate:
+        wp.CALIBRATION.write_text(json.dumps(wp.calibration_table(ds), indent=1) + "\n")
+    click.echo(table)
+    click.echo(f"wrote {output}, {output.with_suffix('.png')}, {output.with_suffix('.md')}"
+               + (f", {wp.CALIBRATION}" if calibrate else ""))

@@ -136,7 +136,7 @@ def test_zero_friction_is_linear():
 @pytest.mark.parametrize("excitation,r,beta", [("base", 0.5, 0.5), ("base", 0.3, 0.3), ("joined", 0.95, 0.8),
                                                ("base", 1.0, 0.9)])
 def test_stick_slip_matches_independent_dop853(excitation, r, beta):
-    from reference_dop853 import measure
+    from friction_sweep.bench.reference import measure
 
     A, c = (r * r, 1.0) if excitation == "joined" else (1.0, 0.0)
     out = solve(excitation, r, beta)

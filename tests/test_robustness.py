@@ -124,7 +124,7 @@ def test_singular_points_of_u_have_a_stop_free_motion_den_hartog_cannot_describe
     """At r = 1/3 the friction square wave's third harmonic sits on the natural frequency, so Den
     Hartog's symmetric one-reversal orbit cannot exist for beta > 0 (the theory forecasts stick-slip),
     yet a stop-free orbit with extra velocity reversals does: an independent DOP853 run agrees."""
-    from reference_dop853 import measure
+    from friction_sweep.bench.reference import measure
 
     p = point("base", 1 / 3, 0.01)
     assert p["regime"] == regimes.CONTINUOUS and p["stops_per_period"] == 0
@@ -224,7 +224,7 @@ def test_scaling_invariance_dimensional_parameters(r, beta, m, k, y):
     """m x'' + k x + muN sgn x' = k Y cos(w t) with w = r sqrt(k/m) and muN = beta k Y, integrated in
     physical units (seconds, metres, newtons) by an independent DOP853 integrator, gives x/Y equal to
     the dimensionless kernel's answer at (r, beta)."""
-    from reference_dop853 import measure
+    from friction_sweep.bench.reference import measure
 
     p = point("base", r, beta)
     assert p["steady_state"] == regimes.CONVERGED and p["regime"] == regimes.STICK_SLIP
@@ -267,7 +267,7 @@ def test_small_sweep_with_numba_debug_switches(tmp_path, env):
 def test_clustered_stops_are_all_found(r, beta, stops):
     """Many stops per period at low r, some of them brief (at r = 0.1, beta = 0.5 the force leaves
     the band for only 2 % of a period): the independent integrator counts the same sticks."""
-    from reference_dop853 import simulate
+    from friction_sweep.bench.reference import simulate
 
     p = point("base", r, beta)
     pieces, T, t_end = simulate(1.0, r, beta, beta, int(p["periods"]) + 20)

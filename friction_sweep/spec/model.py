@@ -29,6 +29,9 @@ OUTPUTS = ("transmissibility", "phase", "regime", "time_history")
 DEFAULT_OUTPUTS = ("transmissibility", "phase", "regime")
 EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
 
+#: methods whose settings `accuracy:` can choose from the benchmark's calibration, and the knobs it sets
+ACCURACY_METHODS = ("event", "rk4", "auto")
+ACCURACY_KNOBS = {"stop_tol", "steady_tol", "steps_per_period"}
 #: methods that can store steady-state time histories
 HISTORY_METHODS = ("event", "auto")
 #: which physical effects each method models (a spec asking for more is refused)
@@ -311,6 +314,7 @@ class Spec(_Model):
     time_history: TimeHistory | None = None
     output: Path | None = None
     settings: dict[str, Any] = Field(default_factory=dict)
+    accuracy: Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0, lt=1)] | None = None
     _source_path: str = PrivateAttr(default="<string>")
     _text: str = PrivateAttr(default="")
 
@@ -357,6 +361,19 @@ class Spec(_Model):
         if wanted and self.method not in HISTORY_METHODS:
             raise _error("history_method", f"method {self.method!r} cannot store time histories "
                          f"(methods that can: {', '.join(HISTORY_METHODS)})", ("outputs",))
+        return self
+
+    @model_validator(mode="after")
+    def _accuracy_instead_of_knobs(self):
+        if self.accuracy is None:
+            return self
+        if self.method not in ACCURACY_METHODS:
+            raise _error("accuracy_method", f"method {self.method!r} has no calibrated settings "
+                         f"(accuracy works with: {', '.join(ACCURACY_METHODS)})", ("accuracy",))
+        knobs = sorted(set(self.settings) & ACCURACY_KNOBS)
+        if knobs:
+            raise _error("accuracy_and_knobs", f"give either accuracy or the knobs it sets, not both "
+                         f"(settings also has {', '.join(knobs)})", ("accuracy",))
         return self
 
     @model_validator(mode="after")

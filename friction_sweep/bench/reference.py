@@ -1,4 +1,4 @@
-"""An independent reference integrator for tests: SciPy's DOP853 with event switching.
+"""An independent reference integrator: SciPy's DOP853 with event switching (tests, benchmarks).
 
 Shares no code with the kernels: slip is integrated numerically (rtol 1e-12), stops are events on
 the velocity, stick exits are events on |A cos(r t) - q| - bs, all located by SciPy.

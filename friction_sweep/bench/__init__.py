@@ -1,0 +1,1 @@
+"""Benchmarks that users read: work-precision of every method and setting."""

@@ -1,0 +1,229 @@
+"""What accuracy costs in time: error against a trusted reference and wall time per point, for every
+method and accuracy knob, in three regions of the (r, beta) plane and both kinds of wall.
+
+Reference: Den Hartog's closed form in the continuous region; elsewhere the event method at its
+tightest setting, cross-checked against an independent integrator (SciPy's DOP853 with event
+switching, friction_sweep.bench.reference). Error: the largest relative error of the first-harmonic
+transmissibility over the region's points (a point a setting fails on counts as an infinite error).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from friction_sweep.methods import event, paper, rk4, theory
+
+OUTPUTS = ("transmissibility", "phase", "regime")
+EXCITATIONS = ("base", "joined")
+REGIONS = {
+    "continuous": {"base": [(1.5, 0.3), (2.5, 0.4), (0.8, 0.2)], "joined": [(2.0, 0.8), (1.5, 0.4), (3.0, 1.0)]},
+    "two_stops": {"base": [(0.7, 0.8), (1.5, 0.7), (3.0, 0.6)], "joined": [(0.95, 0.8), (1.2, 1.1), (2.0, 2.5)]},
+    "many_stops": {"base": [(0.1, 0.3), (0.05, 0.3)], "joined": [(0.15, 0.01), (0.1, 0.005)]},
+}
+SETTINGS = {
+    "event": [{"stop_tol": a, "steady_tol": b} for a, b in ((1e-4, 1e-3), (1e-6, 1e-5), (1e-8, 1e-7), (1e-10, 1e-9),
+                                                            (1e-12, 1e-10))],
+    "rk4": [{"steps_per_period": n} for n in (16, 32, 64, 128, 256, 512, 1024)],
+    # the paper's ode45 defaults, then tighter; its chatter makes stuck phases very slow, so a budget
+    "paper": [{"rtol": a, "atol": b, "max_evaluations": 300_000} for a, b in ((1e-3, 1e-6), (1e-5, 1e-8), (1e-7, 1e-10))],
+}
+QUICK_SETTINGS = {"event": SETTINGS["event"][::2], "rk4": SETTINGS["rk4"][1::2], "paper": SETTINGS["paper"][:1]}
+REFERENCE_SETTINGS = {"stop_tol": 1e-13, "steady_tol": 1e-12}
+METHODS = {"event": event, "rk4": rk4, "paper": paper}
+
+
+def label(settings: dict) -> str:
+    return ", ".join(f"{k}={v:g}" for k, v in settings.items() if k != "max_evaluations")
+
+
+def _points(region, excitation, quick):
+    pts = REGIONS[region][excitation]
+    return pts[:1] if quick else pts
+
+
+def reference(region, excitation, quick):
+    """Reference transmissibilities of a region's points, and the cross-check discrepancy."""
+    pts = np.array(_points(region, excitation, quick))
+    r, b = pts[:, 0], pts[:, 1]
+    if region == "continuous":
+        th = theory.compute_tile(excitation, r, b, OUTPUTS)["transmissibility"].diagonal() if r.size > 1 else \
+            theory.compute_tile(excitation, r, b, OUTPUTS)["transmissibility"][0]
+        return np.asarray(th), 0.0
+    raw = event.solve_flat(excitation, r, b, **REFERENCE_SETTINGS)
+    ref = raw[:, 0]
+    from friction_sweep.bench.reference import measure
+
+    worst = 0.0
+    for i, (rr, bb) in enumerate(pts[:1] if quick else pts):  # DOP853 is slow: one point per region in quick
+        A, c = (rr * rr, 1.0) if excitation == "joined" else (1.0, 0.0)
+        t_dop, _ = measure(A, rr, bb, bb, int(raw[i, 7]) + 20, c)
+        worst = max(worst, abs(t_dop / ref[i] - 1))
+    return ref, worst
+
+
+def _time_points(method_name, excitation, pts, settings, repeat):
+    """(transmissibility per point, seconds per point)."""
+    r, b = pts[:, 0], pts[:, 1]
+    if method_name == "paper":
+        values, t = [], time.perf_counter()
+        for rr, bb in pts:
+            values.append(paper.solve_point(excitation, rr, bb, settings)["transmissibility"])
+        return np.array(values), (time.perf_counter() - t) / len(pts)
+    full = {**settings, "kernel": 1} if method_name == "rk4" else dict(settings)
+    event.solve_flat(excitation, r[:1], b[:1], **full)  # compiled before timing
+    rr, bb = np.tile(r, repeat), np.tile(b, repeat)
+    t = time.perf_counter()
+    raw = event.solve_flat(excitation, rr, bb, **full)
+    return raw[: r.size, 0], (time.perf_counter() - t) / rr.size
+
+
+def run(quick: bool = False, methods=("event", "rk4", "paper"), log=print) -> xr.Dataset:
+    table = QUICK_SETTINGS if quick else SETTINGS
+    methods = list(methods)
+    n_set = max(len(table[m]) for m in methods)
+    shape = (len(methods), n_set, len(REGIONS), len(EXCITATIONS))
+    error = np.full(shape, np.nan)
+    seconds = np.full(shape, np.nan)
+    labels = np.full((len(methods), n_set), "", dtype=object)
+    crosscheck = {}
+    for k, exc in enumerate(EXCITATIONS):
+        for j, region in enumerate(REGIONS):
+            pts = np.array(_points(region, exc, quick))
+            ref, disc = reference(region, exc, quick)
+            crosscheck[f"{exc}/{region}"] = disc
+            for i, m in enumerate(methods):
+                if m == "paper" and (quick and region != "continuous"):
+                    continue  # the chattering baseline is slow off the continuous region; full runs only
+                for s, settings in enumerate(table[m]):
+                    labels[i, s] = label(settings)
+                    values, sec = _time_points(m, exc, pts, settings, repeat=1 if m == "paper" else 20)
+                    rel = np.abs(values / ref - 1)
+                    error[i, s, j, k] = np.inf if not np.all(np.isfinite(rel)) else rel.max()
+                    seconds[i, s, j, k] = sec
+                    log(f"{exc:6s} {region:10s} {m:5s} {labels[i, s]:32s} error {error[i, s, j, k]:.2e} "
+                        f"{sec * 1e3:.3f} ms/point")
+    ds = xr.Dataset(
+        {
+            "error": (("method", "setting", "region", "excitation"), error,
+                      {"long_name": "largest relative error of the first-harmonic transmissibility", "units": "1"}),
+            "seconds_per_point": (("method", "setting", "region", "excitation"), seconds,
+                                  {"long_name": "wall time per grid point, one core", "units": "s"}),
+            "setting_label": (("method", "setting"), labels.astype(str), {"long_name": "accuracy knobs"}),
+        },
+        coords={"method": methods, "setting": np.arange(n_set), "region": list(REGIONS),
+                "excitation": list(EXCITATIONS)},
+        attrs={"reference": "theory (continuous); event at " + json.dumps(REFERENCE_SETTINGS) + " elsewhere",
+               "reference_crosscheck_dop853_max_rel": json.dumps(crosscheck),
+               "settings": json.dumps({m: table[m] for m in methods}), "quick": int(quick)},
+    )
+    return ds
+
+
+def cheapest(ds: xr.Dataset, accuracy: float, method: str, excitation: str | None = None):
+    """The cheapest setting of `method` whose error meets `accuracy` in every region (and excitation)."""
+    sub = ds.sel({"method": method})
+    err = sub["error"] if excitation is None else sub["error"].sel({"excitation": excitation})
+    sec = sub["seconds_per_point"] if excitation is None else sub["seconds_per_point"].sel({"excitation": excitation})
+    worst = err.max([d for d in err.dims if d != "setting"])
+    cost = sec.mean([d for d in sec.dims if d != "setting"])
+    ok = (worst <= accuracy).values & np.isfinite(cost.values)
+    if not ok.any():
+        return None
+    best = int(np.argmin(np.where(ok, cost.values, np.inf)))
+    return best, str(sub["setting_label"].values[best]), float(cost.values[best]), float(worst.values[best])
+
+
+def markdown(ds: xr.Dataset) -> str:
+    cols = [(r, e) for e in ds.excitation.values for r in ds.region.values]
+    lines = ["| method | setting | " + " | ".join(f"{e} {r}" for r, e in cols) + " |",
+             "|---|---|" + "---|" * len(cols)]
+    for m in ds.method.values:
+        for s in ds.setting.values:
+            lab = str(ds["setting_label"].sel({"method": m, "setting": s}).values)
+            if not lab:
+                continue
+            cells = []
+            for r, e in cols:
+                err = float(ds["error"].sel({"method": m, "setting": s, "region": r, "excitation": e}))
+                sec = float(ds["seconds_per_point"].sel({"method": m, "setting": s, "region": r, "excitation": e}))
+                cells.append("–" if np.isnan(sec) else f"{err:.0e} / {sec * 1e3:.2g} ms")
+            lines.append(f"| {m} | {lab} | " + " | ".join(cells) + " |")
+    lines += ["", "Each cell: largest relative error of the first-harmonic transmissibility / wall time per point.", ""]
+    for target in (1e-3, 1e-6, 1e-9):
+        for m in ds.method.values:
+            pick = cheapest(ds, target, str(m))
+            if pick is not None:
+                lines.append(f"- for {target:.0e} in transmissibility, method {m} at {pick[1]} costs "
+                             f"{pick[2] * 1e3:.3g} ms per point (worst error measured {pick[3]:.1e})")
+    return "\n".join(lines)
+
+
+def figure(ds: xr.Dataset, path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(len(ds.excitation), len(ds.region), figsize=(12, 7), sharex=True, sharey=True)
+    for k, e in enumerate(ds.excitation.values):
+        for j, r in enumerate(ds.region.values):
+            ax = axes[k, j]
+            for m in ds.method.values:
+                sec = ds["seconds_per_point"].sel({"method": m, "region": r, "excitation": e}).values
+                err = ds["error"].sel({"method": m, "region": r, "excitation": e}).values
+                ok = np.isfinite(sec) & np.isfinite(err)
+                if ok.any():
+                    ax.loglog(sec[ok], np.maximum(err[ok], 1e-16), "o-", label=str(m))
+            ax.set_title(f"{e}, {r}")
+            if k == len(ds.excitation) - 1:
+                ax.set_xlabel("wall time per point (s)")
+            if j == 0:
+                ax.set_ylabel("relative error of |X|/|Y|")
+            ax.grid(True, which="both", alpha=0.3)
+    axes[0, 0].legend()
+    fig.suptitle("Work-precision: what accuracy costs in time")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+CALIBRATION = Path(__file__).with_name("calibration.json")
+
+
+def calibration_table(ds: xr.Dataset) -> dict:
+    """Per method and setting: the worst error over every region and excitation, and the mean cost."""
+    table = {}
+    settings = json.loads(ds.attrs["settings"])
+    for m in ds.method.values:
+        rows = []
+        for s, st in enumerate(settings[str(m)]):
+            err = ds["error"].sel({"method": m, "setting": s}).values
+            sec = ds["seconds_per_point"].sel({"method": m, "setting": s}).values
+            complete = np.all(np.isfinite(sec))
+            rows.append({"settings": st, "worst_error": float(np.max(err)) if complete else None,
+                         "seconds_per_point": float(np.nanmean(sec))})
+        table[str(m)] = rows
+    return table
+
+
+def choose(method: str, accuracy: float, table: dict | None = None) -> tuple[dict, dict]:
+    """The cheapest calibrated setting of `method` whose worst measured error meets `accuracy`.
+
+    Returns (settings, the calibration row). Raises LookupError when none does."""
+    table = table if table is not None else json.loads(CALIBRATION.read_text())
+    rows = [row for row in table.get(method, []) if row["worst_error"] is not None
+            and row["worst_error"] <= accuracy]
+    if not rows:
+        best = min((row["worst_error"] for row in table.get(method, []) if row["worst_error"] is not None),
+                   default=None)
+        raise LookupError(f"no calibrated setting of method {method!r} reaches {accuracy:g} "
+                          f"(the best measured is {best:.1e})" if best is not None else
+                          f"method {method!r} has no calibration")
+    row = min(rows, key=lambda row: row["seconds_per_point"])
+    settings = {k: v for k, v in row["settings"].items() if k != "max_evaluations"}
+    return settings, row

@@ -1,0 +1,94 @@
+"""The work-precision benchmark and `accuracy:` in specs (issue: what accuracy costs in time)."""
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+
+from friction_sweep.bench import workprecision as wp
+from friction_sweep.cli import main
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bench") / "wp.h5"
+    res = CliRunner().invoke(main, ["bench", "--quick", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    return out, res.output
+
+
+def test_quick_bench_writes_dataset_figure_and_table(quick):
+    out, output = quick
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert set(ds["error"].dims) == {"method", "setting", "region", "excitation"}
+    assert set(ds.method.values) == {"event", "rk4", "paper"}
+    assert set(ds.region.values) == {"continuous", "two_stops", "many_stops"}
+    assert out.with_suffix(".png").stat().st_size > 10_000
+    assert "for 1e-06 in transmissibility, method event at" in out.with_suffix(".md").read_text()
+    assert "ms per point" in output
+
+
+def test_errors_shrink_as_settings_tighten(quick):
+    ds = xr.open_dataset(quick[0], engine="h5netcdf")
+    for m in ("event", "rk4"):
+        err = ds["error"].sel({"method": m}).max(["region", "excitation"]).values
+        err = err[np.isfinite(err)]
+        assert err[-1] < 1e-3 * err[0]  # the tightest setting is far more accurate than the loosest
+    # the reference itself: the event method's tightest setting agrees with the independent DOP853
+    cross = json.loads(ds.attrs["reference_crosscheck_dop853_max_rel"])
+    assert max(cross.values()) < 1e-9
+
+
+def test_accuracy_picks_the_cheapest_setting_that_meets_it():
+    table = {"event": [
+        {"settings": {"stop_tol": 1e-4, "steady_tol": 1e-3}, "worst_error": 5e-5, "seconds_per_point": 4e-5},
+        {"settings": {"stop_tol": 1e-8, "steady_tol": 1e-7}, "worst_error": 3e-9, "seconds_per_point": 5e-5},
+        {"settings": {"stop_tol": 1e-12, "steady_tol": 1e-10}, "worst_error": 3e-12, "seconds_per_point": 7e-5}]}
+    assert wp.choose("event", 1e-3, table)[0] == {"stop_tol": 1e-4, "steady_tol": 1e-3}
+    assert wp.choose("event", 1e-6, table)[0] == {"stop_tol": 1e-8, "steady_tol": 1e-7}
+    with pytest.raises(LookupError, match="best measured is 3.0e-12"):
+        wp.choose("event", 1e-14, table)
+
+
+def test_shipped_calibration_covers_the_methods():
+    table = json.loads(wp.CALIBRATION.read_text())
+    worst = {m: [row["worst_error"] for row in table[m] if row["worst_error"] is not None] for m in ("event", "rk4")}
+    assert min(worst["event"]) < 1e-10 and max(worst["event"]) > 1e-6
+    # rk4's worst case is many stops at low r, where the stops, not the step, limit it
+    assert min(worst["rk4"]) < 1e-6 and max(worst["rk4"]) > 1e-4
+    # the paper's method never finishes a stick-slip point within its evaluation budget
+    assert all(row["worst_error"] is None or row["worst_error"] == float("inf") for row in table["paper"])
+
+
+def test_accuracy_in_a_spec_is_honoured_and_recorded(tmp_path):
+    spec = tmp_path / "s.yaml"
+    spec.write_text("scene: {excitation: base}\ngrid: {frequency_ratio: [0.3, 1.5, 2.5], force_ratio: [0.2, 0.7]}\n"
+                    "method: event\naccuracy: 1.0e-6\n")
+    out = tmp_path / "o.h5"
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    choice = json.loads(ds.attrs["accuracy_choice"])
+    assert ds.attrs["accuracy_requested"] == 1e-6 and choice["worst_error"] <= 1e-6
+    settings = json.loads(ds.attrs["method_settings"])
+    assert settings["stop_tol"] == choice["settings"]["stop_tol"]
+    # the answer meets the accuracy against the tightest run
+    tight = tmp_path / "t.h5"
+    spec.write_text(spec.read_text().replace("accuracy: 1.0e-6", "settings: {stop_tol: 1.0e-13, steady_tol: 1.0e-12}"))
+    assert CliRunner().invoke(main, ["run", str(spec), "-o", str(tight)]).exit_code == 0
+    t = xr.open_dataset(tight, engine="h5netcdf")["transmissibility"].values
+    assert np.nanmax(np.abs(ds["transmissibility"].values / t - 1)) <= 1e-6
+
+
+def test_accuracy_and_knobs_together_are_refused(tmp_path):
+    spec = tmp_path / "s.yaml"
+    spec.write_text("scene: {excitation: base}\ngrid: {frequency_ratio: 2.0, force_ratio: 0.3}\nmethod: event\n"
+                    "accuracy: 1.0e-6\nsettings: {stop_tol: 1.0e-9}\n")
+    res = CliRunner().invoke(main, ["validate", str(spec)])
+    assert res.exit_code == 2 and "either accuracy or the knobs" in res.output
+    spec.write_text("scene: {excitation: base}\ngrid: {frequency_ratio: 2.0, force_ratio: 0.3}\nmethod: theory\n"
+                    "accuracy: 1.0e-6\n")
+    res = CliRunner().invoke(main, ["validate", str(spec)])
+    assert res.exit_code == 2 and "no calibrated settings" in res.output
