@@ -40,7 +40,7 @@ DEFAULT_SETTINGS = {
     "max_periods": 2000,
     "max_orbit_period": 8,  # period-k orbits detected up to this k
     "work_budget": 5_000_000,  # stop-search steps and events per point
-    "shoot_after": 12,  # periods marched before the first shooting attempt
+    "shoot_after": 4,  # periods marched before the first shooting attempt (4: measured fastest, make bench)
     "shoot_every": 48,
     "kernel": KERNEL_EVENT,  # which period integrator the driver marches: event (exact) or rk4
     "steps_per_period": 256,  # rk4 only
