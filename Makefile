@@ -12,6 +12,7 @@ help:
 	@echo "make test   set up, then run the whole test suite"
 	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
 	@echo "make bench  set up, then measure speed and scaling (results/bench/scale.md)"
+	@echo "make figures / figures-quick / validate   the paper's figures; the rig's measured phases"
 	@echo "make clean  remove results and caches; make distclean also removes $(VENV)"
 
 $(STAMP): pyproject.toml
@@ -53,3 +54,5 @@ clean:
 
 distclean: clean
 	rm -rf $(VENV) *.egg-info
+
+include figures.mk

@@ -330,3 +330,12 @@ def bench(quick: bool, output: Path, calibrate: bool):
     click.echo(table)
     click.echo(f"wrote {output}, {output.with_suffix('.png')}, {output.with_suffix('.md')}"
                + (f", {wp.CALIBRATION}" if calibrate else ""))
+
+
+def _register_validate_data():
+    from friction_sweep.validation import validate_data
+
+    main.add_command(validate_data)
+
+
+_register_validate_data()

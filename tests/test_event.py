@@ -272,3 +272,17 @@ def test_rk4_method_converges_to_event_with_order_four():
     ev_ = event.compute_tile("base", np.array([0.3]), np.array([0.3]), OUTPUTS)
     assert stick["regime"][0, 0] == regimes.STICK_SLIP and stick["stops_per_period"][0, 0] == 2
     assert stick["transmissibility"][0, 0] == pytest.approx(ev_["transmissibility"][0, 0], rel=1e-7)
+
+
+def test_without_any_dissipation_the_steady_state_is_the_forced_response():
+    """beta = 0 and no damping: a transient from rest never decays (at r = 3.5 the orbit from rest
+    closes only after 7 periods, with a peak far above the forced one); the tool reports the forced
+    steady state, the limit of vanishing damping: peak and first harmonic 1/|1 - r^2|, period 1."""
+    r = np.array([0.3, 1.7, 3.5])
+    for excitation in ("base", "joined"):
+        out = event.compute_tile(excitation, r, np.array([0.0]), OUTPUTS)
+        linear = 1 / np.abs(1 - r**2)
+        np.testing.assert_allclose(out["transmissibility"][0], linear, rtol=1e-12)
+        np.testing.assert_allclose(out["peak_transmissibility"][0], linear, rtol=1e-12)
+        assert np.all(out["orbit_period"][0] == 1)
+    assert solve("base", 1.0, 0.0)["regime"][0, 0] == regimes.UNBOUNDED

@@ -151,6 +151,11 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
 
     q = settings[SET_Q0]
     v = settings[SET_V0]
+    if bk == 0.0 and bs == 0.0 and zeta == 0.0 and r != 1.0 and q == 0.0 and v == 0.0:
+        # Nothing dissipates: a transient from rest would never decay, and the orbit would be forced plus
+        # free motion forever. The steady state meant is the forced one (the limit of vanishing damping):
+        # start on it, q = A/(1 - r^2) at the excitation's maximum.
+        q = A / ((1.0 - r) * (1.0 + r))
     mode = _mode_of(q, v, A, r, bs)
     hq[0], hv[0], hm[0] = q, v, mode
     work = 0

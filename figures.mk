@@ -1,0 +1,73 @@
+# Figures of the reference paper and validation against the measured data.
+# Included from the Makefile (which defines BIN and STAMP); on its own: make -f Makefile -f figures.mk figures
+#
+#   make figures         every figure at full resolution        -> figures/out/figNN.png
+#   make figures-quick   every figure from coarse copies of the specs (CI) -> figures/out/quick/figNN.png
+#   make validate        measured phase lags against theory and simulation -> results/validation/
+#
+# A figure is rebuilt only when its script, figures/common.py or one of its cubes changed; cubes
+# come from the Makefile's rule results/%.h5: configs/%.yaml. Scripts write their PNG under a
+# temporary name and rename it into place; .DELETE_ON_ERROR covers everything else.
+
+BIN   ?= .venv/bin
+STAMP ?= .venv/.installed-stamp
+
+.DELETE_ON_ERROR:
+.PHONY: figures figures-quick validate
+
+FIG_OUT := figures/out
+NUM     := results/numerical
+
+# The cubes each figure script reads, in the order it takes them (theory: configs/*.yaml;
+# simulation: configs/numerical/*.yaml).
+CUBES_fig01b := $(NUM)/fig01b_viscous_zeta005.h5 $(NUM)/fig01b_viscous_zeta010.h5 \
+                $(NUM)/fig01b_viscous_zeta020.h5 $(NUM)/fig01b_viscous_zeta050.h5
+CUBES_fig04  := results/fig04_force_amplitude.h5
+CUBES_fig05  := results/fig05_force_phase.h5
+CUBES_fig07  := results/fig07_base_transmissibility.h5
+CUBES_fig08  := results/fig08_transition_force_ratio.h5
+CUBES_fig10  := results/fig10_joined_relative_amplitude.h5
+CUBES_fig11  := results/fig11_joined_relative_phase.h5
+CUBES_fig13  := results/fig13_joined_regime_map.h5
+CUBES_fig14  := results/fig14a_joined_transmissibility.h5 results/fig14b_joined_inversion.h5
+CUBES_fig15  := results/fig11_joined_relative_phase.h5
+CUBES_fig16  := results/fig11_joined_relative_phase.h5
+CUBES_fig17  := $(NUM)/fig17_base_numerical.h5 $(NUM)/fig17b_base_numerical_low_r.h5
+CUBES_fig18  := $(NUM)/fig17_base_numerical.h5 results/fig07_base_transmissibility.h5
+CUBES_fig19  := $(NUM)/fig19_base_time_histories.h5
+CUBES_fig20  := $(NUM)/fig20_joined_numerical.h5
+CUBES_fig21  := $(NUM)/fig20_joined_numerical.h5 results/fig21_joined_theory.h5
+CUBES_fig22  := $(NUM)/fig22_joined_stick_slip_history.h5
+
+FIGURE_NAMES := fig01b fig04 fig05 fig07 fig08 fig10 fig11 fig13 fig14 fig15 fig16 \
+                fig17 fig18 fig19 fig20 fig21 fig22
+FIGURES      := $(FIGURE_NAMES:%=$(FIG_OUT)/%.png)
+QUICK_FIGURES := $(FIGURE_NAMES:%=$(FIG_OUT)/quick/%.png)
+
+# quick cubes: results/quick/<same path below results/>
+quick_cubes = $(patsubst results/%,results/quick/%,$(CUBES_$(1)))
+
+define figure_rules
+$(FIG_OUT)/$(1).png: figures/$(1).py figures/common.py $(CUBES_$(1)) $(STAMP)
+	$(BIN)/python figures/$(1).py $(CUBES_$(1)) $$@
+$(FIG_OUT)/quick/$(1).png: figures/$(1).py figures/common.py $(call quick_cubes,$(1)) $(STAMP)
+	$(BIN)/python figures/$(1).py $(call quick_cubes,$(1)) $$@
+endef
+$(foreach f,$(FIGURE_NAMES),$(eval $(call figure_rules,$(f))))
+
+figures: $(FIGURES)
+
+figures-quick: $(QUICK_FIGURES)
+
+# Coarse copies of the specs (at most 100 frequency ratios, 31 force ratios), kept between runs.
+.PRECIOUS: results/quick/%.yaml
+results/quick/%.yaml: configs/%.yaml figures/quick_spec.py $(STAMP)
+	$(BIN)/python figures/quick_spec.py --num 100 --max-force-ratios 31 $< $@
+
+results/quick/%.h5: results/quick/%.yaml $(STAMP)
+	$(BIN)/fsweep run $< -o $@ --overwrite --quiet
+
+# VALIDATION_DATA=path overrides the default data file, <repo>/../shared/data/experiment_phase_fixed_wall.csv
+VALIDATION_DATA ?=
+validate: $(STAMP)
+	$(BIN)/python -m friction_sweep.validation --output-dir results/validation $(if $(VALIDATION_DATA),--data $(VALIDATION_DATA))

@@ -1,0 +1,50 @@
+"""Paper Fig. 1b: displacement transmissibility of the viscous mass-spring-damper under base motion,
+one curve per damping ratio zeta (one cube each, the event simulation with the viscous_damping
+effect and no friction), over the closed form |1 + 2i zeta r| / |1 - r^2 + 2i zeta r| (thin dashed,
+a check). All curves pass through 1 at r = sqrt(2), where damping stops reducing the transmission.
+
+    python figures/fig01b.py results/numerical/fig01b_viscous_zeta005.h5 ... figures/out/fig01b.png
+"""
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import common as C  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def classical(r, zeta):
+    """|X|/|Y| of the linear base-excited oscillator with the damper between mass and base."""
+    return np.abs((1.0 + 2j * zeta * r) / (1.0 - r * r + 2j * zeta * r))
+
+
+def main(argv=None):
+    paths, out = C.parse_args(argv, "python figures/fig01b.py CUBE.h5 [CUBE.h5 ...] OUT.png")
+    cubes = []
+    for path in paths:
+        ds = C.open_cube(path)
+        C.require(ds, path, "transmissibility")
+        zeta = float(C.effects_of(ds).get("viscous_damping", 0.0))
+        cubes.append((zeta, ds))
+    cubes.sort(key=lambda item: item[0])
+    fig, axes = C.new_figure()
+    ax = axes[0, 0]
+    for (zeta, ds), colour in zip(cubes, C.colors(len(cubes))):
+        r = ds["frequency_ratio"].values
+        t = ds["transmissibility"].isel(force_ratio=0).values
+        ax.plot(r, t, color=colour, label=rf"$\zeta = {zeta:g}$")
+        ax.plot(r, classical(r, zeta), "--", color="k", lw=0.6, alpha=0.7)
+    ax.plot([], [], "--", color="k", lw=0.6, label="closed form")
+    ax.axvline(np.sqrt(2.0), color="0.4", ls=":", lw=1)
+    ax.annotate(r"$r = \sqrt{2}$", (np.sqrt(2.0), 5.6), xytext=(4, 0), textcoords="offset points", color="0.3")
+    ax.set(xlabel=C.R_LABEL, ylabel=C.TRANS_LABEL,
+           title="Fig. 1b: viscous damper, base motion (simulation, no friction)")
+    ax.set_xlim(0, 3)
+    ax.set_ylim(0, 6)
+    ax.legend()
+    return C.save(fig, out)
+
+
+if __name__ == "__main__":
+    main()

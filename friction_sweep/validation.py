@@ -1,0 +1,291 @@
+"""Validation against measured data: the phase lags of a fixed-wall base-excitation rig.
+
+The data (`shared/data/experiment_phase_fixed_wall.csv`, Marino & Cicirello 2020) hold 36 measured
+phase lags between the base and the mass displacement: 4 force ratios x 9 frequency ratios. For each
+point, at its measured frequency ratio (not the nominal one), this module predicts the lag with
+
+* the theory (`friction_sweep.methods.theory.compute_tile`, excitation `base`), and
+* the exact event-driven simulation (`friction_sweep.methods.event.compute_tile`),
+
+each in both phase definitions of the cube: `phase` (first harmonic, what an FFT or a lock-in
+measures) and `peak_phase` (between the maxima of excitation and response, Den Hartog's phi), and
+summarises |predicted - measured| by its maximum and RMS for each method and definition.
+
+    fsweep validate-data [--data PATH] [-o DIR]       (or: python -m friction_sweep.validation)
+
+writes `table.csv`, `table.md` and `phase_measured_vs_predicted.png` into DIR (default
+results/validation). matplotlib (the `figures` extra) is needed only for the PNG.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+from pathlib import Path
+
+import click
+import numpy as np
+import pandas as pd
+
+from friction_sweep import regimes
+from friction_sweep.methods import event, theory
+
+#: where the data lie in a checkout: <repo>/../shared/data/...
+DEFAULT_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "experiment_phase_fixed_wall.csv"
+DEFAULT_OUTPUT_DIR = Path("results/validation")
+EXCITATION = "base"  # fixed wall, base motion
+
+#: columns the CSV must have (others are kept as they are)
+REQUIRED = ("force_ratio", "frequency_ratio", "phase_deg")
+METHODS = ("theory", "event")
+DEFINITIONS = ("phase", "peak_phase")  # first harmonic; between maxima
+DEFINITION_NAMES = {"phase": "first-harmonic phase", "peak_phase": "peak (between maxima) phase"}
+OUTPUT_FILES = ("table.csv", "table.md", "phase_measured_vs_predicted.png")
+
+
+class DataError(ValueError):
+    """The measured-data file is missing or malformed."""
+
+
+# --- reading ----------------------------------------------------------------------------------------
+
+
+def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFrame:
+    """The measured points as a DataFrame, one row per point, in file order.
+
+    Lines starting with `#` are comments; the first other line is the header. Every column that
+    parses as a number becomes float64. Raises DataError on a missing file, missing columns,
+    non-numeric or non-finite values in the required columns, or no data rows.
+    """
+    path = Path(path) if path is not None else DEFAULT_DATA
+    try:
+        text = path.read_text()
+    except OSError as err:
+        raise DataError(f"cannot read the measured data {path}: {err.strerror or err}") from None
+    lines = [line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+    rows = list(csv.DictReader(io.StringIO("\n".join(lines))))
+    if not rows:
+        raise DataError(f"{path}: no data rows")
+    missing = [c for c in REQUIRED if c not in rows[0]]
+    if missing:
+        raise DataError(f"{path}: missing column(s) {', '.join(missing)} (have: {', '.join(rows[0])})")
+    table = pd.DataFrame(rows)
+    for column in table.columns:
+        converted = pd.to_numeric(table[column], errors="coerce")
+        if column in REQUIRED:
+            bad = ~np.isfinite(converted.to_numpy(dtype=float))
+            if bad.any():
+                i = int(np.flatnonzero(bad)[0])
+                raise DataError(f"{path}: row {i + 1}: {column} must be a finite number (got {table[column][i]!r})")
+        if converted.notna().all():
+            table[column] = converted.astype(float)
+    if (table["frequency_ratio"] <= 0).any() or (table["force_ratio"] < 0).any():
+        raise DataError(f"{path}: frequency ratios must be > 0 and force ratios >= 0")
+    return table
+
+
+# --- predicting -------------------------------------------------------------------------------------
+
+
+def _wrap_difference(predicted, measured):
+    """predicted - measured in degrees, wrapped into [-180, 180)."""
+    d = np.asarray(predicted, dtype=float) - np.asarray(measured, dtype=float)
+    return np.mod(d + 180.0, 360.0) - 180.0
+
+
+def predict_point(method: str, r: float, beta: float) -> dict:
+    """Regime, first-harmonic and peak phase lag (degrees) at one (r, beta), base excitation."""
+    module = {"theory": theory, "event": event}[method]
+    out = module.compute_tile(EXCITATION, np.array([r]), np.array([beta]), ("phase", "regime"))
+    return {
+        "regime": regimes.NAMES[int(out["regime"][0, 0])],
+        "phase": float(out["phase"][0, 0]),
+        "peak_phase": float(out["peak_phase"][0, 0]),
+    }
+
+
+def predict(table: pd.DataFrame) -> pd.DataFrame:
+    """The measured table with, per method, the regime, both predicted phases and their errors
+    (predicted - measured, degrees; NaN where a method gives no phase, e.g. theory off its range)."""
+    out = table.copy()
+    for method in METHODS:
+        points = zip(table["frequency_ratio"], table["force_ratio"])
+        preds = [predict_point(method, float(r), float(b)) for r, b in points]
+        out[f"{method}_regime"] = [p["regime"] for p in preds]
+        for definition in DEFINITIONS:
+            values = np.array([p[definition] for p in preds])
+            out[f"{method}_{definition}_deg"] = values
+            out[f"{method}_{definition}_error_deg"] = _wrap_difference(values, table["phase_deg"])
+    return out
+
+
+def summarize(table: pd.DataFrame) -> pd.DataFrame:
+    """Max and RMS of |predicted - measured| per method and phase definition (over the points where
+    the method gives a phase; `points` counts them)."""
+    rows = []
+    for method in METHODS:
+        for definition in DEFINITIONS:
+            signed = table[f"{method}_{definition}_error_deg"].to_numpy(dtype=float)
+            signed = signed[np.isfinite(signed)]
+            err = np.abs(signed)
+            rows.append({
+                "method": method,
+                "definition": definition,
+                "points": int(err.size),
+                "max_abs_deg": float(err.max()) if err.size else math.nan,
+                "rms_deg": float(np.sqrt(np.mean(err**2))) if err.size else math.nan,
+                "mean_signed_deg": float(signed.mean()) if err.size else math.nan,
+            })
+    return pd.DataFrame(rows)
+
+
+def validate(data: str | os.PathLike[str] | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """Read the data, predict every point with both methods; return (table, summary)."""
+    table = predict(read_measurements(data))
+    return table, summarize(table)
+
+
+# --- reporting --------------------------------------------------------------------------------------
+
+_MD_COLUMNS = (
+    ("force_ratio", "F_mu/F_k", "{:.4f}"),
+    ("frequency_ratio", "r (measured)", "{:.4f}"),
+    ("phase_deg", "measured (deg)", "{:.2f}"),
+    ("theory_regime", "theory regime", "{}"),
+    ("theory_phase_deg", "theory 1st harm.", "{:.2f}"),
+    ("theory_peak_phase_deg", "theory peak", "{:.2f}"),
+    ("event_regime", "event regime", "{}"),
+    ("event_phase_deg", "event 1st harm.", "{:.2f}"),
+    ("event_peak_phase_deg", "event peak", "{:.2f}"),
+    ("theory_phase_error_deg", "Δ theory 1st harm.", "{:+.2f}"),
+    ("theory_peak_phase_error_deg", "Δ theory peak", "{:+.2f}"),
+    ("event_phase_error_deg", "Δ event 1st harm.", "{:+.2f}"),
+    ("event_peak_phase_error_deg", "Δ event peak", "{:+.2f}"),
+)
+
+
+def _cell(fmt: str, value) -> str:
+    if isinstance(value, float) and not math.isfinite(value):
+        return "—"
+    return fmt.format(value)
+
+
+def markdown_table(table: pd.DataFrame) -> str:
+    head = "| " + " | ".join(title for _, title, _ in _MD_COLUMNS) + " |"
+    rule = "|" + "|".join("---" if fmt == "{}" else "---:" for _, _, fmt in _MD_COLUMNS) + "|"
+    body = ["| " + " | ".join(_cell(fmt, row[col]) for col, _, fmt in _MD_COLUMNS) + " |"
+            for _, row in table.iterrows()]
+    return "\n".join([head, rule, *body])
+
+
+def markdown_summary(summary: pd.DataFrame) -> str:
+    lines = ["| method | phase definition | points | max \\|Δ\\| (deg) | RMS Δ (deg) | mean Δ (deg) |",
+             "|---|---|---:|---:|---:|---:|"]
+    for _, s in summary.iterrows():
+        lines.append(f"| {s['method']} | {DEFINITION_NAMES[s['definition']]} | {s['points']} | "
+                     f"{_cell('{:.2f}', s['max_abs_deg'])} | {_cell('{:.2f}', s['rms_deg'])} | "
+                     f"{_cell('{:+.2f}', s['mean_signed_deg'])} |")
+    return "\n".join(lines)
+
+
+def markdown_report(table: pd.DataFrame, summary: pd.DataFrame, data_path) -> str:
+    return (
+        "# Phase lag: measured against predicted (fixed-wall base excitation)\n\n"
+        f"Data: `{data_path}` ({len(table)} points). Predictions at the measured frequency ratio. "
+        "Δ = predicted − measured, degrees.\n\n"
+        "## Summary\n\n" + markdown_summary(summary) + "\n\n## Points\n\n" + markdown_table(table) + "\n"
+    )
+
+
+def plot(table: pd.DataFrame, path: str | os.PathLike[str]) -> Path:
+    """Measured against predicted phase, one panel per phase definition, one marker per force ratio
+    (theory filled, event simulation as black crosses on top), with the identity line."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    markers = "osD^vP*X"
+    betas = sorted(table["force_ratio"].unique())
+    colours = [plt.get_cmap("viridis")(x) for x in np.linspace(0.0, 0.85, max(len(betas), 1))]
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.8), constrained_layout=True)
+    lo = min(-5.0, float(np.nanmin(table["phase_deg"])) - 5)
+    hi = max(185.0, float(np.nanmax(table["phase_deg"])) + 5)
+    for ax, definition in zip(axes, DEFINITIONS):
+        ax.plot([lo, hi], [lo, hi], color="0.4", lw=1, label="predicted = measured")
+        for k, (beta, colour) in enumerate(zip(betas, colours)):
+            sel = table["force_ratio"] == beta
+            ax.plot(table.loc[sel, "phase_deg"], table.loc[sel, f"theory_{definition}_deg"], markers[k % len(markers)],
+                    color=colour, ms=7, label=rf"theory, $F_\mu/F_k = {beta:g}$")
+        ax.plot(table["phase_deg"], table[f"event_{definition}_deg"], "x", color="k", ms=5, label="event simulation")
+        ax.set(xlim=(lo, hi), ylim=(lo, hi), aspect="equal", xlabel="measured phase lag (deg)",
+               ylabel=f"predicted {DEFINITION_NAMES[definition]} lag (deg)",
+               title=f"{DEFINITION_NAMES[definition]}".capitalize())
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper left", fontsize=7.5)
+    fig.suptitle("Fixed-wall base excitation: measured against predicted phase lag")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        fig.savefig(tmp, format="png", dpi=150)
+        os.replace(tmp, path)
+    finally:
+        plt.close(fig)
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        tmp.write_text(text)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+
+
+def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_path) -> list[Path]:
+    output_dir = Path(output_dir)
+    output_dir.mkdir(parents=True, exist_ok=True)
+    csv_path, md_path, png_path = (output_dir / name for name in OUTPUT_FILES)
+    _write_atomic(csv_path, table.to_csv(index=False, float_format="%.10g"))
+    _write_atomic(md_path, markdown_report(table, summary, data_path))
+    plot(table, png_path)
+    return [csv_path, md_path, png_path]
+
+
+# --- command ----------------------------------------------------------------------------------------
+
+
+@click.command("validate-data")
+@click.option("--data", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help=f"Measured data CSV (default: {DEFAULT_DATA}).")
+@click.option("-o", "--output-dir", type=click.Path(file_okay=False, path_type=Path), default=DEFAULT_OUTPUT_DIR,
+              show_default=True, help="Folder for table.csv, table.md and phase_measured_vs_predicted.png.")
+def validate_data(data: Path | None, output_dir: Path):
+    """Compare the measured phase lags of the fixed-wall rig with the theory and the simulation."""
+    data_path = data if data is not None else DEFAULT_DATA
+    try:
+        table, summary = validate(data_path)
+    except DataError as err:
+        raise click.BadParameter(str(err), param_hint="--data") from None
+    click.echo(f"measured data: {data_path} ({len(table)} points, force ratios "
+               f"{', '.join(f'{b:g}' for b in sorted(table['force_ratio'].unique()))})")
+    click.echo("phase lags in degrees; predictions at the measured frequency ratio; Δ = predicted − measured\n")
+    click.echo(markdown_table(table))
+    click.echo("\nsummary of |Δ|:\n")
+    click.echo(markdown_summary(summary))
+    try:
+        paths = write_outputs(table, summary, output_dir, data_path)
+    except OSError as err:
+        raise click.ClickException(f"could not write into {output_dir}: {err.strerror or err}") from None
+    click.echo("\nwrote " + ", ".join(str(p) for p in paths))
+
+
+if __name__ == "__main__":
+    validate_data()
