@@ -12,7 +12,6 @@ the tests can run them in-process.
 from __future__ import annotations
 
 import json
-import os
 import sys
 from pathlib import Path
 
@@ -26,6 +25,7 @@ import xarray as xr  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
 from friction_sweep import regimes  # noqa: E402
+from friction_sweep.storage.atomic import save_figure  # noqa: E402
 
 # --- labels ---------------------------------------------------------------------------------------------
 
@@ -255,19 +255,8 @@ def repeat_orbit(time, *series, periods: float = 2.0):
 
 
 def save(fig, path) -> Path:
-    """Write the PNG under a temporary name in the target folder and rename it into place, so a
-    failed or interrupted run never leaves a partial figure."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        fig.savefig(tmp, format="png")
-        os.replace(tmp, path)
-    finally:
-        plt.close(fig)
-        if tmp.exists():
-            tmp.unlink()
-    return path
+    """Write the PNG atomically (friction_sweep.storage.atomic): never a partial figure."""
+    return save_figure(fig, path)
 
 
 # --- the common shape of the theory figures: one curve per force ratio ----------------------------------

@@ -315,7 +315,7 @@ def bench(quick: bool, output: Path, calibrate: bool):
     import json
 
     from friction_sweep.bench import workprecision as wp
-    from friction_sweep.storage import cube
+    from friction_sweep.storage import atomic, cube
 
     if calibrate and quick:
         _fail("--calibrate needs the full benchmark, not --quick")
@@ -324,9 +324,9 @@ def bench(quick: bool, output: Path, calibrate: bool):
     cube.write_atomic(ds, output, overwrite=True)
     wp.figure(ds, output.with_suffix(".png"))
     table = wp.markdown(ds)
-    output.with_suffix(".md").write_text(table + "\n")
+    atomic.write_text(output.with_suffix(".md"), table + "\n")
     if calibrate:
-        wp.CALIBRATION.write_text(json.dumps(wp.calibration_table(ds), indent=1) + "\n")
+        atomic.write_text(wp.CALIBRATION, json.dumps(wp.calibration_table(ds), indent=1) + "\n")
     click.echo(table)
     click.echo(f"wrote {output}, {output.with_suffix('.png')}, {output.with_suffix('.md')}"
                + (f", {wp.CALIBRATION}" if calibrate else ""))

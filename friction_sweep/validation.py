@@ -29,6 +29,8 @@ import click
 import numpy as np
 import pandas as pd
 
+from friction_sweep.storage.atomic import save_figure, write_text
+
 from friction_sweep import regimes
 from friction_sweep.methods import event, theory
 
@@ -227,34 +229,15 @@ def plot(table: pd.DataFrame, path: str | os.PathLike[str]) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", fontsize=7.5)
     fig.suptitle("Fixed-wall base excitation: measured against predicted phase lag")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        fig.savefig(tmp, format="png", dpi=150)
-        os.replace(tmp, path)
-    finally:
-        plt.close(fig)
-        if tmp.exists():
-            tmp.unlink()
-    return path
-
-
-def _write_atomic(path: Path, text: str) -> None:
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        tmp.write_text(text)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+    return save_figure(fig, path, dpi=150)
 
 
 def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_path) -> list[Path]:
     output_dir = Path(output_dir)
     output_dir.mkdir(parents=True, exist_ok=True)
     csv_path, md_path, png_path = (output_dir / name for name in OUTPUT_FILES)
-    _write_atomic(csv_path, table.to_csv(index=False, float_format="%.10g"))
-    _write_atomic(md_path, markdown_report(table, summary, data_path))
+    write_text(csv_path, table.to_csv(index=False, float_format="%.10g"))
+    write_text(md_path, markdown_report(table, summary, data_path))
     plot(table, png_path)
     return [csv_path, md_path, png_path]
 

@@ -188,8 +188,9 @@ def figure(ds: xr.Dataset, path) -> None:
     axes[0, 0].legend()
     fig.suptitle("Work-precision: what accuracy costs in time")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    from friction_sweep.storage.atomic import save_figure
+
+    save_figure(fig, path, dpi=110)
 
 
 CALIBRATION = Path(__file__).with_name("calibration.json")
