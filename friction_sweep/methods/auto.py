@@ -13,7 +13,6 @@ import numpy as np
 
 from friction_sweep import regimes
 from friction_sweep.methods import event, theory
-from friction_sweep.theory import den_hartog as dh
 
 NAME = "auto"
 #: rough wall time per grid point on one core, for the huge-grid estimate (measured, rounded up)
@@ -34,13 +33,12 @@ def variables_for(excitation: str, outputs) -> tuple[str, ...]:
     return event.variables_for(excitation, outputs) + ("method_used",)
 
 
-def theory_mask(excitation, r, beta, margin):
-    """Points (beta x r) where the theory is used."""
-    R, B = np.meshgrid(np.asarray(r, float), np.asarray(beta, float))
-    b = B / (R * R) if excitation == "joined" else B
-    bstar = dh.continuous_limit(np.asarray(r, float))[None, :]
-    code = theory.forecast_regime(excitation, R, B, bstar)
-    return (code == regimes.CONTINUOUS) & (b < (1.0 - margin) * bstar) & (R != 1.0)
+def theory_mask(th, r, beta, margin):
+    """Points (beta x r) where the theory is used, from the theory's own tile `th` (its regime
+    forecast and its continuous limit in the scene's convention, so beta*(r) is computed once)."""
+    R, B = np.meshgrid(r, beta)
+    limit = th["continuous_limit"][None, :]
+    return (th["regime"] == regimes.CONTINUOUS) & (B < (1.0 - margin) * limit) & (R != 1.0)
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
@@ -50,13 +48,13 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     margin = float(settings.pop("theory_margin", SETTINGS["theory_margin"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
-    use_theory = theory_mask(excitation, r, beta, margin)
+    th = theory.compute_tile(excitation, r, beta, tuple(dict.fromkeys((*outputs, "regime"))))
+    use_theory = theory_mask(th, r, beta, margin)
     names = variables_for(excitation, outputs)
     shape = use_theory.shape
     out = {name: np.full(shape, np.nan) for name in names}
     out["method_used"] = np.where(use_theory, THEORY_USED, EVENT_USED).astype(np.int8)
 
-    th = theory.compute_tile(excitation, r, beta, outputs)
     for name in names:
         if name in th:
             out[name][use_theory] = th[name][use_theory]

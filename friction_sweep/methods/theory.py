@@ -81,8 +81,11 @@ def forecast_regime(excitation, r, beta, beta_star):
 def continuous_limit(excitation, r):
     """beta*(r) in the scene's force-ratio convention: r^2 beta*(r) for joined (Eq. 40)."""
     r = np.asarray(r, dtype=float)
-    limit = dh.continuous_limit(r)
-    return r * r * limit if excitation == "joined" else limit
+    return _in_scene_convention(excitation, r, dh.continuous_limit(r))
+
+
+def _in_scene_convention(excitation, r, bstar):
+    return r * r * bstar if excitation == "joined" else bstar
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
@@ -109,7 +112,7 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     sel = code == regimes.CONTINUOUS
     if np.any(sel):
         _fill_continuous(excitation, out, R[sel], B[sel], sel)
-    out["continuous_limit"] = r * r * bstar if excitation == "joined" else bstar
+    out["continuous_limit"] = _in_scene_convention(excitation, r, bstar)
     return out
 
 
