@@ -11,7 +11,7 @@ import click
 import numpy as np
 
 import friction_sweep
-from friction_sweep import methods, regimes
+from friction_sweep import regimes
 from friction_sweep.spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
@@ -89,9 +89,10 @@ def validate(spec: Path):
 def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool, yes: bool, executor: str,
         scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
-    # imported here so that `fsweep validate` and `--help` stay fast
+    # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
+    from friction_sweep import methods
     from friction_sweep.sweep import checkpoint
-    from friction_sweep.sweep.runner import TILE_FREQUENCIES, run_grid, tiles
+    from friction_sweep.sweep.runner import TILE_FREQUENCIES, tiles
 
     _logging(verbose)
     if scheduler:
@@ -131,17 +132,18 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     store = checkpoint.Checkpoint(out, key, len(tiles(r.size)))
     try:
         with checkpoint.Lock(out):
-            _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid,
-                        settings, extra)
+            _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, settings,
+                        extra)
     except checkpoint.Busy as err:
         _fail(str(err))
 
 
-def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, run_grid, settings,
+def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, settings,
                 extra_attrs):
     """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up."""
     from friction_sweep.storage import cube, provenance
     from friction_sweep.sweep import checkpoint
+    from friction_sweep.sweep.runner import run_grid
 
     if store.exists() and not resume:
         _fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "

@@ -32,7 +32,6 @@ import pandas as pd
 from friction_sweep.storage.atomic import save_figure, write_text
 
 from friction_sweep import regimes
-from friction_sweep.methods import event, theory
 
 #: where the data lie in a checkout: <repo>/../shared/data/...
 DEFAULT_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "experiment_phase_fixed_wall.csv"
@@ -99,8 +98,9 @@ def _wrap_difference(predicted, measured):
 
 def predict_point(method: str, r: float, beta: float) -> dict:
     """Regime, first-harmonic and peak phase lag (degrees) at one (r, beta), base excitation."""
-    module = {"theory": theory, "event": event}[method]
-    out = module.compute_tile(EXCITATION, np.array([r]), np.array([beta]), ("phase", "regime"))
+    from friction_sweep import methods  # here, so that loading the CLI loads no numba kernels
+
+    out = methods.get(method).compute_tile(EXCITATION, np.array([r]), np.array([beta]), ("phase", "regime"))
     return {
         "regime": regimes.NAMES[int(out["regime"][0, 0])],
         "phase": float(out["phase"][0, 0]),
