@@ -6,11 +6,14 @@ however many periods are marched. At every stop the next mode is decided from th
 (stick if |A cos(r t) - q| <= bs, else slip towards it), never by re-arming a root finder.
 
 Measurement (only on the periods that are measured) accumulates into `acc`:
-    ACC_IC, ACC_IS   integrals of q cos(r t), q sin(r t): Gauss-Legendre on slip pieces, exact on sticks
+    ACC_IC, ACC_IS   integrals of q cos(r t), q sin(r t): closed form (or Gauss-Legendre near
+                     resonance and with damping) on slip pieces, exact on sticks
     ACC_XMAX/TMAX, ACC_XMIN/TMIN   extremes of the response x = q + c cos(r t) and their times
 and, always (cheap): ACC_STUCK (time stuck), ACC_STOPS (stick entries of positive duration),
-ACC_EVENTS and ACC_QMAX (max |q| at events: the orbit's size, a scale for convergence tests). For c = 0 the extremes sit at events (q is monotone between velocity zeros); for
-c != 0 (joined: x = z + cos r t) they are refined by golden-section search inside the piece.
+ACC_EVENTS and ACC_QMAX (max |q| at events: the orbit's size, a scale for convergence tests),
+ACC_JAC/ACC_JOK (the period map's monodromy matrix, for shooting). For c = 0 the extremes sit at
+events (q is monotone between velocity zeros); for c != 0 (joined: x = z + cos r t) each slip piece
+is sampled and its best samples refined by Newton on x' = 0.
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ import math
 import numpy as np
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.segments import TWO_PI, find_stop, slip_state, stick_exit
+from friction_sweep.kernels.segments import TWO_PI, find_stop, sin_over, slip_state, stick_exit
 
 OK = 0
 BUDGET = 2  # same code as regimes.EVENT_BUDGET
@@ -35,10 +38,18 @@ GL_X = np.ascontiguousarray(_GL_X)
 GL_W = np.ascontiguousarray(_GL_W)
 
 ACC_IC, ACC_IS, ACC_XMAX, ACC_TMAX, ACC_XMIN, ACC_TMIN, ACC_STUCK, ACC_STOPS, ACC_EVENTS, ACC_QMAX = range(10)
-# piece that holds the best sample of the max (and of the min): anchor t0, q0, v0, sig, s, lo, hi
-ACC_PMAX = 10
-ACC_PMIN = 17
-ACC_SIZE = 24
+# monodromy matrix of the period map d(q, v)(T)/d(q, v)(0), row-major, and whether it is valid
+# (event kernel, slip only: saltation at reversals; a stick or a grazing reversal leaves it invalid)
+ACC_JAC = 10
+ACC_JOK = 14
+ACC_SIZE = 15
+
+#: below this |1 - r^2| the first-harmonic integrals of a slip piece use Gauss-Legendre on the
+#: cancellation-free slip_state; above it the closed form, whose terms are at most A/|1 - r^2|
+CLOSED_FORM_DETUNING = 0.1
+#: sample spacing times (1 + r) when searching a slip piece for the extremes of x (c != 0): x moves at
+#: frequencies 1 and r, so one hump spans more than pi/(1 + r) and cannot hide between samples
+EXTREME_SPACING = 0.15
 
 
 NO_SAMPLES = np.empty(0)  # for callers from Python; jitted callers allocate their own
@@ -52,7 +63,7 @@ def new_accumulator():
 
 @jit
 def reset_accumulator(acc):
-    acc[:] = 0.0
+    acc[:] = 0.0  # ACC_JOK = 0: only the event kernel vouches for a monodromy matrix
     acc[ACC_XMAX] = -math.inf
     acc[ACC_XMIN] = math.inf
 
@@ -67,54 +78,69 @@ def decide(t, q, A, r, bs):
 
 
 @jit
-def _piece_x(s, t0, q0, v0, sig, A, r, bk, zeta, c):
-    """Response x at local time s of a piece (sig = 0: stuck at q0)."""
-    if sig == 0:
-        q = q0
-    else:
-        q, _ = slip_state(s, q0, v0, sig, A, r, bk, zeta, math.cos(r * t0), math.sin(r * t0))
-    return q + c * math.cos(r * (t0 + s))
-
-
-@jit
-def _candidate(acc, x, t, t0, q0, v0, sig, s, lo, hi):
+def offer_extreme(acc, x, t):
+    """Offer the response x at time t as the period's max or min."""
     if x > acc[ACC_XMAX]:
         acc[ACC_XMAX] = x
         acc[ACC_TMAX] = t
-        p = ACC_PMAX
-        acc[p], acc[p + 1], acc[p + 2], acc[p + 3] = t0, q0, v0, sig
-        acc[p + 4], acc[p + 5], acc[p + 6] = s, lo, hi
     if x < acc[ACC_XMIN]:
         acc[ACC_XMIN] = x
         acc[ACC_TMIN] = t
-        p = ACC_PMIN
-        acc[p], acc[p + 1], acc[p + 2], acc[p + 3] = t0, q0, v0, sig
-        acc[p + 4], acc[p + 5], acc[p + 6] = s, lo, hi
 
 
 @jit
 def _measure_stick(acc, qs, ta, tb, A, r, c):
     acc[ACC_IC] += qs * (math.sin(r * tb) - math.sin(r * ta)) / r
     acc[ACC_IS] += qs * (math.cos(r * ta) - math.cos(r * tb)) / r
-    _candidate(acc, qs + c * math.cos(r * ta), ta, ta, qs, 0.0, 0, 0.0, 0.0, tb - ta)
-    _candidate(acc, qs + c * math.cos(r * tb), tb, ta, qs, 0.0, 0, tb - ta, 0.0, tb - ta)
+    offer_extreme(acc, qs + c * math.cos(r * ta), ta)
+    offer_extreme(acc, qs + c * math.cos(r * tb), tb)
     if c != 0.0:
         # x = qs + c cos(r t) peaks where r t is a multiple of pi inside the stick
         k = math.ceil(r * ta / math.pi)
         while k * math.pi < r * tb:
-            t = k * math.pi / r
-            _candidate(acc, qs + c * math.cos(k * math.pi), t, ta, qs, 0.0, 0, t - ta, 0.0, tb - ta)
+            offer_extreme(acc, qs + c * math.cos(k * math.pi), k * math.pi / r)
             k += 1
 
 
 @jit
-def _measure_slip(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
-    ca = math.cos(r * t0)
-    sa = math.sin(r * t0)
-    _candidate(acc, q0 + c * ca, t0, t0, q0, v0, sig, 0.0, 0.0, s_end)
-    if s_end <= 0.0:
+def _int_cos_sin(w, phi, S):
+    """(integral of cos(w s + phi), of sin(w s + phi)) over 0 <= s <= S, without cancellation as w S -> 0."""
+    h = 0.5 * w * S
+    f = S * sin_over(h)
+    return f * math.cos(phi + h), f * math.sin(phi + h)
+
+
+@jit
+def _closed_form(r):
+    return abs((1.0 - r) * (1.0 + r)) >= CLOSED_FORM_DETUNING
+
+
+@jit
+def _slip_harmonic(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta):
+    """Add the integrals of q cos(r t), q sin(r t) over a slip piece to ACC_IC, ACC_IS.
+
+    Undamped and away from resonance in closed form: with G = A/(1 - r^2) the piece is
+    q(s) = -sig bk + alpha cos s + gamma sin s + G cos(r t0 + r s), alpha = q0 + sig bk - G cos(r t0),
+    gamma = v0 + G r sin(r t0) (segments.slip_state split differently), so q cos(r t) and q sin(r t)
+    are sums of sinusoids at r, 1 + r, r - 1 and 2 r. Otherwise 16-point Gauss-Legendre on
+    sub-intervals short enough to resolve frequencies up to 1 + 2 r to rounding.
+    """
+    ph0 = r * t0
+    ca = math.cos(ph0)
+    sa = math.sin(ph0)
+    if zeta == 0.0 and _closed_form(r):
+        G = A / ((1.0 - r) * (1.0 + r))
+        k = -sig * bk
+        alpha = q0 + sig * bk - G * ca
+        gamma = v0 + G * r * sa
+        cr, sr = _int_cos_sin(r, ph0, s_end)
+        cp, sp = _int_cos_sin(1.0 + r, ph0, s_end)
+        cm, sm = _int_cos_sin(r - 1.0, ph0, s_end)
+        c2, s2 = _int_cos_sin(2.0 * r, 2.0 * ph0, s_end)
+        acc[ACC_IC] += k * cr + 0.5 * (alpha * (cp + cm) + gamma * (sp - sm) + G * (s_end + c2))
+        acc[ACC_IS] += k * sr + 0.5 * (alpha * (sp + sm) + gamma * (cm - cp) + G * s2)
         return
-    width = 2.0 / (1.0 + r)  # sub-intervals resolve frequencies up to 1 + 2r to rounding
+    width = 2.0 / (1.0 + r)
     n = int(math.ceil(s_end / width))
     h = s_end / n
     for j in range(n):
@@ -126,56 +152,121 @@ def _measure_slip(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
             wq = 0.5 * h * GL_W[i] * q
             acc[ACC_IC] += wq * math.cos(ph)
             acc[ACC_IS] += wq * math.sin(ph)
-            if c != 0.0:
-                _candidate(acc, q + c * math.cos(ph), t0 + s, t0, q0, v0, sig, s, 0.0, s_end)
-    q, _ = slip_state(s_end, q0, v0, sig, A, r, bk, zeta, ca, sa)
-    _candidate(acc, q + c * math.cos(r * (t0 + s_end)), t0 + s_end, t0, q0, v0, sig, s_end, 0.0, s_end)
 
 
 @jit
-def refine_extremes(acc, A, r, bk, zeta, c):
-    """Golden-section refinement of the sampled max and min of x inside their pieces (c != 0)."""
-    if c == 0.0:
-        return
+def _slip_x(s, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa):
+    """(x, x', x'') at local time s of a slip piece, x = q + c cos(r t)."""
+    q, v = slip_state(s, q0, v0, sig, A, r, bk, zeta, ca, sa)
+    ph = r * (t0 + s)
+    cp = math.cos(ph)
+    x = q + c * cp
+    xd = v - c * r * math.sin(ph)
+    xdd = A * cp - q - sig * bk - 2.0 * zeta * v - c * r * r * cp
+    return x, xd, xdd
+
+
+@jit
+def _piece_extreme(sign, a, b, s, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa):
+    """Extreme of sign * x on [a, b] next to the sample s: Newton on x' = 0, kept inside [a, b] and on
+    the concave side; golden-section search where Newton does not settle. Returns (s, x)."""
+    y = s
+    for _ in range(12):
+        x, xd, xdd = _slip_x(y, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)
+        if sign * xdd >= 0.0:
+            break
+        step = xd / xdd
+        y -= step
+        if not (a <= y <= b):
+            break
+        if abs(step) <= 1e-15 * (1.0 + abs(t0 + y)):
+            return y, _slip_x(y, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[0]
     g = (math.sqrt(5.0) - 1.0) / 2.0
-    for p, sign, slot, tslot in ((ACC_PMAX, 1.0, ACC_XMAX, ACC_TMAX), (ACC_PMIN, -1.0, ACC_XMIN, ACC_TMIN)):
-        t0, q0, v0, sig = acc[p], acc[p + 1], acc[p + 2], int(acc[p + 3])
-        s, lo, hi = acc[p + 4], acc[p + 5], acc[p + 6]
-        delta = 0.3 / (1.0 + r)  # wider than the sample spacing, narrower than a half oscillation
-        a = max(lo, s - delta)
-        b = min(hi, s + delta)
-        x1 = b - g * (b - a)
-        x2 = a + g * (b - a)
-        f1 = sign * _piece_x(x1, t0, q0, v0, sig, A, r, bk, zeta, c)
-        f2 = sign * _piece_x(x2, t0, q0, v0, sig, A, r, bk, zeta, c)
-        for _ in range(80):
-            if f1 > f2:
-                b, x2, f2 = x2, x1, f1
-                x1 = b - g * (b - a)
-                f1 = sign * _piece_x(x1, t0, q0, v0, sig, A, r, bk, zeta, c)
-            else:
-                a, x1, f1 = x1, x2, f2
-                x2 = a + g * (b - a)
-                f2 = sign * _piece_x(x2, t0, q0, v0, sig, A, r, bk, zeta, c)
-        sm = 0.5 * (a + b)
-        if sig != 0:
-            # golden pins the time only to sqrt(eps): finish with Newton on x'(s) = 0
-            ca, sa = math.cos(r * t0), math.sin(r * t0)
-            for _ in range(4):
-                q, v = slip_state(sm, q0, v0, sig, A, r, bk, zeta, ca, sa)
-                ph = r * (t0 + sm)
-                xd = v - c * r * math.sin(ph)
-                xdd = A * math.cos(ph) - q - sig * bk - 2.0 * zeta * v - c * r * r * math.cos(ph)
-                if xdd == 0.0:
-                    break
-                step = xd / xdd
-                if not (lo <= sm - step <= hi) or abs(step) > delta:
-                    break
-                sm -= step
-        fm = sign * _piece_x(sm, t0, q0, v0, sig, A, r, bk, zeta, c)
-        if fm > sign * acc[slot]:
-            acc[slot] = sign * fm
-            acc[tslot] = t0 + sm
+    x1 = b - g * (b - a)
+    x2 = a + g * (b - a)
+    f1 = sign * _slip_x(x1, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[0]
+    f2 = sign * _slip_x(x2, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[0]
+    for _ in range(80):
+        if f1 > f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - g * (b - a)
+            f1 = sign * _slip_x(x1, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[0]
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + g * (b - a)
+            f2 = sign * _slip_x(x2, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[0]
+        if b - a <= 1e-15 * (1.0 + abs(t0 + b)):
+            break
+    y = 0.5 * (a + b)
+    return y, _slip_x(y, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[0]
+
+
+@jit
+def _slip_extremes(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
+    """Offer the max and min of x = q + c cos(r t) over a slip piece, exact to rounding.
+
+    The ends are offered as they are. For c = 0 that is all (q is monotone between velocity zeros);
+    for c != 0 the piece is sampled at spacing <= EXTREME_SPACING/(1 + r) and the best sample of
+    each kind is refined inside its two neighbouring intervals, unless it is an end the slope leaves.
+    Refining per piece (not per period) keeps an extreme just across an event or the period end.
+    """
+    ph0 = r * t0
+    ca = math.cos(ph0)
+    sa = math.sin(ph0)
+    x0 = q0 + c * ca
+    offer_extreme(acc, x0, t0)
+    x1, _ = slip_state(s_end, q0, v0, sig, A, r, bk, zeta, ca, sa)
+    x1 += c * math.cos(r * (t0 + s_end))
+    offer_extreme(acc, x1, t0 + s_end)
+    if c == 0.0 or s_end <= 0.0:
+        return
+    n = max(2, int(math.ceil(s_end * (1.0 + r) / EXTREME_SPACING)))
+    h = s_end / n
+    jmax = 0 if x0 >= x1 else n
+    jmin = 0 if x0 <= x1 else n
+    xmax = max(x0, x1)
+    xmin = min(x0, x1)
+    closed = zeta == 0.0 and _closed_form(r)
+    k = alpha = gamma = gc = ch = sh = crh = srh = cs = ss = cb = sb = 0.0
+    if closed:
+        # the split of _slip_harmonic; phases advance by rotation: a sample costs no trig call
+        G = A / ((1.0 - r) * (1.0 + r))
+        k = -sig * bk
+        alpha = q0 + sig * bk - G * ca
+        gamma = v0 + G * r * sa
+        gc = G + c
+        ch, sh = math.cos(h), math.sin(h)
+        crh, srh = math.cos(r * h), math.sin(r * h)
+        cs, ss = 1.0, 0.0
+        cb, sb = ca, sa
+    for j in range(1, n):
+        if closed:
+            cs, ss = cs * ch - ss * sh, ss * ch + cs * sh
+            cb, sb = cb * crh - sb * srh, sb * crh + cb * srh
+            x = k + alpha * cs + gamma * ss + gc * cb
+        else:
+            x = _slip_x(j * h, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[0]
+        if x > xmax:
+            xmax, jmax = x, j
+        if x < xmin:
+            xmin, jmin = x, j
+    for j, sign in ((jmax, 1.0), (jmin, -1.0)):
+        s = j * h if j < n else s_end
+        if j == 0 or j == n:
+            slope = sign * _slip_x(s, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)[1]
+            if (j == 0 and slope <= 0.0) or (j == n and slope >= 0.0):
+                continue  # the end itself is the extreme, offered above
+        a = max(0.0, (j - 1) * h)
+        b = min(s_end, (j + 1) * h)
+        y, x = _piece_extreme(sign, a, b, s, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa)
+        offer_extreme(acc, x, t0 + y)
+
+
+@jit
+def _measure_slip(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
+    if s_end > 0.0:
+        _slip_harmonic(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta)
+    _slip_extremes(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c)
 
 
 #: After a slip that could not start (the force touched the band edge tangentially and turned back,
@@ -220,13 +311,55 @@ def _sample(ts, sq, sv, j, ta, tb, t0, q0, v0, sig, A, r, bk, zeta):
 
 
 @jit
+def _jac_flow(acc, s, zeta):
+    """J <- Phi(s) J, Phi the flow of q'' + 2 zeta q' + q = 0 over a slip piece of length s (the
+    friction and forcing terms do not depend on the state, so a slip piece is affine in it)."""
+    if zeta == 0.0:
+        p11 = math.cos(s)
+        p12 = math.sin(s)
+        p21 = -p12
+        p22 = p11
+    else:
+        wd = math.sqrt(1.0 - zeta * zeta)
+        e = math.exp(-zeta * s)
+        cw = math.cos(wd * s)
+        sw = math.sin(wd * s)
+        p11 = e * (cw + zeta / wd * sw)
+        p12 = e * sw / wd
+        p21 = -p12
+        p22 = e * (cw - zeta / wd * sw)
+    j = ACC_JAC
+    a, b, c, d = acc[j], acc[j + 1], acc[j + 2], acc[j + 3]
+    acc[j] = p11 * a + p12 * c
+    acc[j + 1] = p11 * b + p12 * d
+    acc[j + 2] = p21 * a + p22 * c
+    acc[j + 3] = p21 * b + p22 * d
+
+
+@jit
+def _jac_reversal(acc, a_before, a_after):
+    """Saltation at a reversal (event v = 0, friction flips): S = I + (f+ - f-) n^T / (n^T f-) with
+    n = (0, 1), f = (v, a), i.e. the velocity row of J scales by a+/a-."""
+    if a_before == 0.0:
+        acc[ACC_JOK] = 0.0
+        return
+    f = a_after / a_before
+    acc[ACC_JAC + 2] *= f
+    acc[ACC_JAC + 3] *= f
+
+
+@jit
 def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure, acc, ts, sq, sv):
     """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work).
 
     ts: sorted period-local sample times (empty when not sampling); q, v there go to sq, sv.
+    Along the way acc[ACC_JAC:ACC_JAC + 4] gets the monodromy matrix d(q, v)(T)/d(q, v)(0) and
+    acc[ACC_JOK] = 1 when it is valid (slip only; the map is not smooth through a stick).
     """
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
+    acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3] = 1.0, 0.0, 0.0, 1.0
+    acc[ACC_JOK] = 1.0
     t = 0.0
     work = 0
     new_stop = False
@@ -235,6 +368,7 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
     stalled = False  # the last slip could not start from its stick exit
     while True:
         if mode == 0:
+            acc[ACC_JOK] = 0.0
             te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, TANGENT_SKIP * T if stalled else 0.0)
             new_stop = False
             stalled = False
@@ -265,6 +399,7 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
             if ts.size:
                 j = _sample(ts, sq, sv, j, t, t + s if found else math.inf, t, q, v, mode, A, r, bk, zeta)
             q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, math.cos(r * t), math.sin(r * t))
+            _jac_flow(acc, s, zeta)
             t = t + s
             q = q1
             v = v1
@@ -273,7 +408,13 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
             v = 0.0
             acc[ACC_EVENTS] += 1.0
             acc[ACC_QMAX] = max(acc[ACC_QMAX], abs(q))
+            old = mode
             mode = decide(t, q, A, r, bs)
+            if mode == -old:
+                force = A * math.cos(r * t) - q
+                _jac_reversal(acc, force - old * bk, force + old * bk)
+            else:
+                acc[ACC_JOK] = 0.0
             new_stop = mode == 0
             if t >= T:
                 return q, v, mode, OK, work

@@ -22,8 +22,6 @@ right-hand side but a mode, as in the event kernel.
   for c != 0, from the zero of x' inside a step (cubic Hermite v against the exact forcing phase),
   where q is the quintic Hermite interpolant (q, v, q'' at both ends), so that a short piece next to
   a stop does not leave an O(piece^4) error that no grid refinement removes.
-  The ACC_PMAX/ACC_PMIN piece slots get a zero-width piece at the candidate itself, so a call to
-  `event.refine_extremes` is a harmless no-op, never required.
 
 work counts RK4 steps (redone ones included) plus events; status BUDGET when it passes the budget.
 """
@@ -35,8 +33,8 @@ import math
 import numpy as np
 
 from friction_sweep.kernels.event import (
-    ACC_EVENTS, ACC_IC, ACC_IS, ACC_PMAX, ACC_PMIN, ACC_QMAX, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_TMIN, ACC_XMAX,
-    ACC_XMIN, BUDGET, OK, _measure_stick, decide, slip_direction, stick_phase,
+    ACC_EVENTS, ACC_IC, ACC_IS, ACC_QMAX, ACC_STOPS, ACC_STUCK, BUDGET, OK, _measure_stick, decide, offer_extreme,
+    slip_direction, stick_phase,
 )
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.segments import TWO_PI
@@ -186,23 +184,6 @@ def _stop_in_step(sig, v0, a0, v1, a1, H):
 
 
 @jit
-def _candidate(acc, x, t, q):
-    """Offer x at time t (q there) as an extreme; the piece slots get a zero-width stick at it."""
-    if x > acc[ACC_XMAX]:
-        acc[ACC_XMAX] = x
-        acc[ACC_TMAX] = t
-        p = ACC_PMAX
-        acc[p], acc[p + 1], acc[p + 2], acc[p + 3] = t, q, 0.0, 0.0
-        acc[p + 4], acc[p + 5], acc[p + 6] = 0.0, 0.0, 0.0
-    if x < acc[ACC_XMIN]:
-        acc[ACC_XMIN] = x
-        acc[ACC_TMIN] = t
-        p = ACC_PMIN
-        acc[p], acc[p + 1], acc[p + 2], acc[p + 3] = t, q, 0.0, 0.0
-        acc[p + 4], acc[p + 5], acc[p + 6] = 0.0, 0.0, 0.0
-
-
-@jit
 def _herm_q(q0, v0, q1, v1, H, x):
     """Cubic Hermite interpolant of q at fraction x of a step of length H."""
     x2 = x * x
@@ -236,8 +217,8 @@ def _measure_slip(acc, t0, q0, v0, a0, q1, v1, a1, H, r, c):
             acc[ACC_IC] += wq * math.cos(ph)
             acc[ACC_IS] += wq * math.sin(ph)
     t1 = t0 + H
-    _candidate(acc, q0 + c * math.cos(r * t0), t0, q0)
-    _candidate(acc, q1 + c * math.cos(r * t1), t1, q1)
+    offer_extreme(acc, q0 + c * math.cos(r * t0), t0)
+    offer_extreme(acc, q1 + c * math.cos(r * t1), t1)
     if c != 0.0 and H > 0.0:
         # x' = v - c r sin(r t): an interior zero is an extreme of x; v from its cubic Hermite
         d0 = H * a0
@@ -260,7 +241,7 @@ def _measure_slip(acc, t0, q0, v0, a0, q1, v1, a1, H, r, c):
             x = 0.5 * (lo + hi)
             q = _herm5_q(q0, v0, a0, q1, v1, a1, H, x)  # O(H^6): the piece may be a short one
             tx = t0 + x * H
-            _candidate(acc, q + c * math.cos(r * tx), tx, q)
+            offer_extreme(acc, q + c * math.cos(r * tx), tx)
 
 
 @jit

@@ -13,8 +13,8 @@ import math
 import numpy as np
 
 from friction_sweep.kernels.event import (
-    ACC_IC, ACC_IS, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX, ACC_XMIN, BUDGET,
-    advance_period, decide, refine_extremes, reset_accumulator,
+    ACC_IC, ACC_IS, ACC_JAC, ACC_JOK, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX, ACC_XMIN, BUDGET,
+    advance_period, decide, reset_accumulator,
 )
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.rk4 import advance_period_rk4
@@ -40,7 +40,7 @@ DEFAULT_SETTINGS = {
     "max_periods": 2000,
     "max_orbit_period": 8,  # period-k orbits detected up to this k
     "work_budget": 5_000_000,  # stop-search steps and events per point
-    "shoot_after": 4,  # periods marched before the first shooting attempt (4: measured fastest, make bench)
+    "shoot_after": 1,  # periods marched before the first shooting attempt (1: measured fastest, make bench)
     "shoot_every": 48,
     "kernel": KERNEL_EVENT,  # which period integrator the driver marches: event (exact) or rk4
     "steps_per_period": 256,  # rk4 only
@@ -93,33 +93,70 @@ def _mode_of(q, v, A, r, bs):
 
 
 @jit
+def _spectral_radius(m11, m12, m21, m22):
+    """Largest |eigenvalue| of a 2 x 2 matrix."""
+    half = 0.5 * (m11 + m22)
+    disc = half * half - (m11 * m22 - m12 * m21)
+    if disc >= 0.0:
+        return abs(half) + math.sqrt(disc)
+    return math.sqrt(m11 * m22 - m12 * m21)
+
+
+@jit
 def _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
-    """Newton on F(x) = P(x) - x for a period-1 orbit. Returns (q, v, ok, work)."""
+    """Newton on F(x) = P(x) - x for a period-1 orbit. Returns (q, v, ok, work).
+
+    The Jacobian is the event kernel's monodromy matrix (exact, saltation at reversals) wherever it
+    is valid, else forward differences (rk4 kernel, periods with a stick). The evaluation that can
+    confirm convergence also measures: on success `acc` holds the measurement of the period from
+    the returned state, exactly as a separate measured pass would. Newton finds unstable orbits as
+    readily as stable ones; only an attracting one (monodromy spectral radius < 1) is a steady state.
+    """
     work = 0
     # Accept only after a small Newton step: where the map has no fixed point (r = 1, friction
     # below pi/4) a near-singular Jacobian leaps to a huge state whose relative residual looks tiny.
     last_step = math.inf
+    prev_step = math.inf
+    radius = math.inf
     size = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
     for _ in range(40):
         scale = max(math.hypot(q, v), size)
-        q1, v1, m1, st, w = _period(q, v, _mode_of(q, v, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, acc)
+        # Confirm (and measure) once Newton has hit its floor: a step below 1e-9 of the state, or one
+        # below 1e-6 that no longer shrinks quadratically (rounding next to resonance). Stopping at the
+        # first step below 1e-6 would leave ~1e-12 of the state, all of it in x = z + cos(r t) when x
+        # is tiny (joined scene at high r).
+        measure = last_step <= 1e-9 * scale or (last_step <= 1e-6 * scale and last_step >= 1e-2 * prev_step)
+        reset_accumulator(acc)
+        q1, v1, m1, st, w = _advance(q, v, _mode_of(q, v, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, measure,
+                                     acc)
         work += w
         if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
             return q, v, False, work
         fq = q1 - q
         fv = v1 - v
-        if abs(fq) + abs(fv) <= tol * scale and last_step <= 1e-6 * scale:
-            return q, v, True, work
-        h = 1e-6 * scale
-        qa, va, _, st1, w1 = _period(q + h, v, _mode_of(q + h, v, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, acc)
-        qb, vb, _, st2, w2 = _period(q, v + h, _mode_of(q, v + h, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, acc)
-        work += w1 + w2
-        if st1 != 0 or st2 != 0:
-            return q, v, False, work
-        j11 = (qa - q1) / h - 1.0
-        j21 = (va - v1) / h
-        j12 = (qb - q1) / h
-        j22 = (vb - v1) / h - 1.0
+        if abs(fq) + abs(fv) <= tol * scale and measure:
+            if acc[ACC_JOK] == 1.0:
+                radius = _spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3])
+            return q, v, radius < 1.0, work
+        if acc[ACC_JOK] == 1.0:
+            j11 = acc[ACC_JAC] - 1.0
+            j12 = acc[ACC_JAC + 1]
+            j21 = acc[ACC_JAC + 2]
+            j22 = acc[ACC_JAC + 3] - 1.0
+        else:
+            h = 1e-6 * scale
+            qa, va, _, st1, w1 = _period(q + h, v, _mode_of(q + h, v, A, r, bs), A, r, bk, bs, zeta, c, settings,
+                                         budget, acc)
+            qb, vb, _, st2, w2 = _period(q, v + h, _mode_of(q, v + h, A, r, bs), A, r, bk, bs, zeta, c, settings,
+                                         budget, acc)
+            work += w1 + w2
+            if st1 != 0 or st2 != 0:
+                return q, v, False, work
+            j11 = (qa - q1) / h - 1.0
+            j21 = (va - v1) / h
+            j12 = (qb - q1) / h
+            j22 = (vb - v1) / h - 1.0
+        radius = _spectral_radius(j11 + 1.0, j12, j21, j22 + 1.0)
         det = j11 * j22 - j12 * j21
         if det == 0.0 or not math.isfinite(det):
             return q, v, False, work
@@ -127,6 +164,7 @@ def _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
         dv = (-j21 * fq + j11 * fv) / det
         q -= dq
         v -= dv
+        prev_step = last_step
         last_step = abs(dq) + abs(dv)
         if not (math.isfinite(q) and math.isfinite(v)):
             return q, v, False, work
@@ -161,6 +199,9 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     work = 0
     status = PERIOD_CAP
     orbit = 0
+    shot = False
+    # shoot at the first stop-free period from shoot_after on, and again shoot_every periods after a miss
+    next_shot = shoot_after
     n = 0
     while n < max_periods:
         n += 1
@@ -194,14 +235,16 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
         i = n % (kmax + 1)
         hq[i], hv[i], hm[i] = q, v, mode
         no_stops = acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
-        if no_stops and n >= shoot_after and (n - shoot_after) % shoot_every == 0:
+        if no_stops and n >= next_shot:
             qs, vs, ok, w = _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
             work += w
+            next_shot = n + shoot_every
             if ok:
                 q, v = qs, vs
                 mode = _mode_of(q, v, A, r, bs)
                 orbit = 1
                 status = CONVERGED
+                shot = True
                 break
         # Steady linear growth (resonance with friction below pi/4): 48 rising periods at a rate that
         # does not decay, after shooting had its chances. Only next to r = 1: a pure sinusoid pumps
@@ -228,13 +271,14 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     if status != CONVERGED:
         out[OUT_REGIME] = UNSETTLED
         return
-    # measure over the k periods of the orbit (the state on the orbit is kept for replays)
+    # measure over the k periods of the orbit (the state on the orbit is kept for replays); a shooting
+    # solve measured its confirming period already
     out[OUT_Q], out[OUT_V], out[OUT_MODE] = q, v, mode
-    reset_accumulator(acc)
-    for _ in range(orbit):
-        q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, True, acc)
-        work += w
-    refine_extremes(acc, A, r, bk, zeta, c)
+    if not shot:
+        reset_accumulator(acc)
+        for _ in range(orbit):
+            q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, True, acc)
+            work += w
     T = TWO_PI / r
     total = orbit * T
     stuck_fraction = acc[ACC_STUCK] / total
