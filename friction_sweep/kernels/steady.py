@@ -1,8 +1,8 @@
 """Steady state of the event-driven kernel: march the stroboscopic map, shoot, measure.
 
 solve_point marches forcing periods from rest until the Poincare map repeats (period 1 or k),
-tries a Newton shooting solve of P(x) = x when a continuous-looking transient is slow (small
-friction, near resonance), recognises steady linear growth (resonance below pi/4) and then
+tries a Newton shooting solve of P(x) = x from the first stop-free period (exact monodromy
+Jacobian; one period per step), recognises steady linear growth (resonance below pi/4) and then
 measures over the k periods of the orbit. Everything is recorded as numbers and codes.
 """
 
