@@ -111,28 +111,31 @@ def _int_cos_sin(w, phi, S):
 
 
 @jit
-def _closed_form(r):
-    return abs((1.0 - r) * (1.0 + r)) >= CLOSED_FORM_DETUNING
+def _closed_form(r, zeta):
+    """Whether a slip piece is written as a sum of sinusoids (_slip_split): undamped, off resonance."""
+    return zeta == 0.0 and abs((1.0 - r) * (1.0 + r)) >= CLOSED_FORM_DETUNING
 
 
 @jit
-def _slip_harmonic(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta):
+def _slip_split(q0, v0, sig, A, r, bk, ca, sa):
+    """(k, alpha, gamma, G) with q(s) = k + alpha cos s + gamma sin s + G cos(r t0 + r s) on an undamped
+    slip piece from (q0, v0) with cos/sin(r t0) = ca, sa: G = A/(1 - r^2), k = -sig bk (segments.slip_state
+    split differently: that one is exact at r = 1, this one only where _closed_form holds)."""
+    G = A / ((1.0 - r) * (1.0 + r))
+    return -sig * bk, q0 + sig * bk - G * ca, v0 + G * r * sa, G
+
+
+@jit
+def _slip_harmonic(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, ca, sa):
     """Add the integrals of q cos(r t), q sin(r t) over a slip piece to ACC_IC, ACC_IS.
 
-    Undamped and away from resonance in closed form: with G = A/(1 - r^2) the piece is
-    q(s) = -sig bk + alpha cos s + gamma sin s + G cos(r t0 + r s), alpha = q0 + sig bk - G cos(r t0),
-    gamma = v0 + G r sin(r t0) (segments.slip_state split differently), so q cos(r t) and q sin(r t)
-    are sums of sinusoids at r, 1 + r, r - 1 and 2 r. Otherwise 16-point Gauss-Legendre on
-    sub-intervals short enough to resolve frequencies up to 1 + 2 r to rounding.
+    Where _closed_form holds, q is a sum of sinusoids (_slip_split), so q cos(r t) and q sin(r t) are
+    sums of sinusoids at r, 1 + r, r - 1 and 2 r, integrated exactly. Otherwise 16-point
+    Gauss-Legendre on sub-intervals short enough to resolve frequencies up to 1 + 2 r to rounding.
     """
     ph0 = r * t0
-    ca = math.cos(ph0)
-    sa = math.sin(ph0)
-    if zeta == 0.0 and _closed_form(r):
-        G = A / ((1.0 - r) * (1.0 + r))
-        k = -sig * bk
-        alpha = q0 + sig * bk - G * ca
-        gamma = v0 + G * r * sa
+    if _closed_form(r, zeta):
+        k, alpha, gamma, G = _slip_split(q0, v0, sig, A, r, bk, ca, sa)
         cr, sr = _int_cos_sin(r, ph0, s_end)
         cp, sp = _int_cos_sin(1.0 + r, ph0, s_end)
         cm, sm = _int_cos_sin(r - 1.0, ph0, s_end)
@@ -202,21 +205,18 @@ def _piece_extreme(sign, a, b, s, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa):
 
 
 @jit
-def _slip_extremes(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
+def _slip_extremes(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa):
     """Offer the max and min of x = q + c cos(r t) over a slip piece, exact to rounding.
 
     The ends are offered as they are. For c = 0 that is all (q is monotone between velocity zeros);
     for c != 0 the piece is sampled at spacing <= EXTREME_SPACING/(1 + r) and the best sample of
     each kind is refined inside its two neighbouring intervals, unless it is an end the slope leaves.
     Refining per piece (not per period) keeps an extreme just across an event or the period end.
+    q1: q at the piece's end.
     """
-    ph0 = r * t0
-    ca = math.cos(ph0)
-    sa = math.sin(ph0)
     x0 = q0 + c * ca
     offer_extreme(acc, x0, t0)
-    x1, _ = slip_state(s_end, q0, v0, sig, A, r, bk, zeta, ca, sa)
-    x1 += c * math.cos(r * (t0 + s_end))
+    x1 = q1 + c * math.cos(r * (t0 + s_end))
     offer_extreme(acc, x1, t0 + s_end)
     if c == 0.0 or s_end <= 0.0:
         return
@@ -226,14 +226,11 @@ def _slip_extremes(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
     jmin = 0 if x0 <= x1 else n
     xmax = max(x0, x1)
     xmin = min(x0, x1)
-    closed = zeta == 0.0 and _closed_form(r)
+    closed = _closed_form(r, zeta)
     k = alpha = gamma = gc = ch = sh = crh = srh = cs = ss = cb = sb = 0.0
     if closed:
-        # the split of _slip_harmonic; phases advance by rotation: a sample costs no trig call
-        G = A / ((1.0 - r) * (1.0 + r))
-        k = -sig * bk
-        alpha = q0 + sig * bk - G * ca
-        gamma = v0 + G * r * sa
+        # phases advance by rotation: a sample costs no trig call
+        k, alpha, gamma, G = _slip_split(q0, v0, sig, A, r, bk, ca, sa)
         gc = G + c
         ch, sh = math.cos(h), math.sin(h)
         crh, srh = math.cos(r * h), math.sin(r * h)
@@ -263,10 +260,11 @@ def _slip_extremes(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
 
 
 @jit
-def _measure_slip(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c):
+def _measure_slip(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa):
+    """Measure a slip piece from (q0, v0) at t0 to q1 at t0 + s_end; ca, sa = cos/sin(r t0)."""
     if s_end > 0.0:
-        _slip_harmonic(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta)
-    _slip_extremes(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, c)
+        _slip_harmonic(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, ca, sa)
+    _slip_extremes(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa)
 
 
 #: After a slip that could not start (the force touched the band edge tangentially and turned back,
@@ -394,11 +392,13 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
                 from_stick = False
                 continue
             from_stick = False
+            ca = math.cos(r * t)
+            sa = math.sin(r * t)
+            q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, ca, sa)
             if measure:
-                _measure_slip(acc, t, q, v, mode, s, A, r, bk, zeta, c)
+                _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
             if ts.size:
                 j = _sample(ts, sq, sv, j, t, t + s if found else math.inf, t, q, v, mode, A, r, bk, zeta)
-            q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, math.cos(r * t), math.sin(r * t))
             _jac_flow(acc, s, zeta)
             t = t + s
             q = q1
