@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 from friction_sweep import regimes
 from friction_sweep.kernels import event as ev
+from friction_sweep.kernels import steady
 from friction_sweep.methods import event, theory
 from friction_sweep.theory import den_hartog as dh
 
@@ -175,8 +176,6 @@ def test_hundred_thousand_periods_without_drift():
 
 
 def test_a_converged_orbit_stays_put_for_a_hundred_thousand_periods():
-    from friction_sweep.kernels import steady
-
     out = event.solve_flat("base", np.array([0.3]), np.array([0.3]))[0]
     q, v, mode = out[steady.OUT_Q], out[steady.OUT_V], int(out[steady.OUT_MODE])
     acc = ev.new_accumulator()
@@ -288,8 +287,6 @@ def test_no_zeno_stall_where_the_orbit_creeps_towards_grazing():
     band edge and moving back in. The mass slips back for ~6e-6 and sticks; an early version declared
     a stop at once on every restart (the velocity was still below the stop tolerance while rising)
     and crept forward geometrically until the work budget ran out."""
-    from friction_sweep.kernels import steady
-
     out = event.solve_flat("base", np.array([0.45]), np.array([0.25]), shoot_after=10**9)[0]
     assert out[steady.OUT_STEADY] != regimes.EVENT_BUDGET
     assert out[steady.OUT_WORK] / out[steady.OUT_PERIODS] < 500  # work per period stays ordinary
@@ -300,8 +297,6 @@ def test_shooting_through_sticks_lands_where_the_slow_march_ends():
     periods, so a march stopped by steady_tol 1e-10 is still 1e-7 away); shooting from the first
     stop-free period (Newton iterates may stick; forward differences then) finds the orbit at once.
     A march to steady_tol 1e-14 (~27,000 periods) must land on it."""
-    from friction_sweep.kernels import steady
-
     shot = event.solve_flat("base", np.array([0.45]), np.array([0.25]))[0]
     march = event.solve_flat("base", np.array([0.45]), np.array([0.25]), shoot_after=10**9, max_periods=60_000,
                              steady_tol=1e-14)[0]
