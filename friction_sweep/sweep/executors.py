@@ -55,7 +55,10 @@ def run_dask(fn, work, jobs, scheduler: str | None = None, retries: int = 3) -> 
     log.info("dask: %s", client)
     try:
         futures = {client.submit(fn, args, pure=False, retries=retries): i for i, args in enumerate(work)}
-        for fut in as_completed(futures):
+        # as_completed waits on the *current* client's loop by default; inside a caller's
+        # `with Client(...)` that is another loop than these futures' one (flaky "bound to a
+        # different event loop" in fut.result()), so name ours
+        for fut in as_completed(futures, loop=client.loop):
             yield futures[fut], fut.result()
     finally:
         client.close()
