@@ -29,7 +29,14 @@ EVENT_BUDGET = np.int8(2)  # the per-point work budget (events or steps) ran out
 NONFINITE = np.int8(3)  # a state became NaN or infinite
 GROWING = np.int8(4)  # the amplitude kept growing at a steady rate (reported as `unbounded`)
 NOT_SIMULATED = np.int8(5)  # the point was not simulated (e.g. `auto` used the theory)
+FAMILY = np.int8(6)  # r = 1/(2n), no damping: a continuum of stick-free orbits; first-harmonic outputs are
+#                      the family's, peak outputs those of its half-wave symmetric (Den Hartog) member
 
-STEADY_NAMES = ("converged", "period_cap", "event_budget", "nonfinite", "growing", "not_simulated")
+APERIODIC = np.int8(7)  # no period-k orbit (k <= max_orbit_period) and nearby states do not draw together
+#                         (Lyapunov exponent of the stroboscopic map > -1/max_orbit_period): chaotic,
+#                         quasi-periodic or a longer period; outputs are averages over 256 forcing periods
+
+STEADY_NAMES = ("converged", "period_cap", "event_budget", "nonfinite", "growing", "not_simulated", "family",
+                "aperiodic")
 STEADY_FLAG_VALUES = np.arange(len(STEADY_NAMES), dtype=np.int8)
 STEADY_FLAG_MEANINGS = " ".join(STEADY_NAMES)

@@ -23,7 +23,9 @@ import math
 import numpy as np
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.segments import TWO_PI, find_stop, sin_over, slip_state, stick_exit
+from friction_sweep.kernels.segments import (
+    FORCE_TIE, TWO_PI, find_stop, sin_over, slip_state, stick_exit, stuck_for_good,
+)
 
 OK = 0
 BUDGET = 2  # same code as regimes.EVENT_BUDGET
@@ -70,9 +72,10 @@ def reset_accumulator(acc):
 
 @jit
 def decide(t, q, A, r, bs):
-    """Mode at rest at time t: 0 (stick) if the force is inside the static band, else its sign."""
+    """Mode at rest at time t: 0 (stick) if the force is inside the static band, else its sign.
+    A band that holds the force's whole swing (to the tie tolerance, friction_sweep.ties) is a stick."""
     d = A * math.cos(r * t) - q
-    if abs(d) <= bs:
+    if abs(d) <= bs or stuck_for_good(q, A, bs):
         return 0
     return 1 if d > 0.0 else -1
 
@@ -268,17 +271,22 @@ def _measure_slip(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa):
 
 
 #: After a slip that could not start (the force touched the band edge tangentially and turned back,
-#: a tie that rounding can decide either way), the next stick exit is searched this fraction of a
+#: or pushed out of it by less than FORCE_TIE: a tie that rounding can decide either way), the next
+#: stick exit is where the force leaves the band by more than the tie, and at least this fraction of a
 #: period later, so that time always advances (no Zeno cycle of exit -> no motion -> stick).
 TANGENT_SKIP = 1e-13
 
 
 @jit
-def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, skip):
+def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, stalled):
     """A stick from t (exact for every integrator): count a new stop if it lasts longer than a grazing
     contact, add the time stuck, measure it if asked. Returns the exit time (>= T when the mass stays
-    stuck to the period end). skip: search the exit only from t + skip."""
-    te = max(stick_exit(t + skip, q, A, r, bs), t + skip)
+    stuck to the period end). stalled: the last slip could not start (see TANGENT_SKIP)."""
+    if stalled:
+        skip = TANGENT_SKIP * T
+        te = max(stick_exit(t + skip, q, A, r, bs + FORCE_TIE * (A + bs + abs(q))), t + skip)
+    else:
+        te = max(stick_exit(t, q, A, r, bs), t)
     if new_stop and te - t > GRAZING_STICK * T:
         acc[ACC_STOPS] += 1.0
     tb = min(te, T)
@@ -367,7 +375,7 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
     while True:
         if mode == 0:
             acc[ACC_JOK] = 0.0
-            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, TANGENT_SKIP * T if stalled else 0.0)
+            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, stalled)
             new_stop = False
             stalled = False
             if ts.size:

@@ -265,7 +265,7 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
     while True:
         if mode == 0:
             have_a = False
-            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, 0.0)
+            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, False)
             new_stop = False
             after_stop = False
             if te >= T:

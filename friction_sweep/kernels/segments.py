@@ -21,8 +21,12 @@ from __future__ import annotations
 import math
 
 from friction_sweep.kernels.jit import jit
+from friction_sweep.ties import TIE_RTOL
 
 TWO_PI = 2.0 * math.pi
+#: force differences below this fraction of A + friction + |q| are ties that rounding decides: a mass at
+#: rest that the force pushes out of its band by less cannot be set moving resolvably
+FORCE_TIE = 1e-13
 
 
 @jit
@@ -32,6 +36,50 @@ def sin_over(u):
         u2 = u * u
         return 1.0 - u2 / 6.0 * (1.0 - u2 / 20.0)
     return math.sin(u) / u
+
+
+#: with damping, a slip piece is summed as its Taylor series up to this local time (times max(1, r),
+#: the fastest frequency in it): the closed form
+#: below adds terms of the forcing's size that cancel to the motion's, so a motion far smaller than A
+#: (next to the no-motion threshold) would drown in their rounding, and a stop search from rest would
+#: see the velocity's sign flicker. Its terms fall like (s max(1, r))^k / k!
+DAMPED_SERIES_SPAN = 0.25
+
+
+@jit
+def _damped_series(s, q0, v0, sig, A, r, bk, zeta, ca, sa):
+    """(q, v) at local time s of a damped slip piece, by the Taylor series at its start.
+
+    Derivatives from q'' = A cos(r t0 + r s) - sig bk - q - 2 zeta q': d_{k+2} = F_k - d_k - 2 zeta d_{k+1},
+    F_0 = A ca - sig bk, F_k = A r^k cos(r t0 + k pi/2) (k >= 1). The net force F_0 - q0 is formed first,
+    so a tiny excess over the friction keeps its relative precision.
+    """
+    d_prev = q0  # d_k
+    d_cur = v0  # d_{k+1}
+    q = q0
+    v = v0
+    term = s  # s^(k+1) / (k+1)!, the weight of d_{k+1} in q
+    vterm = 1.0  # s^k / k!, the weight of d_{k+1} in v
+    q += d_cur * term
+    rk = 1.0
+    for k in range(0, 60):
+        if k == 0:
+            d_next = (A * ca - sig * bk - d_prev) - 2.0 * zeta * d_cur
+        else:
+            rk *= r
+            m = k % 4  # cos(phi + k pi/2) from ca = cos phi, sa = sin phi
+            fk = ca if m == 0 else (-sa if m == 1 else (-ca if m == 2 else sa))
+            d_next = A * rk * fk - d_prev - 2.0 * zeta * d_cur
+        term *= s / (k + 2)
+        vterm *= s / (k + 1)
+        dq = d_next * term
+        dv = d_next * vterm
+        q += dq
+        v += dv
+        d_prev, d_cur = d_cur, d_next
+        if k > 4 and abs(dq) <= 1e-18 * (abs(q) + A * term) and abs(dv) <= 1e-18 * (abs(v) + A * vterm):
+            break
+    return q, v
 
 
 @jit
@@ -52,6 +100,8 @@ def slip_state(s, q0, v0, sig, A, r, bk, zeta, ca, sa):
         q = q0 * cs + v0 * ss - sig * bk * (1.0 - cs) + A * (ca * c_resp - sa * s_resp)
         v = -(q0 + sig * bk) * ss + v0 * cs + A * (ca * c_rate - sa * s_rate)
         return q, v
+    if s * max(1.0, r) <= DAMPED_SERIES_SPAN:
+        return _damped_series(s, q0, v0, sig, A, r, bk, zeta, ca, sa)
     # viscous damping, 0 < zeta < 1: particular solution Re[G e^{i r (t0 + s)}], G = A / (1 - r^2 + 2i zeta r)
     den_re = 1.0 - r * r
     den_im = 2.0 * zeta * r
@@ -124,7 +174,7 @@ def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
         wj = sig * (-A * r * sa - v0 - 2.0 * zeta * a0)
         # A tie: the force sits on the band edge (to rounding, |wa| <= atol) and moves outwards
         # (wj > 0). Then sig v >= -|wa| s + wj s^2/2 - M3 s^3/6, positive on (2|wa|/wj, 3wj/M3).
-        atol = 1e-13 * (A + bk + abs(q0))
+        atol = FORCE_TIE * (A + bk + abs(q0))
         if wj > 0.0 and wa >= -atol:
             s_tie = 1.5 * wj / m3
             if wa >= 0.0 or s_tie > 4.0 * (-wa) / wj:
@@ -157,13 +207,20 @@ def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
 
 
 @jit
+def stuck_for_good(qs, A, bs):
+    """A stick at qs never ends: the force's whole swing A + |qs| stays inside the static band bs, to
+    the tie tolerance (friction_sweep.ties: beta = 1 and beta = r*r are ties however they round)."""
+    return A + abs(qs) <= bs * (1.0 + TIE_RTOL)
+
+
+@jit
 def stick_exit(t0, qs, A, r, bs):
     """First time t >= t0 at which |A cos(r t) - qs| > bs (static friction), or inf if never.
 
     Closed form: the force leaves the band through cos(r t) = (qs + bs)/A upwards or
     cos(r t) = (qs - bs)/A downwards; each is an arccos, repeated every forcing period.
     """
-    if A <= 0.0:
+    if A <= 0.0 or stuck_for_good(qs, A, bs):
         return math.inf
     u0 = r * t0
     f = A * math.cos(u0)

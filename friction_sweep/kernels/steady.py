@@ -19,9 +19,10 @@ from friction_sweep.kernels.event import (
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.rk4 import advance_period_rk4
 from friction_sweep.kernels.segments import TWO_PI
+from friction_sweep.ties import RESONANCE_FRICTION_LIMIT, TIE_RTOL
 
 # status codes: the values of friction_sweep.regimes (kept literal so kernels import no Python objects)
-CONVERGED, PERIOD_CAP, EVENT_BUDGET, NONFINITE, GROWING = 0, 1, 2, 3, 4
+CONVERGED, PERIOD_CAP, EVENT_BUDGET, NONFINITE, GROWING, FAMILY, APERIODIC = 0, 1, 2, 3, 4, 6, 7
 STUCK, STICK_SLIP, CONTINUOUS, UNBOUNDED, UNSETTLED = 0, 1, 2, 3, 4
 
 # output slots of solve_point
@@ -38,7 +39,7 @@ DEFAULT_SETTINGS = {
     "steady_tol": 1e-10,  # |P^k(x) - x| <= steady_tol * |x| on the stroboscopic map
     "stop_tol": 1e-12,  # a stop is declared when |v| <= stop_tol * max(A, |(q, v)|)
     "max_periods": 2000,
-    "max_orbit_period": 8,  # period-k orbits detected up to this k
+    "max_orbit_period": 256,  # period-k orbits detected up to this k (static friction locks onto k up to ~250)
     "work_budget": 5_000_000,  # stop-search steps and events per point
     "shoot_after": 1,  # periods marched before the first shooting attempt (1: measured fastest, make bench)
     "shoot_every": 48,
@@ -102,53 +103,131 @@ def _spectral_radius(m11, m12, m21, m22):
     return math.sqrt(m11 * m22 - m12 * m21)
 
 
+#: rounding of one period of the event map, relative to the orbit's size (measured: 5.5e-15 at
+#: r = 1 +- 1e-10)
+MAP_ROUNDING = 32.0 * 2.220446049250313e-16
+#: a solution of P(x) = x is accepted only if the error that the map's own error (rounding, or RK4's
+#: truncation: _map_error) can cause, |(J - I)^-1| times it, is below this relative: near r = 1,
+#: |(J - I)^-1| ~ 0.23/|1 - r|, so
+#: orbits are resolved down to |1 - r| ~ 2e-11; a "solution" of size 1e15 or more at r = 1, where the
+#: map's O(1) drift per period is lost in rounding, has |(J - I)^-1| ~ its size and is refused
+RESOLVABLE = 1e-4
+
+
 @jit
-def _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
-    """Newton on F(x) = P(x) - x for a period-1 orbit. Returns (q, v, ok, work).
+def _inverse_norm(b11, b12, b21, b22):
+    """|B^-1| (Frobenius: |B| / |det B| for 2 x 2); inf where B is singular."""
+    det = b11 * b22 - b12 * b21
+    if det == 0.0 or not math.isfinite(det):
+        return math.inf
+    return math.sqrt(b11 * b11 + b12 * b12 + b21 * b21 + b22 * b22) / abs(det)
+
+
+@jit
+def _map_error(r, settings):
+    """Relative error of one period of the map: rounding for the event kernel; for RK4 also its
+    truncation over the period, (2 pi / r) h^4 / 120 with h = 2 pi / (r steps_per_period) in natural
+    time (the RK4 map of the oscillator has its resonance detuned by about that much, so at r = 1
+    it has a bounded orbit of size ~1e8 that the true system lacks)."""
+    if settings[SET_KERNEL] != KERNEL_RK4:
+        return MAP_ROUNDING
+    h = TWO_PI / (r * settings[SET_STEPS])
+    return max(MAP_ROUNDING, TWO_PI / r * h ** 4 / 120.0)
+
+
+@jit
+def _resolvable(b11, b12, b21, b22, map_error):
+    """Whether a fixed point of P with Jacobian J = I + B is pinned down by the map despite its own
+    error: |B^-1| times that error (relative to the larger of the orbit and the forcing) is below
+    RESOLVABLE."""
+    return _inverse_norm(b11, b12, b21, b22) * map_error <= RESOLVABLE
+
+
+@jit
+def _within_forced_bound(acc, k, A, r, bk, bs, zeta):
+    """The orbit's first harmonic Q1 (of q over its k measured periods, from ACC_IC/IS) obeys the bound
+    that the equation itself proves: projecting q'' + 2 zeta q' + q + f = A cos(r t) onto the forcing
+    frequency gives (1 - r^2 + 2i zeta r) Q1 = A - F1, and a friction force |f| <= max(bk, bs) has
+    |F1| <= 4 max(bk, bs)/pi. Only a spurious orbit breaks it (always true at r = 1 without damping)."""
+    q1 = r / math.pi * math.hypot(acc[ACC_IC], acc[ACC_IS]) / k
+    gain = math.hypot((1.0 - r) * (1.0 + r), 2.0 * zeta * r)
+    return q1 * gain <= (A + 4.0 / math.pi * max(bk, bs)) * (1.0 + 1e-9)
+
+
+@jit
+def _map(q, v, k, A, r, bk, bs, zeta, c, settings, budget, measure, acc):
+    """P^k(q, v): k periods from (q, v), measured together in `acc` if asked. Returns (q, v, status,
+    work); acc[ACC_JOK] vouches for the monodromy matrix only for k = 1."""
+    reset_accumulator(acc)
+    mode = _mode_of(q, v, A, r, bs)
+    work = 0
+    for _ in range(k):
+        q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, measure, acc)
+        work += w
+        if st != 0:
+            return q, v, st, work
+    if k > 1:
+        acc[ACC_JOK] = 0.0
+    return q, v, 0, work
+
+
+@jit
+def _shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
+    """Newton on F(x) = P^k(x) - x for a period-k orbit. Returns (q, v, ok, work).
 
     The Jacobian is the event kernel's monodromy matrix (exact, saltation at reversals) wherever it
-    is valid, else forward differences (rk4 kernel, periods with a stick). The evaluation that can
+    is valid (k = 1), else forward differences (rk4 kernel, periods with a stick). The evaluation that can
     confirm convergence also measures: on success `acc` holds the measurement of the period from
     the returned state, exactly as a separate measured pass would. Newton finds unstable orbits as
-    readily as stable ones; only an attracting one (monodromy spectral radius < 1) is a steady state.
+    readily as stable ones; only an attracting one (monodromy spectral radius < 1) is a steady state,
+    and only one that rounding cannot move far (_resolvable) and that obeys the forced bound.
     """
     work = 0
+    map_error = _map_error(r, settings)
     # Accept only after a small Newton step: where the map has no fixed point (r = 1, friction
     # below pi/4) a near-singular Jacobian leaps to a huge state whose relative residual looks tiny.
     last_step = math.inf
     prev_step = math.inf
     radius = math.inf
+    b11 = b12 = b21 = b22 = 0.0  # J - I of the latest Jacobian (exact, or forward differences)
     size = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
     for _ in range(40):
         scale = max(math.hypot(q, v), size)
+        # What the map's own error leaves: it is computed to ~map_error of the larger of the orbit and
+        # the forcing (an orbit far smaller than A, next to the no-motion threshold, is pinned only
+        # absolutely), and Newton's step inherits that times |(J - I)^-1|.
+        noise = map_error * max(scale, A)
+        step_noise = noise * min(_inverse_norm(b11, b12, b21, b22), 1e300) if last_step < math.inf else 0.0
         # Confirm (and measure) once Newton has hit its floor: a step below 1e-9 of the state, or one
         # below 1e-6 that no longer shrinks quadratically (rounding next to resonance). Stopping at the
         # first step below 1e-6 would leave ~1e-12 of the state, all of it in x = z + cos(r t) when x
         # is tiny (joined scene at high r).
-        measure = last_step <= 1e-9 * scale or (last_step <= 1e-6 * scale and last_step >= 1e-2 * prev_step)
-        reset_accumulator(acc)
-        q1, v1, m1, st, w = _advance(q, v, _mode_of(q, v, A, r, bs), A, r, bk, bs, zeta, c, settings, budget, measure,
-                                     acc)
+        measure = (last_step <= 1e-9 * scale + step_noise
+                   or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
+        q1, v1, st, w = _map(q, v, k, A, r, bk, bs, zeta, c, settings, budget - work, measure, acc)
         work += w
         if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
             return q, v, False, work
         fq = q1 - q
         fv = v1 - v
-        if abs(fq) + abs(fv) <= tol * scale and measure:
+        if abs(fq) + abs(fv) <= tol * scale + noise and measure:
             if acc[ACC_JOK] == 1.0:
                 radius = _spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3])
-            return q, v, radius < 1.0, work
+                b11, b12 = acc[ACC_JAC] - 1.0, acc[ACC_JAC + 1]
+                b21, b22 = acc[ACC_JAC + 2], acc[ACC_JAC + 3] - 1.0
+            ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, map_error)
+                  and _within_forced_bound(acc, k, A, r, bk, bs, zeta))
+            return q, v, ok, work
         if acc[ACC_JOK] == 1.0:
             j11 = acc[ACC_JAC] - 1.0
             j12 = acc[ACC_JAC + 1]
             j21 = acc[ACC_JAC + 2]
             j22 = acc[ACC_JAC + 3] - 1.0
         else:
-            h = 1e-6 * scale
-            qa, va, _, st1, w1 = _period(q + h, v, _mode_of(q + h, v, A, r, bs), A, r, bk, bs, zeta, c, settings,
-                                         budget, acc)
-            qb, vb, _, st2, w2 = _period(q, v + h, _mode_of(q, v + h, A, r, bs), A, r, bk, bs, zeta, c, settings,
-                                         budget, acc)
+            # a step of 1e-6 of the orbit, or more where that would drown in the forcing's rounding
+            h = max(1e-6 * scale, 1e-8 * math.sqrt(A * scale))
+            qa, va, st1, w1 = _map(q + h, v, k, A, r, bk, bs, zeta, c, settings, budget - work, False, acc)
+            qb, vb, st2, w2 = _map(q, v + h, k, A, r, bk, bs, zeta, c, settings, budget - work, False, acc)
             work += w1 + w2
             if st1 != 0 or st2 != 0:
                 return q, v, False, work
@@ -157,6 +236,7 @@ def _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
             j12 = (qb - q1) / h
             j22 = (vb - v1) / h - 1.0
         radius = _spectral_radius(j11 + 1.0, j12, j21, j22 + 1.0)
+        b11, b12, b21, b22 = j11, j12, j21, j22
         det = j11 * j22 - j12 * j21
         if det == 0.0 or not math.isfinite(det):
             return q, v, False, work
@@ -169,6 +249,30 @@ def _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
         if not (math.isfinite(q) and math.isfinite(v)):
             return q, v, False, work
     return q, v, False, work
+
+
+#: A march that found no period-k orbit (k <= max_orbit_period) is `aperiodic` when its largest
+#: Lyapunov exponent (per forcing period, over the march's second half) is above -1/max_orbit_period:
+#: nearby states draw together by less than a factor e over the longest period looked for, so the
+#: motion is chaotic (exponent > 0), quasi-periodic (~0) or locked onto a longer period (static
+#: friction at r = 0.33, beta = 0.08: 1222 periods, exponent -1.3e-3). A motion that contracts faster
+#: and still has not repeated is a transient the budget cut short: `period_cap`.
+#: periods over which the exponent is averaged (the second half of the march, at least this many)
+LYAPUNOV_PERIODS = 256
+#: shooting through sticks accepts only an orbit within this fraction of the orbit's size from the march
+STICK_SHOT_REACH = 0.05
+#: at the period cap, a march whose state repeats at some lag k to this fraction of its size shoots for
+#: the period-k orbit
+LAG_SHOT = 1e-3
+#: an aperiodic motion is measured as the average over this many forcing periods
+APERIODIC_WINDOW = 256
+
+
+@jit
+def _subharmonic(r):
+    """r = 1/(2n) to the tie tolerance (friction_sweep.ties.subharmonic_order)."""
+    n = math.floor(0.5 / r + 0.5)
+    return n >= 1.0 and abs(2.0 * n * r - 1.0) <= TIE_RTOL
 
 
 @jit
@@ -186,10 +290,14 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     hv = np.empty(kmax + 1)
     hm = np.empty(kmax + 1, dtype=np.int64)
     rho_hist = np.empty(64)
+    acc_y = np.empty(ACC_SIZE)
+    map_error = _map_error(r, settings)
 
     q = settings[SET_Q0]
     v = settings[SET_V0]
-    if bk == 0.0 and bs == 0.0 and zeta == 0.0 and r != 1.0 and q == 0.0 and v == 0.0:
+    from_rest = q == 0.0 and v == 0.0
+    off_resonance = abs(1.0 - r) > TIE_RTOL
+    if bk == 0.0 and bs == 0.0 and zeta == 0.0 and off_resonance and from_rest:
         # Nothing dissipates: a transient from rest would never decay, and the orbit would be forced plus
         # free motion forever. The steady state meant is the forced one (the limit of vanishing damping):
         # start on it, q = A/(1 - r^2) at the excitation's maximum.
@@ -200,10 +308,35 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     status = PERIOD_CAP
     orbit = 0
     shot = False
+    n = 0
+    if bk > 0.0 and bs == bk and zeta == 0.0 and from_rest and mode != 0 and _subharmonic(r):
+        # r = 1/(2n): stick-free orbits form a continuum (DESIGN.md §6), so the map has no isolated
+        # fixed point to march to or shoot for. Its half-wave symmetric member is Den Hartog's, which
+        # at U(r) = 0 starts from q = A/(1 - r^2), v = 0 at the excitation's maximum; one exact period
+        # confirms it (no stop, back to the start).
+        qf = A / ((1.0 - r) * (1.0 + r))
+        mf = _mode_of(qf, 0.0, A, r, bs)
+        reset_accumulator(acc)
+        q1, v1, _, st, w = _advance(qf, 0.0, mf, A, r, bk, bs, zeta, c, settings, budget, True, acc)
+        work += w
+        scale = max(abs(qf), acc[ACC_QMAX])
+        if (st == 0 and mf != 0 and acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
+                and abs(q1 - qf) + abs(v1) <= tol * scale):
+            q, v, mode = qf, 0.0, mf
+            orbit = 1
+            status = FAMILY
+            shot = True  # measured already
+            n = 1
     # shoot at the first stop-free period from shoot_after on, and again shoot_every periods after a miss
     next_shot = shoot_after
-    n = 0
-    while n < max_periods:
+    # Over the march's second half a companion state at relative distance 1e-7 measures the largest
+    # Lyapunov exponent (Benettin: renormalised after every period), to tell a motion that never
+    # repeats from one that is still settling when the periods run out.
+    lyap_from = max(1, max_periods - max(LYAPUNOV_PERIODS, max_periods // 2))
+    yq = yv = delta = log_growth = 0.0
+    ym = 0
+    tracked = 0
+    while n < max_periods and status == PERIOD_CAP:
         n += 1
         q, v, mode, st, w = _period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, acc)
         work += w
@@ -220,10 +353,14 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
         if rho > 1e12 * max(A, 1.0):
             status = GROWING
             break
+        # Once shooting has had its chance, a state that moves by no more than the map's own rounding
+        # (relative to the forcing: a motion far smaller than A just below the no-motion threshold
+        # jitters at ~1e-17) has settled as far as double precision can tell.
+        floor = map_error * max(size, A) if n > shoot_every else 0.0
         for k in range(1, min(kmax, n) + 1):
             j = (n - k) % (kmax + 1)
             scale = max(size, math.hypot(hq[j], hv[j]))
-            near = abs(q - hq[j]) + abs(v - hv[j]) <= tol * scale
+            near = abs(q - hq[j]) + abs(v - hv[j]) <= tol * scale + floor
             # modes must agree, except at rest on both sides of a decision tie
             same = hm[j] == mode or (abs(v) <= tol * scale and abs(hv[j]) <= tol * scale)
             if near and same:
@@ -234,11 +371,36 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
             break
         i = n % (kmax + 1)
         hq[i], hv[i], hm[i] = q, v, mode
+        if n >= lyap_from:
+            if tracked > 0:
+                yq, yv, ym, st, w = _period(yq, yv, ym, A, r, bk, bs, zeta, c, settings, budget - work, acc_y)
+                work += w
+                d = math.hypot(yq - q, yv - v)
+                log_growth += math.log(d / delta) if d > 0.0 else -math.inf
+            else:
+                delta = 1e-7 * max(size, A)
+                yq, yv = q, v
+                d = 0.0
+            # renormalise along the current separation (or along q to start)
+            if d > 0.0 and math.isfinite(d):
+                yq = q + delta * (yq - q) / d
+                yv = v + delta * (yv - v) / d
+            else:
+                yq = q + delta
+                yv = v
+            ym = _mode_of(yq, yv, A, r, bs)
+            tracked += 1
         no_stops = acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
-        if no_stops and n >= next_shot:
-            qs, vs, ok, w = _shoot(q, v, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
+        # a march that still has not settled after shoot_every periods shoots through its sticks too
+        if n >= next_shot and (no_stops or n >= shoot_every):
+            qs, vs, ok, w = _shoot(q, v, 1, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
             work += w
             next_shot = n + shoot_every
+            # Through sticks the map is only piecewise smooth and Newton may land on another orbit than
+            # the one the march approaches (at r = 1, b = pi/4 a stick-slip orbit of amplitude 0.8 while
+            # the march from rest grows): accept only an orbit next to the march's state.
+            if ok and not no_stops:
+                ok = math.hypot(qs - q, vs - v) <= STICK_SHOT_REACH * max(size, A)
             if ok:
                 q, v = qs, vs
                 mode = _mode_of(q, v, A, r, bs)
@@ -247,10 +409,12 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
                 shot = True
                 break
         # Steady linear growth (resonance with friction below pi/4): 48 rising periods at a rate that
-        # does not decay, after shooting had its chances. Only next to r = 1: a pure sinusoid pumps
-        # without bound only at resonance, while Coulomb transients elsewhere also approach their
-        # (bounded) steady state at a constant rate, which must not be mistaken for growth.
-        if n >= 128 and n % 16 == 0 and abs(1.0 - r) * (1.0 + r) < 1e-6:
+        # does not decay, after shooting had its chances. Only next to r = 1, without damping and with
+        # friction up to pi/4 of the force: a pure sinusoid pumps without bound only there (paper
+        # Eqs. 14-15), while Coulomb transients elsewhere also approach their (bounded) steady state
+        # at a constant rate, which must not be mistaken for growth.
+        if (n >= 128 and n % 16 == 0 and abs(1.0 - r) * (1.0 + r) < 1e-6 and zeta == 0.0
+                and bk <= RESONANCE_FRICTION_LIMIT * A * (1.0 + TIE_RTOL)):
             rising = True
             for m in range(n - 47, n + 1):
                 if rho_hist[m % 64] <= rho_hist[(m - 1) % 64]:
@@ -262,13 +426,39 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
                 if d_new >= 0.9 * d_old:
                     status = GROWING
                     break
+    if status == PERIOD_CAP and n >= 2:
+        # Out of periods: a period-k orbit that the march approaches too slowly (static friction locks
+        # onto long periods) is solved for directly, from the lag at which the march repeats best.
+        best = math.inf
+        lag = 0
+        for k in range(1, min(kmax, n - 1) + 1):
+            j = (n - k) % (kmax + 1)
+            d = abs(q - hq[j]) + abs(v - hv[j])
+            if d < best:
+                best, lag = d, k
+        if lag > 0 and best <= LAG_SHOT * max(math.hypot(q, v), acc[ACC_QMAX], A):
+            qs, vs, ok, w = _shoot(q, v, lag, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
+            work += w
+            if ok:
+                q, v = qs, vs
+                mode = _mode_of(q, v, A, r, bs)
+                orbit = lag
+                status = CONVERGED
+                shot = True
+    # only static friction above kinetic can keep a motion from settling: with bs == bk the friction
+    # law is monotone and the period map does not expand distances (README, "Where the physics gets
+    # hard"), so there a motion that has not repeated is a transient the budget cut short
+    if (status == PERIOD_CAP and bs > bk and tracked > LYAPUNOV_PERIODS // 2
+            and log_growth > -(tracked - 1) / kmax):
+        status = APERIODIC
+        orbit = APERIODIC_WINDOW
     out[OUT_PERIODS] = n
     out[OUT_STEADY] = status
     out[OUT_WORK] = work
     if status == GROWING:
         out[OUT_REGIME] = UNBOUNDED
         return
-    if status != CONVERGED:
+    if status != CONVERGED and status != FAMILY and status != APERIODIC:
         out[OUT_REGIME] = UNSETTLED
         return
     # measure over the k periods of the orbit (the state on the orbit is kept for replays); a shooting

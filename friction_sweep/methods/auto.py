@@ -3,15 +3,15 @@ exact event simulation everywhere else. The cube records which produced each poi
 
 "Provably" means the theory's continuous forecast with a margin from its boundary:
 b < (1 - margin) beta*(r), b the friction ratio against the force amplitude (beta, or beta/r^2 for
-joined), and r != 1. On the boundary itself the theory and the simulation agree only in the limit,
-so those points are simulated.
+joined), and r != 1 (to the tie tolerance of friction_sweep.ties). On the boundary itself the
+theory and the simulation agree only in the limit, so those points are simulated.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep import regimes
+from friction_sweep import regimes, ties
 from friction_sweep.methods import event, theory
 
 NAME = "auto"
@@ -38,7 +38,7 @@ def theory_mask(th, r, beta, margin):
     forecast and its continuous limit in the scene's convention, so beta*(r) is computed once)."""
     R, B = np.meshgrid(r, beta)
     limit = th["continuous_limit"][None, :]
-    return (th["regime"] == regimes.CONTINUOUS) & (B < (1.0 - margin) * limit) & (R != 1.0)
+    return (th["regime"] == regimes.CONTINUOUS) & (B < (1.0 - margin) * limit) & ~ties.at_resonance(R)
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:

@@ -3,16 +3,18 @@
 Validity and the forecast regime, for friction ratio beta (the scene's convention) at r:
 
     stuck       force/base: beta >= 1 (paper Eq. 24);  joined: beta >= r^2 (Eq. 41-42)
-    unbounded   r == 1 and b <= pi/4 (b = beta, or beta/r^2 for joined; Eqs. 14-15)
+    unbounded   r = 1 and b <= pi/4 (b = beta, or beta/r^2 for joined; Eqs. 14-15)
     continuous  b == 0 (linear, r != 1), or b <= beta*(r) (Eq. 16 / 23b / 40)
     stick_slip  everything else
 
-Ties: beta exactly 1 (or r^2) is stuck, as the paper's Eqs. (24) and (41) put it. b exactly beta*(r)
-is continuous: there the velocity only touches zero (a grazing contact) and the mass never rests for
-a positive time; the simulation counts such contacts, and any stick shorter than 1e-10 of a period,
-as grazing, not as stops. At r = 1, b exactly pi/4 is unbounded: the finite peak needs b > pi/4
-strictly, since at b = pi/4 the continuous amplitude still diverges like 1/sqrt|1 - r| (the event
-simulation agrees: the amplitude keeps growing). r^2 is the double-precision product r*r.
+Ties (friction_sweep.ties, shared with the simulation): beta = 1 (or r^2) is stuck, as the paper's
+Eqs. (24) and (41) put it, and so is beta within TIE_RTOL below it; r within TIE_RTOL of 1 is r = 1,
+where b up to pi/4 (1 + TIE_RTOL) is unbounded: the finite peak needs b > pi/4 strictly, since at
+b = pi/4 the continuous amplitude still diverges like 1/sqrt|1 - r| (the event simulation agrees: the
+amplitude keeps growing). b exactly beta*(r) is continuous: there the velocity only touches zero (a
+grazing contact) and the mass never rests for a positive time; the simulation counts such contacts,
+and any stick shorter than 1e-10 of a period, as grazing, not as stops. r^2 is the double-precision
+product r*r.
 
 Numbers are written only where the theory backs them: continuous points get every output; stuck
 points get the exact no-motion values (force/base: no motion, transmissibility 0, phases undefined;
@@ -24,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep import regimes
+from friction_sweep import regimes, ties
 from friction_sweep.theory import den_hartog as dh
 from friction_sweep.theory import joined
 from friction_sweep.theory.phase import wrap_lag_degrees
@@ -68,12 +70,12 @@ def forecast_regime(excitation, r, beta, beta_star):
     """Regime forecast on broadcast arrays (see the module docstring for the rules and ties)."""
     r, beta, beta_star = np.broadcast_arrays(r, beta, beta_star)
     b = beta / (r * r) if excitation == "joined" else beta
-    stuck = beta >= (r * r if excitation == "joined" else 1.0)
-    at_resonance = r == 1.0
-    continuous = (b == 0.0) | (b <= beta_star)
+    stuck = ties.never_moves(r * r if excitation == "joined" else 1.0, beta)
+    at_resonance = ties.at_resonance(r)
+    continuous = ((b == 0.0) | (b <= beta_star)) & ~at_resonance
     code = np.full(r.shape, regimes.STICK_SLIP, dtype=np.int8)
     code[continuous] = regimes.CONTINUOUS
-    code[at_resonance & (b <= dh.RESONANCE_FRICTION_LIMIT)] = regimes.UNBOUNDED
+    code[at_resonance & (b <= dh.RESONANCE_FRICTION_LIMIT * (1.0 + ties.TIE_RTOL))] = regimes.UNBOUNDED
     code[stuck] = regimes.STUCK
     return code
 

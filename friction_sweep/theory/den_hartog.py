@@ -24,10 +24,9 @@ from __future__ import annotations
 
 import numpy as np
 
-PI = np.pi
+from friction_sweep.ties import RESONANCE_FRICTION_LIMIT  # noqa: F401  (pi/4, part of this module's API)
 
-#: lim_{r -> 1} (-V/U): smallest friction ratio with a finite resonance peak (paper Eqs. 14-15).
-RESONANCE_FRICTION_LIMIT = PI / 4.0
+PI = np.pi
 
 
 def _acota(a):
