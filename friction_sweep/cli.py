@@ -17,6 +17,7 @@ from friction_sweep.spec import SpecError, load_spec
 EXIT_BAD_INPUT = 2
 EXIT_RUNTIME = 1
 EXIT_INTERRUPTED = 130
+EXIT_FINDINGS = 1  # fsweep check: a rule failed
 
 # A grid is "huge" (run only with --yes) past any of these: the run would take long, need much
 # memory, or both; the refusal says how much.
@@ -305,6 +306,55 @@ def info(result: Path):
             finite = np.isfinite(v)
             if finite.any():
                 click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} ({finite.sum()} finite of {v.size})")
+
+
+@main.command()
+@click.argument("result", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print the findings as JSON.")
+def check(result: Path, as_json: bool):
+    """Audit a result cube with whole-plane consistency rules (exit 1 when any rule fails)."""
+    import json
+
+    from friction_sweep import consistency
+    from friction_sweep.storage import cube
+
+    try:
+        ds = cube.open_cube(result)
+    except Exception as err:  # any reader failure means: not a cube we can read
+        _fail(f"{result} is not a readable result cube: {' '.join(str(err).split())}")
+    if "friction_sweep_version" not in ds.attrs:
+        _fail(f"{result} is not a friction_sweep result cube (no provenance attributes)")
+    try:
+        findings = consistency.check(ds)
+    except consistency.CubeError as err:
+        _fail(f"{result} is not a friction_sweep result cube: {err}")
+    if as_json:
+        click.echo(json.dumps([f.to_dict() for f in findings], indent=1))
+    else:
+        for f in findings:
+            click.echo(_finding_line(f))
+        n = {s: sum(f.status == s for f in findings) for s in ("failed", "ok", "skipped", "info")}
+        verdict = "FAILED" if n["failed"] else "ok"
+        click.echo(f"{result}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
+    sys.exit(EXIT_FINDINGS if consistency.failed(findings) else 0)
+
+
+def _finding_line(f) -> str:
+    head = f"{f.rule:<12}"
+    if f.status == "skipped":
+        return f"{head}skipped ({f.note})"
+    if f.status == "info":
+        return f"{head}{'info':<9}{f.note} ({f.checked} checked)"
+    if f.status == "ok":
+        return f"{head}{'ok':<9}{f.checked} checked"
+    shown = " ".join(f"(r={e['r']!r}, beta={e['beta']!r}: {_shown(e['found'])}, "
+                     f"expected {_shown(e['expected'])})" for e in f.examples)
+    more = " ..." if f.violations > len(f.examples) else ""
+    return f"{head}{'FAILED':<9}{f.violations} of {f.checked}: {shown}{more}"
+
+
+def _shown(v) -> str:
+    return f"{v:.10g}" if isinstance(v, float) else str(v)
 
 
 @main.command()

@@ -1,0 +1,380 @@
+"""Whole-plane consistency rules for a result cube of any method (`fsweep check`).
+
+Each rule is a statement about the (r, beta) plane that holds for the exact steady state of the model,
+whatever the method and however fine or close to r = 1 the grid: a correct cube passes them all. The
+rules work on an xarray Dataset (dims force_ratio, frequency_ratio) and return a `Finding` each; they
+print nothing.
+
+Notation. The relative coordinate q obeys
+
+    q'' + 2 zeta q' + q + f = A cos(r t),     |f| <= max(beta, bs),
+
+with A = 1 for force/base and A = r^2 for joined (where q = z and x = z + cos(r t)); beta is the
+force ratio (kinetic friction), bs = mu beta the static friction (mu = static_friction_ratio, default 1)
+and zeta = viscous_damping (default 0), both read from the `effects` in the cube's `method_settings`.
+b = beta (force/base) or beta / r^2 (joined) is the friction against the forcing amplitude. Every tie
+(r = 1, no motion from rest, r = 1/(2n)) is decided by friction_sweep.ties, as the methods decide it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from friction_sweep import regimes, ties
+from friction_sweep.theory import den_hartog as dh
+
+#: relative slack on the proven bound of rule `bound` (rounding of the measured first harmonic)
+BOUND_RTOL = 1e-6
+#: rule `theory`: points compared lie at b <= THEORY_MARGIN * beta*(r) ...
+THEORY_MARGIN = 0.98
+#: ... and at least this far from r = 1 (the stroboscopic map's conditioning ~1e-14 / |1 - r|) ...
+THEORY_MIN_DETUNING = 1e-4
+#: ... where the transmissibility must agree with the closed form to this relative error
+THEORY_RTOL = 1e-8
+#: rule `theory` computes the closed form on this many frequency ratios at a time (bounded memory)
+THEORY_CHUNK = 32
+#: examples kept per rule
+MAX_EXAMPLES = 5
+
+EXCITATIONS = ("force", "base", "joined")
+KNOWN_EFFECTS = {"viscous_damping": 0.0, "static_friction_ratio": 1.0}  # name -> value of the plain model
+DIMS = ("force_ratio", "frequency_ratio")
+
+OK, FAILED, SKIPPED, INFO = "ok", "failed", "skipped", "info"
+
+
+class CubeError(ValueError):
+    """The Dataset is not a friction_sweep result cube these rules can read."""
+
+
+@dataclass
+class Finding:
+    """The outcome of one rule.
+
+    status: "ok", "failed" (violations > 0), "skipped" (note says why) or "info" (never a failure).
+    examples: up to MAX_EXAMPLES dicts {r, beta, found, expected}, in order of r then beta.
+    """
+
+    rule: str
+    status: str
+    checked: int = 0
+    violations: int = 0
+    examples: list = field(default_factory=list)
+    note: str = ""
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass
+class _Cube:
+    excitation: str
+    method: str
+    effects: dict
+    zeta: float
+    mu: float
+    unknown_effects: tuple
+    r: np.ndarray  # (n_r,)
+    beta: np.ndarray  # (n_beta,)
+    R: np.ndarray  # (n_beta, n_r), like every grid array below
+    B: np.ndarray
+    A: np.ndarray
+    b: np.ndarray
+    bs: np.ndarray
+    ds: xr.Dataset
+
+    def get(self, name):
+        """A per-point variable as an (n_beta, n_r) array, or None when the cube lacks it."""
+        if name not in self.ds.data_vars or set(self.ds[name].dims) != set(DIMS):
+            return None
+        return np.asarray(self.ds[name].transpose(*DIMS).values)
+
+    @property
+    def plain(self) -> bool:
+        return not self.unknown_effects and self.zeta == 0.0 and self.mu == 1.0
+
+
+def _read(ds: xr.Dataset) -> _Cube:
+    for dim in DIMS:
+        if dim not in ds.coords or ds[dim].ndim != 1:
+            raise CubeError(f"no coordinate {dim}")
+    excitation = ds.attrs.get("excitation")
+    if excitation not in EXCITATIONS:
+        raise CubeError(f"excitation {excitation!r} is not one of {', '.join(EXCITATIONS)}")
+    text = ds.attrs.get("method_settings")
+    try:
+        settings = json.loads(text) if text not in (None, "") else {}
+    except (TypeError, ValueError) as err:
+        raise CubeError(f"method_settings is not JSON: {err}") from None
+    if not isinstance(settings, dict):
+        raise CubeError("method_settings is not a JSON object")
+    effects = settings.get("effects") or {}
+    if not isinstance(effects, dict):
+        raise CubeError("method_settings: effects is not a JSON object")
+    for name, value in effects.items():
+        if name in KNOWN_EFFECTS and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                      or not math.isfinite(value)):
+            raise CubeError(f"method_settings: effect {name} is not a finite number: {value!r}")
+    zeta = float(effects.get("viscous_damping", 0.0))
+    mu = float(effects.get("static_friction_ratio", 1.0))
+    r = np.asarray(ds["frequency_ratio"].values, dtype=float)
+    beta = np.asarray(ds["force_ratio"].values, dtype=float)
+    R, B = np.meshgrid(r, beta)
+    joined = excitation == "joined"
+    A = R * R if joined else np.ones_like(R)
+    return _Cube(excitation=excitation, method=str(ds.attrs.get("method", "")), effects=effects, zeta=zeta,
+                 mu=mu, unknown_effects=tuple(sorted(set(effects) - set(KNOWN_EFFECTS))), r=r, beta=beta, R=R,
+                 B=B, A=A, b=B / (R * R) if joined else B, bs=mu * B, ds=ds)
+
+
+def _value(v):
+    """A JSON-safe scalar: finite floats stay numbers, NaN and infinities become text."""
+    if isinstance(v, str):
+        return v
+    v = float(v)
+    return v if math.isfinite(v) else str(v)
+
+
+class _Tally:
+    """Counts violations and keeps the first examples, in order of r then beta."""
+
+    def __init__(self):
+        self.count = 0
+        self.found = []  # (r index, beta index, found, expected)
+
+    def add(self, mask, found, expected):
+        """mask: (n_beta, n_r) violations; found, expected: callables (i_beta, i_r) -> value."""
+        n = int(np.count_nonzero(mask))
+        if not n:
+            return
+        self.count += n
+        where = np.argwhere(mask.T)[:MAX_EXAMPLES]  # rows (i_r, i_beta), r-major
+        self.found.extend((int(i), int(j), found(j, i), expected(j, i)) for i, j in where)
+
+    def finding(self, cube, rule, checked, offset=0):
+        examples = [
+            {"r": float(cube.r[i + offset]), "beta": float(cube.beta[j]), "found": _value(f),
+             "expected": _value(e)}
+            for i, j, f, e in sorted(self.found, key=lambda x: (x[0], x[1]))[:MAX_EXAMPLES]
+        ]
+        return Finding(rule, FAILED if self.count else OK, int(checked), self.count, examples)
+
+
+def _missing(rule, cube, *names):
+    for name in names:
+        if cube.get(name) is None:
+            return Finding(rule, SKIPPED, note=f"no {name}")
+    return None
+
+
+def _name(code) -> str:
+    code = int(code)
+    return regimes.NAMES[code] if 0 <= code < len(regimes.NAMES) else f"code {code}"
+
+
+def transmissibility_bound(cube: _Cube) -> np.ndarray:
+    """The bound of rule `bound` at every point: (A + (4/pi) max(beta, bs)) / |1 - r^2 + 2i zeta r|,
+    plus 1 for joined; infinite at r = 1 without damping. 1 - r^2 is evaluated as (1 - r)(1 + r), exact
+    to an ulp next to r = 1 (1 - r*r would lose ~1e-16 / |1 - r^2| to rounding)."""
+    R = cube.R
+    with np.errstate(divide="ignore"):
+        bound = (cube.A + (4.0 / np.pi) * np.maximum(cube.B, cube.bs)) / np.hypot((1.0 - R) * (1.0 + R),
+                                                                                 2.0 * cube.zeta * R)
+    return bound + 1.0 if cube.excitation == "joined" else bound
+
+
+def check_resonance(cube: _Cube) -> Finding:
+    """Rule `resonance` (no damping only): at r = 1, unbounded exactly when b <= pi/4.
+
+    At r = 1 the projection of rule `bound` reads 0 = A - F1: a periodic (finite) motion needs the
+    friction's first harmonic to cancel the whole forcing, and |F1| <= 4 max(beta, bs) / pi. In slip
+    the friction is beta sgn(q'), whose first harmonic is at most 4 beta / pi, reached only by a square
+    wave; the energy balance over a period (forcing work pi A X against friction 4 beta X for a large
+    amplitude X) makes the amplitude grow without bound when b = beta / A < pi/4 and decay to a finite
+    orbit when b > pi/4 (Den Hartog, paper Eqs. 14-15; at b = pi/4 exactly the amplitude still grows,
+    like sqrt(t)). So at r = 1 with the mass leaving rest: b <= (pi/4)(1 + TIE_RTOL) must be
+    `unbounded`, larger b must not be (nor carry a finite transmissibility above the bound of rule
+    `bound`). Where the force's swing A stays inside the static band bs the mass never moves: `stuck`.
+    With viscous damping the amplitude at r = 1 is finite (at most the bound of rule `bound`), so the
+    rule does not apply.
+    """
+    rule = "resonance"
+    if cube.unknown_effects:
+        return Finding(rule, SKIPPED, note=f"unknown effects {', '.join(cube.unknown_effects)}")
+    if cube.zeta != 0.0:
+        return Finding(rule, SKIPPED, note="viscous damping: no resonance singularity")
+    missing = _missing(rule, cube, "regime")
+    if missing:
+        return missing
+    reg = cube.get("regime")
+    T = cube.get("transmissibility")
+    at = ties.at_resonance(cube.R)
+    still = ties.never_moves(cube.A, cube.bs)
+    small = cube.b <= dh.RESONANCE_FRICTION_LIMIT * (1.0 + ties.TIE_RTOL)
+    tally = _Tally()
+
+    def found(j, i):
+        return _name(reg[j, i])
+
+    tally.add(at & still & (reg != regimes.STUCK), found, lambda j, i: "stuck (never moves)")
+    tally.add(at & ~still & small & (reg != regimes.UNBOUNDED), found, lambda j, i: "unbounded (b <= pi/4)")
+    big = at & ~still & ~small
+    tally.add(big & (reg == regimes.UNBOUNDED), found, lambda j, i: "finite (b > pi/4)")
+    if T is not None:
+        bound = transmissibility_bound(cube)
+        with np.errstate(invalid="ignore"):
+            over = big & (reg != regimes.UNBOUNDED) & np.isfinite(T) & (T > (1.0 + BOUND_RTOL) * bound)
+        tally.add(over, lambda j, i: float(T[j, i]), lambda j, i: f"<= {bound[j, i]:.6g}")
+    return tally.finding(cube, rule, np.count_nonzero(at))
+
+
+def check_bound(cube: _Cube) -> Finding:
+    """Rule `bound`: every finite transmissibility is at most the first-harmonic bound.
+
+    Project the equation of motion q'' + 2 zeta q' + q + f = A cos(r t) of a periodic steady state onto
+    the forcing frequency (multiply by e^{-i r t} and average over the orbit's period, a whole number
+    of forcing periods): with Q1 and F1 the first-harmonic amplitudes of q and f,
+
+        (1 - r^2 + 2i zeta r) Q1 = A - F1.
+
+    The friction force never exceeds max(beta, bs) (kinetic in slip, at most static in a stick), and
+    the first harmonic of any signal bounded by M is at most 4M/pi (the square wave's), so
+
+        |Q1| <= (A + (4/pi) max(beta, bs)) / |1 - r^2 + 2i zeta r|.
+
+    The transmissibility is |Q1| for force and base (x = q) and |Q1 + 1| <= |Q1| + 1 for joined
+    (x = z + cos(r t)). The check allows 1e-6 relative for rounding; without damping the bound is
+    infinite at r = 1, and there is nothing to check.
+    """
+    rule = "bound"
+    if cube.unknown_effects:
+        return Finding(rule, SKIPPED, note=f"unknown effects {', '.join(cube.unknown_effects)}")
+    missing = _missing(rule, cube, "transmissibility")
+    if missing:
+        return missing
+    T = cube.get("transmissibility")
+    bound = transmissibility_bound(cube)
+    sel = np.isfinite(T) & np.isfinite(bound)
+    with np.errstate(invalid="ignore"):
+        over = sel & (T > (1.0 + BOUND_RTOL) * bound)
+    tally = _Tally()
+    tally.add(over, lambda j, i: float(T[j, i]), lambda j, i: f"<= {bound[j, i]:.6g}")
+    return tally.finding(cube, rule, np.count_nonzero(sel))
+
+
+def check_theory(cube: _Cube, chunk: int = THEORY_CHUNK) -> Finding:
+    """Rule `theory` (plain model, methods other than `theory`): well inside the continuous region the
+    cube agrees with Den Hartog's closed form.
+
+    For b <= 0.98 beta*(r) Den Hartog's stop-free orbit exists and is the steady state every method
+    must reach: regime `continuous` and the closed-form first harmonic (the event simulation reproduces
+    it to ~1e-13, README). Excluded, because the comparison is not a property of the model there:
+    within 2 % of beta* (grazing contacts, where rounding of either side decides the regime), within
+    1e-4 of r = 1 (the steady state is reached with relative error ~1e-14 / |1 - r|), r = 1/(2n)
+    (ties.subharmonic_order: a continuum of stick-free orbits, none privileged) and points the cube
+    reports `unsettled` (rule `unsettled` counts those). At the compared points the regime must equal
+    the theory's and |T / T_theory - 1| <= 1e-8 where both are finite; a number on one side only is a
+    violation. The closed form is computed on the cube's own grid, THEORY_CHUNK frequency ratios at a
+    time.
+    """
+    from friction_sweep.methods import theory
+
+    rule = "theory"
+    if cube.method == "theory":
+        return Finding(rule, SKIPPED, note="the theory itself")
+    if not cube.plain:
+        shown = ", ".join(f"{k}={v}" for k, v in sorted(cube.effects.items()))
+        return Finding(rule, SKIPPED, note=f"effects {shown}: no closed form")
+    missing = _missing(rule, cube, "regime", "transmissibility")
+    if missing:
+        return missing
+    reg = cube.get("regime")
+    T = cube.get("transmissibility")
+    checked, count, examples = 0, 0, []
+    for start in range(0, cube.r.size, chunk):
+        cols = slice(start, start + chunk)
+        r = cube.r[cols]
+        ref = theory.compute_tile(cube.excitation, r, cube.beta, ("transmissibility", "regime"))
+        bstar = dh.continuous_limit(r)
+        reg_c, T_c, b_c = reg[:, cols], T[:, cols], cube.b[:, cols]
+        sel = ((b_c <= THEORY_MARGIN * bstar[None, :])
+               & (np.abs(r - 1.0) >= THEORY_MIN_DETUNING)[None, :]
+               & (ties.subharmonic_order(r) == 0)[None, :]
+               & (reg_c != regimes.UNSETTLED))
+        T_ref, reg_ref = ref["transmissibility"], ref["regime"]
+        fin, fin_ref = np.isfinite(T_c), np.isfinite(T_ref)
+        with np.errstate(invalid="ignore"):
+            far = fin & fin_ref & ~(np.abs(T_c - T_ref) <= THEORY_RTOL * np.abs(T_ref))
+        bad_T = far | (fin != fin_ref)
+        bad_reg = reg_c != reg_ref
+        tally = _Tally()
+        tally.add(sel & bad_reg, lambda j, i: _name(reg_c[j, i]), lambda j, i: _name(reg_ref[j, i]))
+        tally.add(sel & ~bad_reg & bad_T, lambda j, i: _value(T_c[j, i]),
+                  lambda j, i: _value(T_ref[j, i]))
+        part = tally.finding(cube, rule, np.count_nonzero(sel), offset=start)
+        checked += part.checked
+        count += part.violations
+        examples.extend(part.examples)
+    examples.sort(key=lambda e: (e["r"], e["beta"]))
+    return Finding(rule, FAILED if count else OK, checked, count, examples[:MAX_EXAMPLES])
+
+
+def check_unsettled(cube: _Cube) -> Finding:
+    """Rule `unsettled`: every point has a regime. A periodic steady state exists for every (r, beta)
+    of the model (or the motion is unbounded, a regime too); `unsettled` means the method gave up
+    before finding it, so the point's numbers are not a steady state. The example says why the search
+    stopped (`steady_state`) where the cube has it."""
+    rule = "unsettled"
+    missing = _missing(rule, cube, "regime")
+    if missing:
+        return missing
+    reg = cube.get("regime")
+    why = cube.get("steady_state")
+
+    def found(j, i):
+        if why is None:
+            return "unsettled"
+        code = int(why[j, i])
+        name = regimes.STEADY_NAMES[code] if 0 <= code < len(regimes.STEADY_NAMES) else f"code {code}"
+        return f"unsettled ({name})"
+
+    tally = _Tally()
+    tally.add(reg == regimes.UNSETTLED, found, lambda j, i: "a settled regime")
+    return tally.finding(cube, rule, reg.size)
+
+
+def check_family(cube: _Cube) -> Finding:
+    """Rule `family` (information, never a violation): points whose steady state is the continuum of
+    stick-free orbits at r = 1/(2n) without damping, where the first harmonic belongs to the family
+    and no single orbit is privileged. Counted so that a user knows which numbers are of that kind."""
+    rule = "family"
+    if "family" not in regimes.STEADY_NAMES:
+        return Finding(rule, SKIPPED, note="this version has no family state")
+    why = cube.get("steady_state")
+    if why is None:
+        return Finding(rule, SKIPPED, note="no steady_state")
+    mask = why == regimes.STEADY_NAMES.index("family")
+    n = int(np.count_nonzero(mask))
+    tally = _Tally()
+    tally.add(mask, lambda j, i: "family", lambda j, i: "information")
+    out = tally.finding(cube, rule, why.size)
+    return Finding(rule, INFO, out.checked, 0, out.examples,
+                   note=f"{n} point{'s' if n != 1 else ''} on a stick-free orbit family (r = 1/(2n))")
+
+
+RULES = (check_resonance, check_bound, check_theory, check_unsettled, check_family)
+
+
+def check(ds: xr.Dataset) -> list[Finding]:
+    """Run every rule on a result cube; raises CubeError if the Dataset is not a cube they can read."""
+    cube = _read(ds)
+    return [rule(cube) for rule in RULES]
+
+
+def failed(findings) -> bool:
+    return any(f.status == FAILED for f in findings)
