@@ -321,7 +321,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
         work += w
         scale = max(abs(qf), acc[ACC_QMAX])
         if (st == 0 and mf != 0 and acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
-                and abs(q1 - qf) + abs(v1) <= tol * scale):
+                and abs(q1 - qf) + abs(v1) <= tol * scale + map_error * max(scale, A)):
             q, v, mode = qf, 0.0, mf
             orbit = 1
             status = FAMILY
