@@ -198,8 +198,7 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
         f"  {s.scene.excitation} excitation, method {s.method}: {beta.size} force ratios x "
         f"{r.size} frequency ratios = {beta.size * r.size} points in {elapsed:.2f} s"
     )
-    if "regime" in ds:
-        click.echo("  regimes: " + _regime_summary(ds["regime"].values))
+    _echo_regimes(ds)
 
 
 def _logging(verbose: int) -> None:
@@ -228,6 +227,19 @@ def _check_writable(out: Path) -> None:
             pass
     except OSError as err:
         _fail(f"cannot write the output {out}: {err.strerror or err}", EXIT_RUNTIME)
+
+
+def _echo_regimes(ds) -> None:
+    """Regime counts; where static friction gave points two steady states, how many, and the regimes
+    from the moving start."""
+    if "regime" in ds:
+        click.echo("  regimes: " + _regime_summary(ds["regime"].values))
+    if "steady_states" in ds:
+        n = ds["steady_states"].values
+        click.echo(f"  two steady states (from rest and from a moving start): {int((n >= 2).sum())} of {n.size} "
+                   "points (a lower bound)")
+    if "regime_moving" in ds:
+        click.echo("  regimes from a moving start: " + _regime_summary(ds["regime_moving"].values))
 
 
 def _regime_summary(codes) -> str:
@@ -298,8 +310,7 @@ def info(result: Path):
     )
     click.echo(f"  versions: {versions}")
     click.echo(f"  spec: {a.get('spec_path')}")
-    if "regime" in ds:
-        click.echo("  regimes: " + _regime_summary(ds["regime"].values))
+    _echo_regimes(ds)
     for name in ("transmissibility", "peak_transmissibility"):
         if name in ds:
             v = ds[name].values
@@ -340,7 +351,7 @@ def check(result: Path, as_json: bool):
 
 
 def _finding_line(f) -> str:
-    head = f"{f.rule:<12}"
+    head = f"{f.rule:<12}" if len(f.rule) < 12 else f"{f.rule} "
     if f.status == "skipped":
         return f"{head}skipped ({f.note})"
     if f.status == "info":

@@ -26,6 +26,7 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep import regimes, ties
+from friction_sweep.storage import schema
 from friction_sweep.theory import den_hartog as dh
 
 #: relative slack on the proven bound of rule `bound` (rounding of the measured first harmonic)
@@ -370,10 +371,25 @@ def check_family(cube: _Cube) -> Finding:
 RULES = (check_resonance, check_bound, check_theory, check_unsettled, check_family)
 
 
+#: rules that also hold for the state from a moving start (static friction: `*_moving` variables)
+MOVING_RULES = (check_bound, check_unsettled)
+
+
 def check(ds: xr.Dataset) -> list[Finding]:
-    """Run every rule on a result cube; raises CubeError if the Dataset is not a cube they can read."""
+    """Run every rule on a result cube; raises CubeError if the Dataset is not a cube they can read.
+    Where the cube also holds the states from a moving start, MOVING_RULES run on them too (rule names
+    with the suffix `_moving`)."""
     cube = _read(ds)
-    return [rule(cube) for rule in RULES]
+    findings = [rule(cube) for rule in RULES]
+    twins = [n for n in schema.STATE_VARIABLES if n + schema.MOVING_SUFFIX in ds]
+    if twins:
+        moving = _read(ds.drop_vars([n for n in twins if n in ds])
+                       .rename({n + schema.MOVING_SUFFIX: n for n in twins}))
+        for rule in MOVING_RULES:
+            finding = rule(moving)
+            finding.rule += schema.MOVING_SUFFIX
+            findings.append(finding)
+    return findings
 
 
 def failed(findings) -> bool:

@@ -455,15 +455,16 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     out[OUT_PERIODS] = n
     out[OUT_STEADY] = status
     out[OUT_WORK] = work
+    # where the march ends (on the orbit, or where it gave up): a seed for another solve
+    out[OUT_Q], out[OUT_V], out[OUT_MODE] = q, v, mode
     if status == GROWING:
         out[OUT_REGIME] = UNBOUNDED
         return
     if status != CONVERGED and status != FAMILY and status != APERIODIC:
         out[OUT_REGIME] = UNSETTLED
         return
-    # measure over the k periods of the orbit (the state on the orbit is kept for replays); a shooting
-    # solve measured its confirming period already
-    out[OUT_Q], out[OUT_V], out[OUT_MODE] = q, v, mode
+    # measure over the k periods of the orbit (the state on the orbit, kept above, starts replays); a
+    # shooting solve measured its confirming period already
     if not shot:
         reset_accumulator(acc)
         for _ in range(orbit):
@@ -512,3 +513,13 @@ def solve_points(A, r, bk, bs, zeta, c, settings, out):
     """solve_point over 1-D arrays of points; out has shape (n, OUT_SIZE)."""
     for i in range(r.size):
         solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], settings, out[i])
+
+
+@jit
+def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, out):
+    """solve_points with a start (q0[i], v0[i]) of its own for each point (at the excitation's maximum)."""
+    own = settings.copy()
+    for i in range(r.size):
+        own[SET_Q0] = q0[i]
+        own[SET_V0] = v0[i]
+        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])

@@ -19,7 +19,7 @@ NAME = "auto"
 COST_PER_POINT_S = 5e-4
 EXCITATIONS = ("force", "base", "joined")
 EFFECTS: tuple[str, ...] = ()  # the theory models none; a scene with effects should use `event`
-SETTINGS = {**event.SETTINGS, "theory_margin": 0.02}
+SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "starts"}, "theory_margin": 0.02}
 
 #: flag values of `method_used`
 USED = ("theory", "event")

@@ -3,14 +3,24 @@
 Per grid point: from rest, march the stroboscopic map with closed-form slip and stick segments
 until it repeats (or shoot for the periodic orbit), then measure over whole periods. Valid in every
 regime; the theory's continuous limit is written alongside for reference.
+
+With static above kinetic friction a point can hold two steady states (a mass stopped at a reversal
+stays stuck if the force there is below the static friction), so each point is also solved from a
+moving start: the state of the orbit that kinetic friction alone sustains there (the same point with
+static = kinetic friction). Its variables are stored beside those from rest with the suffix
+`_moving`, and `steady_states` counts the distinct states found (a lower bound: more starts could
+find more). With static = kinetic friction the period map does not expand distances and one start
+suffices; nothing is added then.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from friction_sweep import regimes
 from friction_sweep.kernels import steady
 from friction_sweep.methods import theory
+from friction_sweep.storage.schema import MOVING_SUFFIX
 
 NAME = "event"
 #: rough wall time per grid point on one core, for the huge-grid estimate (measured, rounded up)
@@ -37,7 +47,13 @@ _SLOTS = {
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
 
-SETTINGS = {k: v for k, v in steady.DEFAULT_SETTINGS.items() if k not in ("kernel", "steps_per_period")}
+#: starts: 2 solves each point from rest and from a moving start where static exceeds kinetic
+#: friction (1: from rest only, at today's cost); it changes nothing where they are equal
+SETTINGS = {**{k: v for k, v in steady.DEFAULT_SETTINGS.items() if k not in ("kernel", "steps_per_period")},
+            "starts": 2}
+#: one state found from two starts: first-harmonic transmissibilities within this relative difference
+#: (each solve settles to steady_tol on the state; near-neutral orbits carry that error amplified)
+SAME_STATE_RTOL = 1e-5
 
 
 def variables_for(excitation: str, outputs) -> tuple[str, ...]:
@@ -72,18 +88,71 @@ def solve_flat(excitation, r, beta, effects=None, **settings):
     return out
 
 
+def two_starts(effects) -> bool:
+    """Whether a point can hold two steady states: static friction above kinetic."""
+    return float((effects or {}).get("static_friction_ratio", 1.0)) > 1.0
+
+
+def solve_moving(excitation, r, beta, effects=None, **settings):
+    """Raw kernel outputs from a moving start: the state (at the excitation's maximum) of the orbit
+    that kinetic friction alone sustains at each point, or where that motion grows without bound,
+    the state where its march gave up (a start that the model with static friction then follows)."""
+    r = np.ascontiguousarray(r, dtype=float)
+    beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
+    kinetic = {k: v for k, v in (effects or {}).items() if k != "static_friction_ratio"}
+    seed = solve_flat(excitation, r, beta, kinetic, **settings)
+    q0 = np.ascontiguousarray(np.nan_to_num(seed[:, steady.OUT_Q], nan=0.0, posinf=0.0, neginf=0.0))
+    v0 = np.ascontiguousarray(np.nan_to_num(seed[:, steady.OUT_V], nan=0.0, posinf=0.0, neginf=0.0))
+    A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
+    out = np.empty((r.size, steady.OUT_SIZE))
+    steady.solve_points_from(A, r, bk, bs, zeta, c, steady.settings_array(**settings), q0, v0, out)
+    return out
+
+
+def count_states(first, second):
+    """Distinct steady states among two raw results (README, "Two steady states"); unsettled ones are
+    no state. One state: both stuck (wherever held), both unbounded, both aperiodic, or the same
+    regime and stops per period with transmissibilities within SAME_STATE_RTOL."""
+    codes = []
+    for raw in (first, second):
+        codes.append(raw[:, steady.OUT_REGIME])
+    answered = [c != regimes.UNSETTLED for c in codes]
+    t1, t2 = first[:, steady.OUT_TRANS], second[:, steady.OUT_TRANS]
+    s1, s2 = first[:, steady.OUT_STEADY], second[:, steady.OUT_STEADY]
+    same_kind = codes[0] == codes[1]
+    moving_alike = (same_kind & (first[:, steady.OUT_STOPS] == second[:, steady.OUT_STOPS])
+                    & (np.abs(t1 - t2) <= SAME_STATE_RTOL * np.maximum(np.abs(t1), np.abs(t2))))
+    same = same_kind & ((codes[0] == regimes.STUCK) | (codes[0] == regimes.UNBOUNDED)
+                        | ((s1 == regimes.APERIODIC) & (s2 == regimes.APERIODIC)) | moving_alike)
+    n = answered[0].astype(np.int8) + answered[1].astype(np.int8)
+    return (n - (answered[0] & answered[1] & same)).astype(np.int8)
+
+
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
+    settings = dict(settings or {})
+    starts = int(settings.pop("starts", SETTINGS["starts"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
     R, B = np.meshgrid(r, beta)
-    raw = solve_flat(excitation, R.ravel(), B.ravel(), effects, **(settings or {}))
+    raw = solve_flat(excitation, R.ravel(), B.ravel(), effects, **settings)
+    names = variables_for(excitation, outputs)
+    result = _per_point(raw, names, R.shape)
+    if starts > 1 and two_starts(effects):
+        moving = solve_moving(excitation, R.ravel(), B.ravel(), effects, **settings)
+        result.update({name + MOVING_SUFFIX: values for name, values in _per_point(moving, names, R.shape).items()})
+        if "regime" in outputs:
+            result["steady_states"] = count_states(raw, moving).reshape(R.shape)
+    result["continuous_limit"] = theory.continuous_limit(excitation, r)
+    return result
+
+
+def _per_point(raw, names, shape) -> dict[str, np.ndarray]:
     result = {}
-    for name in variables_for(excitation, outputs):
-        values = raw[:, _SLOTS[name]].reshape(R.shape)
+    for name in names:
+        values = raw[:, _SLOTS[name]].reshape(shape)
         if name in _INTEGER:
             values = values.astype(_INTEGER[name])
         result[name] = values
-    result["continuous_limit"] = theory.continuous_limit(excitation, r)
     return result
 
 
@@ -97,8 +166,9 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     """
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     r, beta = pts[:, 0], pts[:, 1]
-    raw = solve_flat(excitation, r, beta, effects, **(settings or {}))
-    sett = steady.settings_array(**(settings or {}))
+    settings = {k: v for k, v in (settings or {}).items() if k != "starts"}
+    raw = solve_flat(excitation, r, beta, effects, **settings)
+    sett = steady.settings_array(**settings)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
     orbit = np.where(np.isfinite(raw[:, steady.OUT_ORBIT]), raw[:, steady.OUT_ORBIT], 0).astype(int)
     n = samples_per_period * max(1, int(orbit.max(initial=1)))

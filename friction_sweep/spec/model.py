@@ -36,7 +36,7 @@ ACCURACY_KNOBS = {"stop_tol", "steady_tol", "steps_per_period"}
 HISTORY_METHODS = ("event", "auto")
 #: which physical effects each method models (a spec asking for more is refused)
 METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "rk4": EFFECTS, "paper": (), "auto": ()}
-#: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound)
+#: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound[, upper])
 METHOD_SETTINGS = {
     "theory": {},
     "event": {
@@ -49,9 +49,11 @@ METHOD_SETTINGS = {
         "shoot_every": ("int", 1),
         "initial_displacement": ("real", None),
         "initial_velocity": ("real", None),
+        "starts": ("int", 1, 2),
     },
 }
-METHOD_SETTINGS["auto"] = {**METHOD_SETTINGS["event"], "theory_margin": ("float", 0.0)}
+METHOD_SETTINGS["auto"] = {**{k: v for k, v in METHOD_SETTINGS["event"].items() if k != "starts"},
+                           "theory_margin": ("float", 0.0)}
 METHOD_SETTINGS["paper"] = {
     "periods": ("int", 2),
     "samples_per_period": ("int", 4),
@@ -395,13 +397,15 @@ class Spec(_Model):
                     f"unknown setting {show(key)} for method {self.method!r} (allowed: {allowed})",
                     ("settings", key),
                 )
-            kind, lower = known[key]
+            kind, lower, *upper = known[key]
             ok_type = isinstance(value, int) if kind == "int" else isinstance(value, (int, float))
             if isinstance(value, bool) or not ok_type or not np.isfinite(value):
                 raise _error("setting_type", f"must be a finite {'integer' if kind == 'int' else 'number'} (got {show(value)})", ("settings", key))
             if lower is not None and ((kind == "float" and value <= lower) or (kind == "int" and value < lower)):
                 op = ">" if kind == "float" else ">="
                 raise _error("setting_range", f"must be {op} {lower} (got {show(value)})", ("settings", key))
+            if upper and value > upper[0]:
+                raise _error("setting_range", f"must be <= {upper[0]} (got {show(value)})", ("settings", key))
         return self
 
     @property

@@ -5,7 +5,7 @@ Figure scripts and users rely on these names; methods only produce arrays keyed 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -153,3 +153,25 @@ VARIABLES = {
         _PHASE_NOTE,
     ),
 }
+
+#: With static above kinetic friction a point can have two steady states; the simulation methods then
+#: solve it from a second start as well (README, "Two steady states") and store that state's per-point
+#: variables beside those from rest, each name with this suffix.
+MOVING_SUFFIX = "_moving"
+#: per-point variables that describe one steady state (and so have a "_moving" twin)
+STATE_VARIABLES = ("transmissibility", "peak_transmissibility", "phase", "peak_phase", "regime", "stops_per_period",
+                   "stuck_fraction", "periods", "steady_state", "orbit_period")
+for _name in STATE_VARIABLES:
+    _v = VARIABLES[_name]
+    VARIABLES[_name + MOVING_SUFFIX] = replace(
+        _v, long_name=_v.long_name + ", of the state reached from a moving start (the orbit kinetic friction "
+        "alone sustains)")
+VARIABLES["steady_states"] = Variable(
+    GRID_DIMS,
+    np.int8,
+    "number of distinct steady states reached from the starts (rest, moving): a lower bound",
+    "1",
+    {"comment": "two states are one when both are stuck, both unbounded, both aperiodic, or both move with "
+     "the same regime and stops per period and first-harmonic transmissibilities within 1e-5 relative; "
+     "an unsettled result counts as no state"},
+)
