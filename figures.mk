@@ -38,9 +38,12 @@ CUBES_fig19  := $(NUM)/fig19_base_time_histories.h5
 CUBES_fig20  := $(NUM)/fig20_joined_numerical.h5
 CUBES_fig21  := $(NUM)/fig20_joined_numerical.h5 results/fig21_joined_theory.h5
 CUBES_fig22  := $(NUM)/fig22_joined_stick_slip_history.h5
+# beyond the paper: stepped-sine sweeps up and down with static friction, over the two states
+CUBES_hysteresis := $(NUM)/hysteresis_joined_up.h5 $(NUM)/hysteresis_joined_down.h5 \
+                    $(NUM)/hysteresis_joined_starts.h5
 
 FIGURE_NAMES := fig01b fig04 fig05 fig07 fig08 fig10 fig11 fig13 fig14 fig15 fig16 \
-                fig17 fig18 fig19 fig20 fig21 fig22
+                fig17 fig18 fig19 fig20 fig21 fig22 hysteresis
 FIGURES      := $(FIGURE_NAMES:%=$(FIG_OUT)/%.png)
 QUICK_FIGURES := $(FIGURE_NAMES:%=$(FIG_OUT)/quick/%.png)
 

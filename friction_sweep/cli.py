@@ -93,7 +93,7 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
     from friction_sweep import methods
     from friction_sweep.sweep import checkpoint
-    from friction_sweep.sweep.runner import TILE_FREQUENCIES, tiles
+    from friction_sweep.sweep.runner import TILE_FORCES, TILE_FREQUENCIES, layout
 
     _logging(verbose)
     if scheduler:
@@ -114,8 +114,9 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
         _fail(f"{spec}: grid: {points} points with method {s.method} would take about {_duration(seconds)} "
               f"with {jobs} worker(s) and {memory / 2**30:.1f} GiB of memory; pass --yes to run it")
     _check_writable(out)
+    sweep = s.sweep.direction if s.sweep is not None else None
     key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
-                                 tile=TILE_FREQUENCIES, version=friction_sweep.__version__)
+                                 tile=TILE_FORCES if sweep else TILE_FREQUENCIES, version=friction_sweep.__version__)
     settings, extra = dict(s.settings), {}
     if s.accuracy is not None:
         import json
@@ -130,7 +131,7 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
         extra = {"accuracy_requested": s.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
         click.echo(f"accuracy {s.accuracy:g}: {s.method} with {chosen} (benchmark worst error "
                    f"{row['worst_error']:.1e}, {row['seconds_per_point'] * 1e3:.3g} ms per point)", err=True)
-    store = checkpoint.Checkpoint(out, key, len(tiles(r.size)))
+    store = checkpoint.Checkpoint(out, key, len(layout(r.size, beta.size, sweep)))
     try:
         with checkpoint.Lock(out):
             _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, settings,
@@ -159,7 +160,8 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
     start = time.perf_counter()
     with _progress(quiet, r.size * beta.size) as advance:
         arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
-                          settings=settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
+                          settings=settings, sweep=s.sweep.direction if s.sweep is not None else None,
+                          jobs=jobs, executor=executor, scheduler=scheduler, done=done,
                           on_done=store.save, on_tile=advance)
         if s.time_history is not None:
             pts = np.asarray(s.time_history.points, dtype=float)
@@ -181,7 +183,7 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
             spec_path=str(spec),
             excitation=s.scene.excitation,
             method=s.method,
-            settings={**method.SETTINGS, **settings, "effects": s.scene.effects.declared()},
+            settings=_recorded_settings(s, method, settings),
         ),
     )
     ds.attrs.update(extra_attrs)
@@ -227,6 +229,15 @@ def _check_writable(out: Path) -> None:
             pass
     except OSError as err:
         _fail(f"cannot write the output {out}: {err.strerror or err}", EXIT_RUNTIME)
+
+
+def _recorded_settings(s, method, settings) -> dict:
+    """The settings the numbers came from, for the cube's method_settings attribute."""
+    recorded = {**method.SETTINGS, **settings, "effects": s.scene.effects.declared()}
+    if s.sweep is not None:  # the sweep is the start: no second one
+        recorded.pop("starts", None)
+        recorded["sweep"] = s.sweep.direction
+    return recorded
 
 
 def _echo_regimes(ds) -> None:

@@ -44,7 +44,10 @@ ACC_IC, ACC_IS, ACC_XMAX, ACC_TMAX, ACC_XMIN, ACC_TMIN, ACC_STUCK, ACC_STOPS, AC
 # (event kernel, slip only: saltation at reversals; a stick or a grazing reversal leaves it invalid)
 ACC_JAC = 10
 ACC_JOK = 14
-ACC_SIZE = 15
+# lowest and highest q at the stops (velocity zeros): q is monotone between them, so with the period's
+# ends they bound the orbit's whole motion
+ACC_QLO, ACC_QHI = 15, 16
+ACC_SIZE = 17
 
 #: below this |1 - r^2| the first-harmonic integrals of a slip piece use Gauss-Legendre on the
 #: cancellation-free slip_state; above it the closed form, whose terms are at most A/|1 - r^2|
@@ -68,6 +71,17 @@ def reset_accumulator(acc):
     acc[:] = 0.0  # ACC_JOK = 0: only the event kernel vouches for a monodromy matrix
     acc[ACC_XMAX] = -math.inf
     acc[ACC_XMIN] = math.inf
+    acc[ACC_QLO] = math.inf
+    acc[ACC_QHI] = -math.inf
+
+
+@jit
+def note_stop(acc, q):
+    """Count a velocity zero at q: events, the orbit's size (max |q|) and its range of q."""
+    acc[ACC_EVENTS] += 1.0
+    acc[ACC_QMAX] = max(acc[ACC_QMAX], abs(q))
+    acc[ACC_QLO] = min(acc[ACC_QLO], q)
+    acc[ACC_QHI] = max(acc[ACC_QHI], q)
 
 
 @jit
@@ -414,8 +428,7 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
             if not found:
                 return q, v, mode, OK, work
             v = 0.0
-            acc[ACC_EVENTS] += 1.0
-            acc[ACC_QMAX] = max(acc[ACC_QMAX], abs(q))
+            note_stop(acc, q)
             old = mode
             mode = decide(t, q, A, r, bs)
             if mode == -old:

@@ -33,7 +33,7 @@ import math
 import numpy as np
 
 from friction_sweep.kernels.event import (
-    ACC_EVENTS, ACC_IC, ACC_IS, ACC_QMAX, ACC_STOPS, ACC_STUCK, BUDGET, OK, _measure_stick, decide, offer_extreme,
+    ACC_IC, ACC_IS, ACC_STOPS, ACC_STUCK, BUDGET, OK, _measure_stick, decide, note_stop, offer_extreme,
     slip_direction, stick_phase,
 )
 from friction_sweep.kernels.jit import jit
@@ -358,8 +358,7 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
         work += 1
         if work > budget:
             return q, v, mode, BUDGET, work
-        acc[ACC_EVENTS] += 1.0
-        acc[ACC_QMAX] = max(acc[ACC_QMAX], abs(q))
+        note_stop(acc, q)
         mode = decide(t, q, A, r, bs)
         new_stop = mode == 0
         after_stop = mode != 0

@@ -13,12 +13,13 @@ import math
 import numpy as np
 
 from friction_sweep.kernels.event import (
-    ACC_IC, ACC_IS, ACC_JAC, ACC_JOK, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX, ACC_XMIN, BUDGET,
+    ACC_IC, ACC_IS, ACC_JAC, ACC_JOK, ACC_QHI, ACC_QLO, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX,
+    ACC_XMIN, BUDGET,
     advance_period, decide, reset_accumulator,
 )
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.rk4 import advance_period_rk4
-from friction_sweep.kernels.segments import TWO_PI
+from friction_sweep.kernels.segments import TWO_PI, stuck_for_good
 from friction_sweep.ties import RESONANCE_FRICTION_LIMIT, TIE_RTOL
 
 # status codes: the values of friction_sweep.regimes (kept literal so kernels import no Python objects)
@@ -309,11 +310,13 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     orbit = 0
     shot = False
     n = 0
-    if bk > 0.0 and bs == bk and zeta == 0.0 and from_rest and mode != 0 and _subharmonic(r):
+    held = v == 0.0 and stuck_for_good(q, A, bs)
+    if bk > 0.0 and bs == bk and zeta == 0.0 and not held and _subharmonic(r):
         # r = 1/(2n): stick-free orbits form a continuum (DESIGN.md §6), so the map has no isolated
         # fixed point to march to or shoot for. Its half-wave symmetric member is Den Hartog's, which
         # at U(r) = 0 starts from q = A/(1 - r^2), v = 0 at the excitation's maximum; one exact period
-        # confirms it (no stop, back to the start).
+        # confirms it (no stop, back to the start). With static = kinetic friction the fixed points
+        # form one convex set, here the family, so this holds whatever the start (a swept start too).
         qf = A / ((1.0 - r) * (1.0 + r))
         mf = _mode_of(qf, 0.0, A, r, bs)
         reset_accumulator(acc)
@@ -473,7 +476,12 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     T = TWO_PI / r
     total = orbit * T
     stuck_fraction = acc[ACC_STUCK] / total
-    all_stuck = acc[ACC_STUCK] >= total * (1.0 - 1e-15)
+    # No motion: stuck the whole time, or sticking and slipping by less than the steady-state
+    # tolerance (a start beyond the edge of the stuck band creeps towards it, ever more slowly: the
+    # limit is stuck at the edge, and the orbit accepted within tolerance moves by less than that)
+    moved = max(acc[ACC_QHI], out[OUT_Q]) - min(acc[ACC_QLO], out[OUT_Q])
+    all_stuck = acc[ACC_STUCK] >= total * (1.0 - 1e-15) or (
+        acc[ACC_STOPS] > 0.0 and moved <= tol * max(A, abs(out[OUT_Q])))
     ic = 0.0 if all_stuck else acc[ACC_IC]
     is_ = 0.0 if all_stuck else acc[ACC_IS]
     a1 = r / math.pi * ic / orbit + c  # the c cos(r t) part of x projects exactly onto (c, 0)
@@ -523,3 +531,21 @@ def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, out):
         own[SET_Q0] = q0[i]
         own[SET_V0] = v0[i]
         solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
+
+
+@jit
+def solve_sweep(A, r, bk, bs, zeta, c, settings, out):
+    """A stepped-sine sweep over the points in the order given (one force ratio): each point starts
+    from the state, at the excitation's maximum, of the orbit the previous point settled on, as a rig
+    stepping its frequency does; the first from the settings' start. After a point with no steady
+    state (unbounded, unsettled) the next starts afresh from the settings' start."""
+    own = settings.copy()
+    for i in range(r.size):
+        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
+        regime = out[i, OUT_REGIME]
+        if regime == UNBOUNDED or regime == UNSETTLED:
+            own[SET_Q0] = settings[SET_Q0]
+            own[SET_V0] = settings[SET_V0]
+        else:
+            own[SET_Q0] = out[i, OUT_Q]
+            own[SET_V0] = out[i, OUT_V]

@@ -2,7 +2,9 @@
 
     NAME, EXCITATIONS, EFFECTS (the physical effects it models), SETTINGS (defaults, recorded in the cube),
     variables_for(excitation, outputs) -> names,
-    compute_tile(excitation, r, beta, outputs, effects=None, settings=None) -> arrays
+    compute_tile(excitation, r, beta, outputs, effects=None, settings=None) -> arrays,
+    and, for the simulation methods that can run a stepped-sine sweep (`sweep:` in a spec),
+    compute_sweep_tile(excitation, r, beta, outputs, effects=None, settings=None, direction="up")
 
 New methods (event, rk4, paper, auto) register here with the same interface.
 """

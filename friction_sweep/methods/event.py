@@ -146,6 +146,30 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     return result
 
 
+def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings=None,
+                       direction: str = "up") -> dict[str, np.ndarray]:
+    """A tile of a swept run: for each force ratio, the frequency ratios in sweep order (ascending for
+    `up`, descending for `down`), each point started from the orbit of the one before
+    (kernels.steady.solve_sweep). The sweep is the start, so there is no second one (`starts`)."""
+    settings = {k: v for k, v in (settings or {}).items() if k != "starts"}
+    r = np.asarray(r, dtype=float)
+    beta = np.asarray(beta, dtype=float)
+    order = np.argsort(r, kind="stable")
+    if direction == "down":
+        order = order[::-1]
+    sett = steady.settings_array(**settings)
+    raw = np.empty((beta.size, r.size, steady.OUT_SIZE))
+    rs = np.ascontiguousarray(r[order])
+    for j, b in enumerate(beta):
+        A, c, bk, bs, zeta = point_parameters(excitation, rs, np.full(rs.shape, b), effects)
+        row = np.empty((r.size, steady.OUT_SIZE))
+        steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, row)
+        raw[j, order] = row
+    result = _per_point(raw.reshape(-1, steady.OUT_SIZE), variables_for(excitation, outputs), (beta.size, r.size))
+    result["continuous_limit"] = theory.continuous_limit(excitation, r)
+    return result
+
+
 def _per_point(raw, names, shape) -> dict[str, np.ndarray]:
     result = {}
     for name in names:

@@ -23,3 +23,8 @@ variables_for = event.variables_for
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None):
     settings = {**(settings or {}), "kernel": steady.KERNEL_RK4}
     return event.compute_tile(excitation, r, beta, outputs, effects, settings)
+
+
+def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings=None, direction: str = "up"):
+    settings = {**(settings or {}), "kernel": steady.KERNEL_RK4}
+    return event.compute_sweep_tile(excitation, r, beta, outputs, effects, settings, direction)

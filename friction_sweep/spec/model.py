@@ -34,6 +34,8 @@ ACCURACY_METHODS = ("event", "rk4", "auto")
 ACCURACY_KNOBS = {"stop_tol", "steady_tol", "steps_per_period"}
 #: methods that can store steady-state time histories
 HISTORY_METHODS = ("event", "auto")
+#: methods that can run a stepped-sine sweep (each point started from its neighbour's orbit)
+SWEEP_METHODS = ("event", "rk4")
 #: which physical effects each method models (a spec asking for more is refused)
 METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "rk4": EFFECTS, "paper": (), "auto": ()}
 #: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound[, upper])
@@ -306,6 +308,13 @@ class TimeHistory(_Model):
         return v
 
 
+class Sweep(_Model):
+    """A stepped-sine sweep along frequency_ratio, as rigs are run: each point starts from the orbit
+    its neighbour settled on (up: from the next lower frequency ratio; down: from the next higher)."""
+
+    direction: Literal["up", "down"]
+
+
 class Spec(_Model):
     """A validated sweep spec. Grid values: `frequency_ratio`, `force_ratio` (read-only float64)."""
 
@@ -317,6 +326,7 @@ class Spec(_Model):
     output: Path | None = None
     settings: dict[str, Any] = Field(default_factory=dict)
     accuracy: Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0, lt=1)] | None = None
+    sweep: Sweep | None = None
     _source_path: str = PrivateAttr(default="<string>")
     _text: str = PrivateAttr(default="")
 
@@ -363,6 +373,18 @@ class Spec(_Model):
         if wanted and self.method not in HISTORY_METHODS:
             raise _error("history_method", f"method {self.method!r} cannot store time histories "
                          f"(methods that can: {', '.join(HISTORY_METHODS)})", ("outputs",))
+        return self
+
+    @model_validator(mode="after")
+    def _sweep_supported(self):
+        if self.sweep is None:
+            return self
+        if self.method not in SWEEP_METHODS:
+            raise _error("sweep_method", f"method {self.method!r} cannot run a swept sweep "
+                         f"(methods that can: {', '.join(SWEEP_METHODS)})", ("sweep",))
+        if "starts" in self.settings:
+            raise _error("sweep_and_starts", "a swept run starts each point from its neighbour's orbit: "
+                         "settings.starts does not apply", ("settings", "starts"))
         return self
 
     @model_validator(mode="after")

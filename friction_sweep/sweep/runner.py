@@ -1,7 +1,9 @@
 """Run a validated spec: cut the grid into tiles, compute them where asked, assemble.
 
 Tiles are fixed blocks of frequency ratios (all force ratios each), independent of the number of
-workers and of the executor, so the cube is the same bit for bit however it was scheduled.
+workers and of the executor, so the cube is the same bit for bit however it was scheduled. A swept run
+(`sweep:` in the spec) is sequential along the frequency ratio, so its tiles are fixed blocks of force
+ratios instead (all frequency ratios each, in sweep order).
 """
 
 from __future__ import annotations
@@ -20,6 +22,8 @@ GRID_OUTPUTS = ("transmissibility", "phase", "regime")
 
 #: frequency ratios per tile; fixed so results never depend on how tiles are scheduled
 TILE_FREQUENCIES = 32
+#: force ratios per tile of a swept run (each force ratio is one sequential sweep)
+TILE_FORCES = 4
 
 #: chosen by measurement on 2 cores (README, make bench): threads share one compiled kernel and skip
 #: process start-up; the kernels release the GIL
@@ -30,27 +34,41 @@ def tiles(n_frequencies: int, size: int = TILE_FREQUENCIES) -> list[slice]:
     return [slice(i, min(i + size, n_frequencies)) for i in range(0, n_frequencies, size)]
 
 
+def layout(n_frequencies: int, n_forces: int, sweep: str | None = None) -> list[slice]:
+    """The run's tiles: slices of the frequency ratios, or of the force ratios for a swept run."""
+    return tiles(n_forces, TILE_FORCES) if sweep else tiles(n_frequencies)
+
+
 def compute_tile(args):
     """One tile: a pure function of its arguments (picklable for processes and Dask)."""
-    method_name, excitation, r, beta, outputs, effects, settings = args
-    return methods.get(method_name).compute_tile(excitation, r, beta, outputs, effects=effects, settings=settings)
+    method_name, excitation, r, beta, outputs, effects, settings, sweep = args
+    method = methods.get(method_name)
+    if sweep:
+        return method.compute_sweep_tile(excitation, r, beta, outputs, effects=effects, settings=settings,
+                                         direction=sweep)
+    return method.compute_tile(excitation, r, beta, outputs, effects=effects, settings=settings)
 
 
 def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, outputs, *, effects=None,
-             settings=None, jobs: int = 1, executor: str = DEFAULT_EXECUTOR, scheduler: str | None = None,
+             settings=None, sweep: str | None = None, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,
+             scheduler: str | None = None,
              done: dict | None = None, on_done: Callable[[int, dict], None] | None = None,
              on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
     """Compute every requested variable on the full grid.
 
     done: tiles already computed (index -> arrays, from a checkpoint); on_done(index, arrays) is
     called for each newly computed tile (to checkpoint it); on_tile(points) reports progress.
+    sweep: "up" or "down" for a stepped-sine sweep along the frequency ratio (tiles of force ratios).
     """
     r = np.asarray(frequency_ratio, dtype=float)
     beta = np.asarray(force_ratio, dtype=float)
-    parts = tiles(r.size)
+    parts = layout(r.size, beta.size, sweep)
     grid_outputs = tuple(o for o in outputs if o in GRID_OUTPUTS)  # time histories are not per grid point
-    work = [(method_name, excitation, r[s], beta, grid_outputs, dict(effects or {}), dict(settings or {}))
-            for s in parts]
+    common = (grid_outputs, dict(effects or {}), dict(settings or {}), sweep)
+    if sweep:
+        work = [(method_name, excitation, r, beta[s], *common) for s in parts]
+    else:
+        work = [(method_name, excitation, r[s], beta, *common) for s in parts]
     results: dict[str, np.ndarray] = {}
 
     def place(s: slice, tile: dict) -> None:
@@ -59,9 +77,14 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
             if name not in results:
                 shape = (r.size,) if values.ndim == 1 else (beta.size, r.size)
                 results[name] = np.empty(shape, dtype=values.dtype)
-            results[name][..., s] = values
+            if sweep and values.ndim == 1:
+                results[name][:] = values  # along frequency_ratio: every tile has all of it
+            elif sweep:
+                results[name][s, :] = values
+            else:
+                results[name][..., s] = values
         if on_tile is not None:
-            on_tile(beta.size * (s.stop - s.start))
+            on_tile((s.stop - s.start) * (r.size if sweep else beta.size))
 
     done = done or {}
     for i, tile in done.items():
@@ -71,8 +94,7 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         log.info("resuming: %d of %d tiles already done", len(done), len(parts))
     if todo and executor in ("processes", "threads") and jobs > 1:
         # compile (or load from the cache) once here, before workers start: no compile storm
-        compute_tile((method_name, excitation, r[:1], beta[:1], grid_outputs, dict(effects or {}),
-                      dict(settings or {})))
+        compute_tile((method_name, excitation, r[:1], beta[:1], *common))
     log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
              sum(beta.size * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
     for k, tile in execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler):
