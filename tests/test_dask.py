@@ -15,7 +15,7 @@ distributed = pytest.importorskip("dask.distributed")
 def test_a_worker_that_dies_has_its_tiles_recomputed():
     r = np.linspace(0.1, 3.0, 32 * 12)
     beta = np.array([0.0, 0.2, 0.5, 0.9])
-    work = [("event", "base", r[s], beta, ("transmissibility", "regime"), {}, {}) for s in tiles(r.size)]
+    work = [("event", "base", r[s], beta, ("transmissibility", "regime"), {}, {}, None) for s in tiles(r.size)]
     reference = {i: compute_tile(args) for i, args in enumerate(work)}
 
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
