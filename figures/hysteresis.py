@@ -14,6 +14,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common as C  # noqa: E402
 
+from friction_sweep.methods.event import SAME_STATE_RTOL  # noqa: E402
+
 
 def main(argv=None):
     (up_path, down_path, starts_path), out = C.parse_args(
@@ -24,7 +26,7 @@ def main(argv=None):
     r = up["frequency_ratio"].values
     t_up = up["transmissibility"].values[0]
     t_down = down["transmissibility"].values[0]
-    band = ~np.isclose(t_up, t_down, rtol=1e-5, equal_nan=True)
+    band = ~np.isclose(t_up, t_down, rtol=SAME_STATE_RTOL, equal_nan=True)  # the cube's own test of one state
     fig, axes = C.new_figure()
     ax = axes[0, 0]
     for lo, hi in _runs(r, band):

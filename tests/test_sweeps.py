@@ -117,3 +117,13 @@ def test_a_sweep_is_refused_where_it_cannot_run(tmp_path):
     spec.write_text(SPEC.format(direction="up") + "settings: {starts: 2}\n")
     res = runner.invoke(main, ["validate", str(spec)])
     assert res.exit_code == 2 and "settings.starts" in res.output
+
+
+def test_without_any_dissipation_a_sweep_reports_the_forced_orbit():
+    """beta = 0, no damping: a start off the forced orbit would carry its free motion forever; the
+    steady state meant is the forced one, |X| = 1/|1 - r^2|, whatever a point starts from."""
+    r = np.round(np.arange(0.3, 3.0, 0.037), 6)
+    out = swept("base", r, [0.0], None, "up")
+    exact = 1 / np.abs(1 - r * r)
+    np.testing.assert_allclose(out["transmissibility"][0], exact, rtol=1e-10)
+    np.testing.assert_allclose(out["peak_transmissibility"][0], exact, rtol=1e-10)

@@ -298,10 +298,10 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     v = settings[SET_V0]
     from_rest = q == 0.0 and v == 0.0
     off_resonance = abs(1.0 - r) > TIE_RTOL
-    if bk == 0.0 and bs == 0.0 and zeta == 0.0 and off_resonance and from_rest:
-        # Nothing dissipates: a transient from rest would never decay, and the orbit would be forced plus
-        # free motion forever. The steady state meant is the forced one (the limit of vanishing damping):
-        # start on it, q = A/(1 - r^2) at the excitation's maximum.
+    if bk == 0.0 and bs == 0.0 and zeta == 0.0 and off_resonance:
+        # Nothing dissipates: a transient from any start would never decay, and the orbit would be forced
+        # plus free motion forever. The steady state meant is the forced one (the limit of vanishing
+        # damping): start on it, q = A/(1 - r^2) at the excitation's maximum, whatever the given start.
         q = A / ((1.0 - r) * (1.0 + r))
     mode = _mode_of(q, v, A, r, bs)
     hq[0], hv[0], hm[0] = q, v, mode
@@ -374,7 +374,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
             break
         i = n % (kmax + 1)
         hq[i], hv[i], hm[i] = q, v, mode
-        if n >= lyap_from:
+        if bs > bk and n >= lyap_from:  # only static friction can keep a motion from settling (below)
             if tracked > 0:
                 yq, yv, ym, st, w = _period(yq, yv, ym, A, r, bk, bs, zeta, c, settings, budget - work, acc_y)
                 work += w
@@ -493,8 +493,8 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
         out[OUT_PHASE] = wrap_lag_degrees(math.atan2(b1, a1))
     if out[OUT_PEAK] > 0.0:
         out[OUT_PEAK_PHASE] = wrap_lag_degrees(r * acc[ACC_TMAX])
-    out[OUT_STOPS] = acc[ACC_STOPS] / orbit
-    out[OUT_STUCK] = stuck_fraction
+    out[OUT_STOPS] = 0.0 if all_stuck else acc[ACC_STOPS] / orbit
+    out[OUT_STUCK] = 1.0 if all_stuck else stuck_fraction
     out[OUT_ORBIT] = orbit
     out[OUT_WORK] = work
     if all_stuck:

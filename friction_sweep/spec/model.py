@@ -382,6 +382,9 @@ class Spec(_Model):
         if self.method not in SWEEP_METHODS:
             raise _error("sweep_method", f"method {self.method!r} cannot run a swept sweep "
                          f"(methods that can: {', '.join(SWEEP_METHODS)})", ("sweep",))
+        if self.time_history is not None:
+            raise _error("sweep_and_history", "a swept run's time histories would not follow the sweep: "
+                         "store them from a run without sweep", ("sweep",))
         if "starts" in self.settings:
             raise _error("sweep_and_starts", "a swept run starts each point from its neighbour's orbit: "
                          "settings.starts does not apply", ("settings", "starts"))

@@ -96,7 +96,7 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         # compile (or load from the cache) once here, before workers start: no compile storm
         compute_tile((method_name, excitation, r[:1], beta[:1], *common))
     log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
-             sum(beta.size * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
+             sum((r.size if sweep else beta.size) * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
     for k, tile in execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler):
         index = todo[k]
         if on_done is not None:
