@@ -296,7 +296,6 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
 
     q = settings[SET_Q0]
     v = settings[SET_V0]
-    from_rest = q == 0.0 and v == 0.0
     off_resonance = abs(1.0 - r) > TIE_RTOL
     if bk == 0.0 and bs == 0.0 and zeta == 0.0 and off_resonance:
         # Nothing dissipates: a transient from any start would never decay, and the orbit would be forced

@@ -78,13 +78,18 @@ def point_parameters(excitation: str, r, beta, effects=None):
     return A, c, bk, bs, zeta
 
 
-def solve_flat(excitation, r, beta, effects=None, **settings):
-    """Raw kernel outputs (n, OUT_SIZE) for 1-D arrays of points."""
+def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
+    """Raw kernel outputs (n, OUT_SIZE) for 1-D arrays of points; start: per-point (q0, v0) arrays
+    instead of the settings' one start."""
     r = np.ascontiguousarray(r, dtype=float)
     beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
     out = np.empty((r.size, steady.OUT_SIZE))
-    steady.solve_points(A, r, bk, bs, zeta, c, steady.settings_array(**settings), out)
+    if start is None:
+        steady.solve_points(A, r, bk, bs, zeta, c, steady.settings_array(**settings), out)
+    else:
+        q0, v0 = (np.ascontiguousarray(s, dtype=float) for s in start)
+        steady.solve_points_from(A, r, bk, bs, zeta, c, steady.settings_array(**settings), q0, v0, out)
     return out
 
 
@@ -97,16 +102,11 @@ def solve_moving(excitation, r, beta, effects=None, **settings):
     """Raw kernel outputs from a moving start: the state (at the excitation's maximum) of the orbit
     that kinetic friction alone sustains at each point, or where that motion grows without bound,
     the state where its march gave up (a start that the model with static friction then follows)."""
-    r = np.ascontiguousarray(r, dtype=float)
-    beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
     kinetic = {k: v for k, v in (effects or {}).items() if k != "static_friction_ratio"}
     seed = solve_flat(excitation, r, beta, kinetic, **settings)
-    q0 = np.ascontiguousarray(np.nan_to_num(seed[:, steady.OUT_Q], nan=0.0, posinf=0.0, neginf=0.0))
-    v0 = np.ascontiguousarray(np.nan_to_num(seed[:, steady.OUT_V], nan=0.0, posinf=0.0, neginf=0.0))
-    A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
-    out = np.empty((r.size, steady.OUT_SIZE))
-    steady.solve_points_from(A, r, bk, bs, zeta, c, steady.settings_array(**settings), q0, v0, out)
-    return out
+    start = (np.nan_to_num(seed[:, steady.OUT_Q], nan=0.0, posinf=0.0, neginf=0.0),
+             np.nan_to_num(seed[:, steady.OUT_V], nan=0.0, posinf=0.0, neginf=0.0))
+    return solve_flat(excitation, r, beta, effects, start, **settings)
 
 
 def count_states(first, second):
