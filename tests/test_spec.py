@@ -262,12 +262,18 @@ def test_negative_force_ratio_message_format():
         ("0", "grid.frequency_ratio", "got 0"),
         ("-0.5", "grid.frequency_ratio", "got -0.5"),
         ("{start: 0, stop: 2, num: 3}", "grid.frequency_ratio.start", "got 0"),
+        ("[1.0e-10]", "grid.frequency_ratio[0]", "got 1e-10"),
     ],
 )
-def test_frequency_ratio_must_be_positive(fr, key, got):
+def test_frequency_ratio_must_be_in_its_meaningful_range(fr, key, got):
     p = only(spec_error(spec_text(fr=fr)))
     assert p.key == key and p.line == 5
-    assert "must be > 0" in p.reason and got in p.reason
+    assert "must be >= 0.01" in p.reason and got in p.reason and "cost" in p.reason
+
+
+def test_frequency_ratio_above_its_range_is_refused_with_the_reason():
+    p = only(spec_error(spec_text(fr="{start: 1, stop: 1.0e20, num: 3}")))
+    assert p.key == "grid.frequency_ratio.stop" and "must be <= 100" in p.reason and "1e-4" in p.reason
 
 
 def test_negative_force_range_start():
@@ -515,8 +521,8 @@ def test_spec_error_pickles():
 
 @settings(max_examples=200, deadline=None)
 @given(
-    start=st.floats(min_value=1e-3, max_value=100.0),
-    width=st.floats(min_value=1e-3, max_value=100.0),
+    start=st.floats(min_value=1e-2, max_value=50.0),
+    width=st.floats(min_value=1e-3, max_value=50.0),
     num=st.integers(min_value=1, max_value=2000),
 )
 def test_num_grid_property(start, width, num):

@@ -7,6 +7,15 @@ import math
 import numpy as np
 
 MAX_POINTS = 10_000_000
+#: the meaningful range of frequency ratios. Below it the motion is quasi-static with ever more stops
+#: per period and the cost of a point grows like 1/r^2 (theory) or 1/r^1.5 (event); above it the
+#: response is below 1e-4 of the excitation, where the theory's closed forms lose their digits.
+FREQUENCY_RATIO_RANGE = (0.01, 100.0)
+FREQUENCY_RATIO_NOTE = ("frequency ratios are computed from 0.01 to 100: below, a point's cost grows without "
+                        "bound; above, the response is under 1e-4 of the excitation")
+#: friction beyond this holds the mass still everywhere on the grid (joined moves only if beta < r^2)
+FORCE_RATIO_MAX = 1e6
+FORCE_RATIO_NOTE = "force ratios above 1e6 hold the mass still at every frequency ratio"
 SIGNIFICANT_DIGITS = 12
 LATTICE_RTOL = 1e-9
 

@@ -17,6 +17,12 @@ from .errors import SpecError
 KeyPath = tuple[str | int, ...]
 Position = tuple[int, int]
 
+#: a spec is a few dozen values; these bounds keep a small hostile file from costing time or memory:
+#: values repeated through YAML aliases (an "alias bomb" of a few hundred bytes expands to 10^9) ...
+MAX_ALIAS_VALUES = 10_000
+#: ... and nesting (a spec nests 4 deep; deep nesting exhausts the parser's recursion)
+MAX_DEPTH = 32
+
 
 @dataclass
 class Document:
@@ -28,6 +34,8 @@ class Document:
     key_pos: dict[KeyPath, Position] = field(default_factory=dict)
     # Block collections and empty values: ruamel places the value at the next token, so use the key.
     at_key: set[KeyPath] = field(default_factory=set)
+    # values produced by repeating an aliased collection (bounded by MAX_ALIAS_VALUES)
+    alias_values: int = 0
 
     def locate(self, path: KeyPath, *, key: bool = False) -> tuple[int | None, int | None]:
         """Where to point for a problem at `path`; falls back to the nearest located ancestor."""
@@ -64,6 +72,8 @@ def parse_yaml(text: str, source: str) -> Document:
     """Parse one YAML document (YAML 1.2, duplicate keys rejected) into a Document."""
     yaml = YAML(typ="rt")
     try:
+        # ruamel constructs a recursive alias as null, silently: find it in the node graph first
+        _refuse_recursion(YAML(typ="rt").compose(text), source)
         tree = yaml.load(text)
     except DuplicateKeyError as e:
         raise _duplicate_key_error(e, text, source) from None
@@ -71,10 +81,37 @@ def parse_yaml(text: str, source: str) -> Document:
         raise _marked_error(e, source) from None
     except (YAMLError, ValueError, TypeError) as e:
         # e.g. `!!float abc` raises a bare ValueError with no position
-        raise SpecError.single(source, f"invalid YAML: {e}") from None
+        raise SpecError.single(source, f"invalid YAML: {' '.join(str(e).split())}") from None
+    except RecursionError:
+        raise SpecError.single(source, f"invalid YAML: nested deeper than the parser can follow "
+                               f"(a spec nests at most {MAX_DEPTH} levels)") from None
     doc = Document(data=None, source=source)
-    doc.data = _plain(tree, (), doc, set())
+    doc.data = _plain(tree, (), doc, set(), set(), False)
     return doc
+
+
+def _refuse_recursion(root: Any, source: str) -> None:
+    """SpecError if a collection contains itself through an alias (depth-first, each node once)."""
+    active: set[int] = set()
+    done: set[int] = set()
+    # iterative: (node, entering); a deep file is refused by the parser before it gets here
+    stack: list[tuple[Any, bool]] = [(root, True)] if root is not None else []
+    while stack:
+        node, entering = stack.pop()
+        if not entering:
+            active.discard(id(node))
+            continue
+        if id(node) in active:
+            mark = node.start_mark
+            raise SpecError.single(source, f"recursive YAML alias: the value anchored at line {mark.line + 1} "
+                                   "contains itself", line=mark.line + 1, column=mark.column + 1)
+        if id(node) in done or not isinstance(node, (MappingNode, SequenceNode)):
+            continue
+        done.add(id(node))
+        active.add(id(node))
+        stack.append((node, False))
+        children = [c for pair in node.value for c in pair] if isinstance(node, MappingNode) else node.value
+        stack.extend((child, True) for child in reversed(children))
 
 
 def _marked_error(e: MarkedYAMLError, source: str) -> SpecError:
@@ -129,11 +166,27 @@ def _find_key_node(node: Any, at: tuple[int, int]) -> tuple[KeyPath, int] | None
     return None
 
 
-def _plain(node: Any, path: KeyPath, doc: Document, active: set[int]) -> Any:
-    """Round-trip tree -> dict/list/str/int/float/bool/None, recording positions."""
-    if isinstance(node, dict):
+def _plain(node: Any, path: KeyPath, doc: Document, active: set[int], done: set[int], repeated: bool) -> Any:
+    """Round-trip tree -> dict/list/str/int/float/bool/None, recording positions.
+
+    `active`: collections being converted (a repeat is a recursive alias); `done`: collections
+    converted before (a repeat is an alias, whose values count against MAX_ALIAS_VALUES).
+    """
+    if repeated:
+        doc.alias_values += 1
+        if doc.alias_values > MAX_ALIAS_VALUES:
+            raise SpecError.single(doc.source, f"YAML aliases repeat more than {MAX_ALIAS_VALUES} values "
+                                   f"(a spec needs a few dozen)", key=format_key(path))
+    if isinstance(node, (dict, list)):
         if id(node) in active:
-            raise SpecError.single(doc.source, "recursive YAML alias", key=format_key(path))
+            raise SpecError.single(doc.source, "recursive YAML alias: this value contains itself",
+                                   key=format_key(path))
+        if len(path) >= MAX_DEPTH:
+            raise SpecError.single(doc.source, f"nested deeper than {MAX_DEPTH} levels (a spec nests 4)",
+                                   key=format_key(path[:MAX_DEPTH]))
+        repeated = repeated or id(node) in done
+        done.add(id(node))
+    if isinstance(node, dict):
         active.add(id(node))
         doc.at_key.add(path)
         lc = getattr(getattr(node, "lc", None), "data", None) or {}
@@ -150,12 +203,10 @@ def _plain(node: Any, path: KeyPath, doc: Document, active: set[int]) -> Any:
                 raise SpecError.single(
                     doc.source, f"duplicate key '{name}'", key=format_key(sub), line=line, column=col
                 )
-            out[name] = _plain(v, sub, doc, active)
+            out[name] = _plain(v, sub, doc, active, done, repeated)
         active.discard(id(node))
         return out
     if isinstance(node, list):
-        if id(node) in active:
-            raise SpecError.single(doc.source, "recursive YAML alias", key=format_key(path))
         active.add(id(node))
         doc.at_key.add(path)
         lc = getattr(getattr(node, "lc", None), "data", None) or {}
@@ -165,7 +216,7 @@ def _plain(node: Any, path: KeyPath, doc: Document, active: set[int]) -> Any:
             pos = lc.get(i)
             if pos is not None:
                 doc.value_pos[sub] = (pos[0] + 1, pos[1] + 1)
-            items.append(_plain(v, sub, doc, active))
+            items.append(_plain(v, sub, doc, active, done, repeated))
         active.discard(id(node))
         return items
     if node is None:

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
@@ -15,11 +17,12 @@ from pydantic import (
     PrivateAttr,
     Strict,
     Tag,
+    ValidationError,
     ValidationInfo,
     field_validator,
     model_validator,
 )
-from pydantic_core import PydanticCustomError
+from pydantic_core import InitErrorDetails, PydanticCustomError
 
 from . import grid as g
 
@@ -38,36 +41,83 @@ HISTORY_METHODS = ("event", "auto")
 SWEEP_METHODS = ("event", "rk4")
 #: which physical effects each method models (a spec asking for more is refused)
 METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "rk4": EFFECTS, "paper": (), "auto": ()}
-#: each method's accuracy and budget knobs (`settings:` in a spec): name -> (kind, lower bound[, upper])
-METHOD_SETTINGS = {
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One accuracy or budget knob of a method (`settings:` in a spec) and its meaningful range.
+
+    Values outside [low, high] are refused: inside it every value gives a right answer or an honest
+    label (`unsettled`), at a cost the run's estimate covers; `why` says what the bounds protect.
+    """
+
+    kind: Literal["int", "float"]
+    low: float
+    high: float
+    why: str
+    low_open: bool = False  # the value must exceed `low` (a tolerance of exactly 0 never converges)
+
+    def check(self, value: Any) -> str | None:
+        """Why `value` is refused, or None."""
+        integer = isinstance(value, int) and not isinstance(value, bool)
+        if isinstance(value, bool) or not (integer or (self.kind == "float" and isinstance(value, float))):
+            return f"must be {'an integer' if self.kind == 'int' else 'a number'} (got {show(value)})"
+        if not integer and not math.isfinite(value):
+            return f"must be a finite number (got {show(value)})"
+        below = value <= self.low if self.low_open else value < self.low
+        if below or value > self.high:
+            lo, hi = _number(self.low), _number(self.high)
+            span = f"> {lo} and <= {hi}" if self.low_open else f"between {lo} and {hi}"
+            return f"must be {span} (got {show(value)}): {self.why}"
+        return None
+
+    def describe(self) -> str:
+        return f"{'(' if self.low_open else '['}{_number(self.low)}, {_number(self.high)}]"
+
+
+_STEADY = {
+    "steady_tol": Setting("float", 0.0, 1e-3, "the relative change per period below which the map has settled; "
+                          "looser than 1e-3 mistakes slow growth or a slow transient for a steady state",
+                          low_open=True),
+    "stop_tol": Setting("float", 0.0, 1e-6, "a stop is |v| <= stop_tol x the state's size; looser than 1e-6 "
+                        "misplaces stops", low_open=True),
+    "max_periods": Setting("int", 1, 1_000_000, "forcing periods marched per point at most (cost grows with it)"),
+    "max_orbit_period": Setting("int", 1, 4096, "longest period-k orbit looked for (memory and cost grow with it)"),
+    "work_budget": Setting("int", 1, 10**10, "stop searches and events per point at most (cost grows with it)"),
+    "shoot_after": Setting("int", 1, 1_000_000, "periods marched before the first shooting attempt"),
+    "shoot_every": Setting("int", 1, 1_000_000, "periods between shooting attempts"),
+    "initial_displacement": Setting("float", -1e6, 1e6, "start of the march, in the equation's length unit"),
+    "initial_velocity": Setting("float", -1e6, 1e6, "start of the march, in the equation's velocity unit"),
+}
+#: each method's accuracy and budget knobs (`settings:` in a spec) and their meaningful ranges
+METHOD_SETTINGS: dict[str, dict[str, Setting]] = {
     "theory": {},
-    "event": {
-        "steady_tol": ("float", 0.0),
-        "stop_tol": ("float", 0.0),
-        "max_periods": ("int", 1),
-        "max_orbit_period": ("int", 1),
-        "work_budget": ("int", 1),
-        "shoot_after": ("int", 1),
-        "shoot_every": ("int", 1),
-        "initial_displacement": ("real", None),
-        "initial_velocity": ("real", None),
-        "starts": ("int", 1, 2),
+    "event": {**_STEADY, "starts": Setting("int", 1, 2, "1: from rest only; 2: also from a moving start")},
+    "auto": {**_STEADY, "theory_margin": Setting("float", 0.0, 1.0, "relative distance from the theory's "
+                                                 "continuous limit inside which the simulation decides", low_open=True)},
+    "rk4": {**{k: v for k, v in _STEADY.items() if k != "stop_tol"},
+            "starts": Setting("int", 1, 2, "1: from rest only; 2: also from a moving start"),
+            "steps_per_period": Setting("int", 4, 100_000, "fixed RK4 steps per forcing period (cost grows "
+                                        "with it)")},
+    "paper": {
+        # a point holds periods x samples_per_period samples: at most 10^7 (80 MB) with these bounds
+        "periods": Setting("int", 2, 10_000, "forcing periods simulated from rest (cost and memory grow with it)"),
+        "samples_per_period": Setting("int", 4, 1000, "output samples per forcing period (memory grows with "
+                                      "it)"),
+        "transient_fraction": Setting("float", 0.0, 0.9, "share of the periods discarded as transient; at "
+                                      "least a tenth is kept to measure"),
+        "rtol": Setting("float", 0.0, 0.1, "ode45's relative tolerance", low_open=True),
+        "atol": Setting("float", 0.0, 0.1, "ode45's absolute tolerance", low_open=True),
+        "stick_velocity": Setting("float", 0.0, 1.0, "a sample is stuck when |v| <= this x max |v|", low_open=True),
+        "stuck_displacement_per_atol": Setting("float", 0.0, 1e12, "no motion: max |q| <= this x atol",
+                                               low_open=True),
+        "max_evaluations": Setting("int", 1, 10**9, "right-hand-side evaluations per point at most (cost grows "
+                                   "with it)"),
     },
 }
-METHOD_SETTINGS["auto"] = {**{k: v for k, v in METHOD_SETTINGS["event"].items() if k != "starts"},
-                           "theory_margin": ("float", 0.0)}
-METHOD_SETTINGS["paper"] = {
-    "periods": ("int", 2),
-    "samples_per_period": ("int", 4),
-    "transient_fraction": ("float", 0.0),
-    "rtol": ("float", 0.0),
-    "atol": ("float", 0.0),
-    "stick_velocity": ("float", 0.0),
-    "stuck_displacement_per_atol": ("float", 0.0),
-    "max_evaluations": ("int", 1),
-}
-METHOD_SETTINGS["rk4"] = {**{k: v for k, v in METHOD_SETTINGS["event"].items() if k != "stop_tol"},
-                          "steps_per_period": ("int", 4)}
+
+#: stored time-history samples per variable at most (80 MB of float64 each)
+MAX_HISTORY_SAMPLES = 10_000_000
 
 # Union tags appear in pydantic's error locations; the angle brackets keep them apart from YAML keys.
 AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})
@@ -75,6 +125,9 @@ AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})
 Finite = Annotated[float, Strict(), Field(allow_inf_nan=False)]
 Positive = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0)]
 NonNegative = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0)]
+FrequencyRatio = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=g.FREQUENCY_RATIO_RANGE[0],
+                                                  le=g.FREQUENCY_RATIO_RANGE[1])]
+ForceRatio = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0, le=g.FORCE_RATIO_MAX)]
 
 
 def show(v: Any) -> str:
@@ -92,10 +145,23 @@ def show(v: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+def _number(x: float) -> str:
+    """A bound as a reader writes it: 1000000, 1e-06, 10000000000."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f"{x:g}"
+
+
 def _error(kind: str, message: str, at: tuple = ()) -> PydanticCustomError:
     # `at` extends the error's location, so the report can point at the offending item.
     # The message is final text: pydantic only substitutes `{at}`, which no message contains.
     return PydanticCustomError(kind, message, {"at": at})
+
+
+def _raise_all(title: str, errors: list[PydanticCustomError]) -> None:
+    """Raise every problem found at once (pydantic merges a ValidationError raised in a validator)."""
+    if errors:
+        raise ValidationError.from_exception_data(
+            title, [InitErrorDetails(type=e, loc=(), input=None) for e in errors]
+        )
 
 
 class _Model(BaseModel):
@@ -145,11 +211,13 @@ class _Range(_Model):
 
 
 class FrequencyRange(_Range):
-    start: Positive
+    start: FrequencyRatio
+    stop: FrequencyRatio
 
 
 class ForceRange(_Range):
-    start: NonNegative
+    start: ForceRatio
+    stop: ForceRatio
 
 
 def _increasing(values: list[float]) -> list[float]:
@@ -191,8 +259,8 @@ def _axis(element: Any, range_model: type[_Range]) -> Any:
     ]
 
 
-FrequencyAxis = _axis(Positive, FrequencyRange)
-ForceAxis = _axis(NonNegative, ForceRange)
+FrequencyAxis = _axis(FrequencyRatio, FrequencyRange)
+ForceAxis = _axis(ForceRatio, ForceRange)
 
 
 def _axis_size(axis: float | list[float] | _Range) -> int:
@@ -295,17 +363,30 @@ OutputName = Literal["transmissibility", "phase", "regime", "time_history"]
 class TimeHistory(_Model):
     """Points whose steady-state orbits are stored (outputs: time_history)."""
 
-    points: Annotated[list[Annotated[list[Positive | NonNegative], Field(min_length=2, max_length=2)]],
+    points: Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]],
                       Field(min_length=1, max_length=1000)]
     samples_per_period: Annotated[int, Strict(), Field(ge=8, le=100_000)] = 256
 
     @field_validator("points")
     @classmethod
-    def _positive_frequency(cls, v):
+    def _on_the_grid_range(cls, v):
+        (r_lo, r_hi), problems = g.FREQUENCY_RATIO_RANGE, []
         for i, (r, beta) in enumerate(v):
-            if r <= 0:
-                raise _error("history_r", f"frequency ratio must be > 0 (got {show(r)})", (i, 0))
+            if not r_lo <= r <= r_hi:
+                problems.append(_error("history_r", f"frequency ratio must be between {_number(r_lo)} and "
+                                       f"{_number(r_hi)} (got {show(r)})", (i, 0)))
+            if not 0 <= beta <= g.FORCE_RATIO_MAX:
+                problems.append(_error("history_beta", f"force ratio must be between 0 and "
+                                       f"{_number(g.FORCE_RATIO_MAX)} (got {show(beta)})", (i, 1)))
+        _raise_all("points", problems)
         return v
+
+    @model_validator(mode="after")
+    def _bounded_memory(self):
+        if len(self.points) * self.samples_per_period > MAX_HISTORY_SAMPLES:
+            raise _error("history_size", f"{len(self.points)} points x {self.samples_per_period} samples per "
+                         f"period exceeds {MAX_HISTORY_SAMPLES} samples per variable", ("samples_per_period",))
+        return self
 
 
 class Sweep(_Model):
@@ -362,76 +443,74 @@ class Spec(_Model):
             raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
         return v
 
+    @field_validator("settings")
+    @classmethod
+    def _settings_in_range(cls, settings: dict[str, Any], info: ValidationInfo) -> dict[str, Any]:
+        method = info.data.get("method")
+        if method is None:  # the method itself is wrong: reported there
+            return settings
+        known = METHOD_SETTINGS[method]
+        problems = []
+        for key, value in settings.items():
+            if key not in known:
+                allowed = ", ".join(known) or "none"
+                problems.append(_error("unknown_setting", f"unknown setting {show(key)} for method {method!r} "
+                                       f"(allowed: {allowed})", ("settings", key)))
+            elif (reason := known[key].check(value)) is not None:
+                problems.append(_error("setting_range", reason, ("settings", key)))
+        # field-level locations get the field name prepended by pydantic: give `at` relative to it
+        _raise_all("settings", [PydanticCustomError(e.type, e.message(), {"at": e.context["at"][1:]})
+                                for e in problems])
+        return settings
+
     @model_validator(mode="after")
-    def _time_history_declared(self):
+    def _consistent(self):
+        """Every rule that ties fields together, all reported at once."""
+        _raise_all("Spec", [*self._history_problems(), *self._sweep_problems(), *self._accuracy_problems(),
+                            *self._effect_problems()])
+        return self
+
+    def _history_problems(self):
         wanted = "time_history" in self.outputs
         if wanted and self.time_history is None:
-            raise _error("history_missing", "outputs lists time_history: give `time_history: {points: [[r, beta], ...]}`",
-                         ("outputs",))
+            yield _error("history_missing", "outputs lists time_history: give `time_history: {points: [[r, beta], "
+                         "...]}`", ("outputs",))
         if not wanted and self.time_history is not None:
-            raise _error("history_unused", "time_history is given but not listed in outputs", ("time_history",))
+            yield _error("history_unused", "time_history is given but not listed in outputs", ("time_history",))
         if wanted and self.method not in HISTORY_METHODS:
-            raise _error("history_method", f"method {self.method!r} cannot store time histories "
+            yield _error("history_method", f"method {self.method!r} cannot store time histories "
                          f"(methods that can: {', '.join(HISTORY_METHODS)})", ("outputs",))
-        return self
 
-    @model_validator(mode="after")
-    def _sweep_supported(self):
+    def _sweep_problems(self):
         if self.sweep is None:
-            return self
+            return
         if self.method not in SWEEP_METHODS:
-            raise _error("sweep_method", f"method {self.method!r} cannot run a swept sweep "
+            yield _error("sweep_method", f"method {self.method!r} cannot run a swept sweep "
                          f"(methods that can: {', '.join(SWEEP_METHODS)})", ("sweep",))
         if self.time_history is not None:
-            raise _error("sweep_and_history", "a swept run's time histories would not follow the sweep: "
+            yield _error("sweep_and_history", "a swept run's time histories would not follow the sweep: "
                          "store them from a run without sweep", ("sweep",))
         if "starts" in self.settings:
-            raise _error("sweep_and_starts", "a swept run starts each point from its neighbour's orbit: "
+            yield _error("sweep_and_starts", "a swept run starts each point from its neighbour's orbit: "
                          "settings.starts does not apply", ("settings", "starts"))
-        return self
 
-    @model_validator(mode="after")
-    def _accuracy_instead_of_knobs(self):
+    def _accuracy_problems(self):
         if self.accuracy is None:
-            return self
+            return
         if self.method not in ACCURACY_METHODS:
-            raise _error("accuracy_method", f"method {self.method!r} has no calibrated settings "
+            yield _error("accuracy_method", f"method {self.method!r} has no calibrated settings "
                          f"(accuracy works with: {', '.join(ACCURACY_METHODS)})", ("accuracy",))
         knobs = sorted(set(self.settings) & ACCURACY_KNOBS)
         if knobs:
-            raise _error("accuracy_and_knobs", f"give either accuracy or the knobs it sets, not both "
+            yield _error("accuracy_and_knobs", f"give either accuracy or the knobs it sets, not both "
                          f"(settings also has {', '.join(knobs)})", ("accuracy",))
-        return self
 
-    @model_validator(mode="after")
-    def _method_capabilities(self):
+    def _effect_problems(self):
         for name in self.scene.effects.declared():
             if name not in METHOD_EFFECTS[self.method]:
                 able = [m for m, effects in METHOD_EFFECTS.items() if name in effects]
-                raise _error(
-                    "effect_unsupported",
-                    f"method {self.method!r} does not model {name} (methods that do: {', '.join(able)})",
-                    ("scene", "effects", name),
-                )
-        known = METHOD_SETTINGS[self.method]
-        for key, value in self.settings.items():
-            if key not in known:
-                allowed = ", ".join(known) or "none"
-                raise _error(
-                    "unknown_setting",
-                    f"unknown setting {show(key)} for method {self.method!r} (allowed: {allowed})",
-                    ("settings", key),
-                )
-            kind, lower, *upper = known[key]
-            ok_type = isinstance(value, int) if kind == "int" else isinstance(value, (int, float))
-            if isinstance(value, bool) or not ok_type or not np.isfinite(value):
-                raise _error("setting_type", f"must be a finite {'integer' if kind == 'int' else 'number'} (got {show(value)})", ("settings", key))
-            if lower is not None and ((kind == "float" and value <= lower) or (kind == "int" and value < lower)):
-                op = ">" if kind == "float" else ">="
-                raise _error("setting_range", f"must be {op} {lower} (got {show(value)})", ("settings", key))
-            if upper and value > upper[0]:
-                raise _error("setting_range", f"must be <= {upper[0]} (got {show(value)})", ("settings", key))
-        return self
+                yield _error("effect_unsupported", f"method {self.method!r} does not model {name} "
+                             f"(methods that do: {', '.join(able)})", ("scene", "effects", name))
 
     @property
     def frequency_ratio(self) -> np.ndarray:

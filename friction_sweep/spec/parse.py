@@ -8,8 +8,9 @@ from typing import Any
 from pydantic import ValidationError
 
 from .errors import SpecError, SpecProblem
+from .grid import FORCE_RATIO_NOTE, FREQUENCY_RATIO_NOTE
 from .load import Document, KeyPath, format_key, parse_yaml, read_text
-from .model import AXIS_TAGS, Effects, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
+from .model import AXIS_TAGS, Effects, _number, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
 
 # Which model a mapping at a given key path is validated by, to list the keys it allows.
 _MODELS = {
@@ -65,6 +66,8 @@ def _reason(err: dict[str, Any], path: KeyPath) -> str:
     if kind == "missing":
         return f"required key {show(path[-1])} is missing"
     if kind in ("float_type", "float_parsing"):
+        if isinstance(value, int) and not isinstance(value, bool):  # beyond a double's range
+            return f"is too large: an integer of {len(str(abs(value)))} digits (a number holds at most about 1.8e308)"
         if isinstance(value, bool):
             return f"must be a number, not a boolean{got}"
         if isinstance(value, str):
@@ -83,7 +86,7 @@ def _reason(err: dict[str, Any], path: KeyPath) -> str:
         ("less_than_equal", "<=", "le"),
     ):
         if kind == kind_:
-            return f"must be {op} {_number(ctx[limit])}{got}"
+            return f"must be {op} {_number(ctx[limit])}{got}{_range_note(path, limit)}"
     if kind == "too_short":
         return "must not be empty"
     if kind == "list_type":
@@ -97,5 +100,10 @@ def _reason(err: dict[str, Any], path: KeyPath) -> str:
     return f"{err['msg']}{got}"
 
 
-def _number(x: float) -> str:
-    return str(int(x)) if isinstance(x, float) and x.is_integer() and abs(x) < 1e15 else str(x)
+def _range_note(path: KeyPath, limit: str) -> str:
+    """Why a grid value has the bounds it has (a negative force ratio needs no explanation)."""
+    if "frequency_ratio" in path:
+        return f": {FREQUENCY_RATIO_NOTE}"
+    if "force_ratio" in path and limit == "le":
+        return f": {FORCE_RATIO_NOTE}"
+    return ""
