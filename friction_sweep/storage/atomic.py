@@ -1,34 +1,86 @@
-"""Write a file under a temporary name in its folder and rename it into place: a failed or
-interrupted write never leaves a partial file, and never damages the one it replaces."""
+"""The one way fsweep writes a file: whole or not at all, readable as the user's umask says.
+
+The content goes to a temporary file beside the target, is flushed to disk (fsync), and is renamed
+into place; the folder is then fsynced so the rename itself survives a crash. A failed or
+interrupted write (a full disk, Ctrl-C, an exception in the writer) removes the temporary file and
+leaves any earlier file at the target untouched.
+
+Writers get a Python file object, never a path: a library that writes by path (h5py) crashes the
+process on a full disk, while a file object turns it into an ordinary OSError.
+"""
 
 from __future__ import annotations
 
 import os
+import tempfile
+from collections.abc import Callable
 from pathlib import Path
+from typing import BinaryIO
+
+Writer = Callable[[BinaryIO], None]
 
 
-def _replace(path, write) -> Path:
+def umask() -> int:
+    """The process's umask, read without changing it where Linux shows it (thread-safe)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    old = os.umask(0o022)  # elsewhere: the classic read-by-setting, restored at once
+    os.umask(old)
+    return old
+
+
+def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = True) -> Path:
+    """Write `path` through `writer(file)`. Without `overwrite`, an existing `path` is never replaced
+    (FileExistsError, checked at the final link, so a file that appeared meanwhile is kept)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    tmp = Path(name)
     try:
-        write(tmp)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
+        # mkstemp creates 0600; a result is for colleagues too: the mode a new file would get
+        os.fchmod(fd, 0o666 & ~umask())
+        with os.fdopen(fd, "wb") as fh:
+            writer(fh)
+            fh.flush()
+            os.fsync(fh.fileno())
+        if overwrite:
+            os.replace(tmp, path)
+        else:
+            os.link(tmp, path)
             tmp.unlink()
+        _fsync_folder(path.parent)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
     return path
 
 
-def write_text(path, text: str) -> Path:
-    return _replace(path, lambda tmp: tmp.write_text(text))
+def write_bytes(path: str | os.PathLike[str], data: bytes | memoryview, *, overwrite: bool = True) -> Path:
+    return write(path, lambda fh: fh.write(data), overwrite=overwrite)
 
 
-def save_figure(fig, path, **savefig_kwargs) -> Path:
+def write_text(path: str | os.PathLike[str], text: str) -> Path:
+    return write_bytes(path, text.encode("utf-8"))
+
+
+def save_figure(fig, path: str | os.PathLike[str], **savefig_kwargs) -> Path:
     """Save a matplotlib figure as PNG atomically, and close it."""
     import matplotlib.pyplot as plt
 
     try:
-        return _replace(path, lambda tmp: fig.savefig(tmp, format="png", **savefig_kwargs))
+        return write(path, lambda fh: fig.savefig(fh, format="png", **savefig_kwargs))
     finally:
         plt.close(fig)
+
+
+def _fsync_folder(folder: Path) -> None:
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)

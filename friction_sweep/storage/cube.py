@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from friction_sweep.storage import provenance
+from friction_sweep.storage import atomic, provenance
 from friction_sweep.storage.schema import CONVENTIONS, COORDS, VARIABLES
 
 ENGINE = "h5netcdf"
@@ -44,27 +42,10 @@ def _encoding(ds: xr.Dataset) -> dict:
 
 
 def write_atomic(ds: xr.Dataset, path: Path, *, overwrite: bool) -> None:
-    """Write to a temporary file in the target folder, then rename into place.
-
-    A run that fails or is interrupted leaves the target untouched and removes its temporary file.
-    Without `overwrite`, an existing target is never replaced (checked again at the final link).
-    """
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    try:
-        ds.to_netcdf(tmp, engine=ENGINE, encoding=_encoding(ds))
-        with open(tmp, "rb") as fh:
-            os.fsync(fh.fileno())
-        if overwrite:
-            os.replace(tmp, path)
-        else:
-            os.link(tmp, path)  # fails if the target appeared meanwhile: never clobber
-            os.unlink(tmp)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write the cube whole or not at all (storage.atomic); without `overwrite` an existing target is
+    never replaced. Serialised in memory first: h5py writing straight to a full disk crashes the
+    process, where writing its bytes fails cleanly with OSError."""
+    atomic.write_bytes(path, ds.to_netcdf(engine=ENGINE, encoding=_encoding(ds)), overwrite=overwrite)
 
 
 def open_cube(path) -> xr.Dataset:

@@ -5,6 +5,7 @@ Figure scripts and users rely on these names; methods only produce arrays keyed 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -17,6 +18,36 @@ HISTORY_DIMS = ("history", "sample")
 CONVENTIONS = "CF-1.10"
 
 
+# Valid values (friction_sweep.storage.audit checks a cube against them, for `fsweep info` to refuse a cube
+# that breaks them). They are schema metadata only, not written to the file: CF readers such as
+# netCDF4-python mask values outside valid_min/valid_max by default, which would hide exactly the
+# corruption the audit is there to report, and the cubes' attributes stay as they were.
+#
+# A float value is valid when it is NaN (no value: unbounded, unsettled, or not backed by the method)
+# or finite and inside `valid_range` (inclusive). Infinities are never valid: no method writes one
+# (unbounded points are NaN). An integer flag variable holds only its CF flag_values; `integral`
+# float variables hold only whole numbers.
+
+#: Largest amplitude a method can write (transmissibilities, peaks, time histories, in units of the
+#: excitation): every finite one obeys (A + 4/pi max(beta, beta_s)) / |1 - r^2 + 2i zeta r| (+1 joined,
+#: `fsweep check` rule `bound`), motion needs A > beta_s, and no method resolves |1 - r| below ~1e-12
+#: (theory: the resonance tie; simulations: kernels.steady.RESOLVABLE), so real values stay below
+#: ~1e12. Far above that, a value is garbage (a flipped exponent bit), not physics.
+AMPLITUDE_MAX = 1e15
+#: Counts stored as float64 are exact whole numbers only up to 2^53.
+COUNT_MAX = 2.0**53
+#: Phases are wrapped into PHASE_RANGE_DEG = [-90, 270); the wrap's rounding can give 270 exactly
+#: (a lag a hair below -90 degrees), so the closed interval is valid.
+PHASE_VALID = (PHASE_RANGE_DEG[0], PHASE_RANGE_DEG[1])
+AMPLITUDE_VALID = (0.0, AMPLITUDE_MAX)
+DISPLACEMENT_VALID = (-AMPLITUDE_MAX, AMPLITUDE_MAX)
+COUNT_VALID = (0.0, COUNT_MAX)
+FRACTION_VALID = (0.0, 1.0)
+NONNEGATIVE = (0.0, math.inf)
+#: frequency ratios are > 0: the smallest positive double is the inclusive minimum
+POSITIVE = (math.nextafter(0.0, 1.0), math.inf)
+
+
 @dataclass(frozen=True)
 class Variable:
     dims: tuple[str, ...]
@@ -24,11 +55,20 @@ class Variable:
     long_name: str
     units: str
     extra: dict = field(default_factory=dict)
+    #: inclusive (min, max) of valid finite values (see above); None: no range (flag variables)
+    valid_range: tuple[float, float] | None = None
+    #: the valid values are whole numbers
+    integral: bool = False
 
     def attrs(self, excitation: str) -> dict:
         attrs = {"long_name": self.long_name.format(ref=_reference(excitation)), "units": self.units}
         attrs.update(self.extra)
         return attrs
+
+    @property
+    def flag_values(self):
+        """The valid codes of an integer flag variable (its CF flag_values), or None."""
+        return self.extra.get("flag_values")
 
 
 def _reference(excitation: str) -> str:
@@ -41,12 +81,14 @@ _PHASE_NOTE = {
 }
 
 COORDS = {
-    "frequency_ratio": Variable(("frequency_ratio",), np.float64, "frequency ratio r = omega / omega_n", "1"),
+    "frequency_ratio": Variable(("frequency_ratio",), np.float64, "frequency ratio r = omega / omega_n", "1",
+                                 valid_range=POSITIVE),
     "force_ratio": Variable(
         ("force_ratio",),
         np.float64,
         "force ratio beta = friction force / amplitude of the spring or external force",
         "1",
+        valid_range=NONNEGATIVE,
     ),
 }
 
@@ -57,9 +99,10 @@ VARIABLES = {
         "first-harmonic displacement transmissibility |X(r)|/|Y(r)| (response amplitude at the "
         "forcing frequency over {ref})",
         "1",
+        valid_range=AMPLITUDE_VALID,
     ),
     "peak_transmissibility": Variable(
-        GRID_DIMS, np.float64, "peak displacement transmissibility max|x| / {ref}", "1"
+        GRID_DIMS, np.float64, "peak displacement transmissibility max|x| / {ref}", "1", valid_range=AMPLITUDE_VALID
     ),
     "phase": Variable(
         GRID_DIMS,
@@ -67,6 +110,7 @@ VARIABLES = {
         "first-harmonic phase lag of the response behind the excitation",
         "degree",
         _PHASE_NOTE,
+        valid_range=PHASE_VALID,
     ),
     "peak_phase": Variable(
         GRID_DIMS,
@@ -74,6 +118,7 @@ VARIABLES = {
         "phase lag between the maxima of excitation and response",
         "degree",
         _PHASE_NOTE,
+        valid_range=PHASE_VALID,
     ),
     "regime": Variable(
         GRID_DIMS,
@@ -87,6 +132,7 @@ VARIABLES = {
         np.float64,
         "number of stops (slip to stick transitions) per forcing period; NaN where unknown",
         "1",
+        valid_range=COUNT_VALID,  # not whole: a period-k orbit averages its stops over k periods
     ),
     "continuous_limit": Variable(
         ("frequency_ratio",),
@@ -94,9 +140,12 @@ VARIABLES = {
         "largest force ratio with continuous (non-stop) motion, Den Hartog's beta*(r) in the "
         "scene's force-ratio convention",
         "1",
+        valid_range=NONNEGATIVE,
     ),
-    "stuck_fraction": Variable(GRID_DIMS, np.float64, "fraction of the steady-state period spent stuck", "1"),
-    "periods": Variable(GRID_DIMS, np.float64, "forcing periods simulated before the steady state was measured", "1"),
+    "stuck_fraction": Variable(GRID_DIMS, np.float64, "fraction of the steady-state period spent stuck", "1",
+                               valid_range=FRACTION_VALID),
+    "periods": Variable(GRID_DIMS, np.float64, "forcing periods simulated before the steady state was measured", "1",
+                        valid_range=COUNT_VALID),  # not whole: method paper records where a failed solve stopped
     "steady_state": Variable(
         GRID_DIMS,
         np.int8,
@@ -105,7 +154,8 @@ VARIABLES = {
         {"flag_values": regimes.STEADY_FLAG_VALUES, "flag_meanings": regimes.STEADY_FLAG_MEANINGS},
     ),
     "orbit_period": Variable(
-        GRID_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, k subharmonic)", "1"
+        GRID_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, k subharmonic)", "1",
+        valid_range=(1.0, COUNT_MAX), integral=True,
     ),
     "method_used": Variable(
         GRID_DIMS,
@@ -115,9 +165,12 @@ VARIABLES = {
         {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "theory event"},
     ),
     # time histories of selected points (outputs: time_history), on their own dims
-    "history_frequency_ratio": Variable(("history",), np.float64, "frequency ratio of the time-history point", "1"),
-    "history_force_ratio": Variable(("history",), np.float64, "force ratio of the time-history point", "1"),
-    "history_orbit_period": Variable(("history",), np.float64, "period of the stored orbit in forcing periods", "1"),
+    "history_frequency_ratio": Variable(("history",), np.float64, "frequency ratio of the time-history point", "1",
+                                        valid_range=POSITIVE),
+    "history_force_ratio": Variable(("history",), np.float64, "force ratio of the time-history point", "1",
+                                    valid_range=NONNEGATIVE),
+    "history_orbit_period": Variable(("history",), np.float64, "period of the stored orbit in forcing periods", "1",
+                                     valid_range=COUNT_VALID, integral=True),  # 0: no steady state
     "history_regime": Variable(
         ("history",),
         np.int8,
@@ -125,18 +178,24 @@ VARIABLES = {
         "1",
         {"flag_values": regimes.FLAG_VALUES, "flag_meanings": regimes.FLAG_MEANINGS},
     ),
-    "history_time": Variable(HISTORY_DIMS, np.float64, "time in forcing periods from a steady-state section", "1"),
-    "history_displacement": Variable(HISTORY_DIMS, np.float64, "response displacement x / {ref}", "1"),
-    "history_excitation": Variable(HISTORY_DIMS, np.float64, "excitation (force or base displacement) / its amplitude", "1"),
+    "history_time": Variable(HISTORY_DIMS, np.float64, "time in forcing periods from a steady-state section", "1",
+                             valid_range=NONNEGATIVE),
+    "history_displacement": Variable(HISTORY_DIMS, np.float64, "response displacement x / {ref}", "1",
+                                     valid_range=DISPLACEMENT_VALID),
+    "history_excitation": Variable(HISTORY_DIMS, np.float64, "excitation (force or base displacement) / its amplitude", "1",
+                                   valid_range=(-1.0, 1.0)),
     "history_relative_displacement": Variable(
-        HISTORY_DIMS, np.float64, "displacement in the equation of motion (x; z = x - y for joined) / {ref}", "1"
+        HISTORY_DIMS, np.float64, "displacement in the equation of motion (x; z = x - y for joined) / {ref}", "1",
+        valid_range=DISPLACEMENT_VALID,
     ),
     "history_relative_velocity": Variable(
-        HISTORY_DIMS, np.float64, "velocity in the equation of motion, in {ref} per 1/omega_n", "1"
+        HISTORY_DIMS, np.float64, "velocity in the equation of motion, in {ref} per 1/omega_n", "1",
+        valid_range=DISPLACEMENT_VALID,
     ),
     # joined base-wall excitation only: the relative motion z = x - y (paper Sect. 4)
     "relative_peak_amplitude": Variable(
-        GRID_DIMS, np.float64, "peak relative mass-wall displacement |Z|/|Y| (paper Eq. 34)", "1"
+        GRID_DIMS, np.float64, "peak relative mass-wall displacement |Z|/|Y| (paper Eq. 34)", "1",
+        valid_range=AMPLITUDE_VALID,
     ),
     "relative_peak_phase": Variable(
         GRID_DIMS,
@@ -144,6 +203,7 @@ VARIABLES = {
         "phase lag phi_yz of the relative motion z behind the base motion y, between maxima (Eq. 33)",
         "degree",
         _PHASE_NOTE,
+        valid_range=PHASE_VALID,
     ),
     "peak_phase_xz": Variable(
         GRID_DIMS,
@@ -151,6 +211,7 @@ VARIABLES = {
         "phase lag phi_xz of the relative motion z behind the absolute motion x, between maxima (Eq. 43)",
         "degree",
         _PHASE_NOTE,
+        valid_range=PHASE_VALID,
     ),
 }
 
@@ -174,4 +235,5 @@ VARIABLES["steady_states"] = Variable(
     {"comment": "two states are one when both are stuck, both unbounded, both aperiodic, or both move with "
      "the same regime and stops per period and first-harmonic transmissibilities within 1e-5 relative; "
      "an unsettled result counts as no state"},
+    valid_range=(0.0, 2.0),  # two starts at most
 )

@@ -1,0 +1,170 @@
+"""Audit a result cube against the schema table: does every stored value lie where the schema says it can?
+
+A cube whose bytes were damaged after writing (a flipped exponent bit, a bad disk block) still opens;
+its numbers just become wrong. `audit` reads every variable and reports what no method can write:
+
+* structure: variables the schema does not know, variables on other dims than the schema's, or
+  stored with another dtype; a missing grid coordinate;
+* coordinates (frequency_ratio, force_ratio): finite, inside their valid range, strictly increasing;
+* integer flag variables (regime, steady_state, method_used, their `_moving` twins, history_regime):
+  only their CF flag_values;
+* float variables: NaN (no value) or finite and inside the variable's `valid_range`, and a whole
+  number where the schema marks the variable `integral` (orbit periods).
+
+The valid values live in one place, friction_sweep.storage.schema (`Variable.valid_range`,
+`Variable.integral`, the flag_values); this module only applies them. It is pure: it prints nothing
+and changes nothing, and returns a list of `Problem`s (empty for a sound cube).
+
+These are checks on single values. Whether the values fit together and fit the physics is
+`fsweep check` (friction_sweep.consistency).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from friction_sweep.storage import schema
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One thing wrong with one variable of a cube.
+
+    variable: the variable's name; what: what is wrong, in words (for value problems a predicate of
+    "values", e.g. "are not valid regime codes"); count, total: how many values are wrong, of how many
+    (None for structural problems); example: the first wrong value (C order); dims, index: the
+    variable's dims and the example's position on them; where: the coordinates of that position, for
+    the dims that have coordinates (frequency_ratio, force_ratio), as (dim, value) pairs.
+    """
+
+    variable: str
+    what: str
+    count: int | None = None
+    total: int | None = None
+    example: float | int | None = None
+    dims: tuple[str, ...] = ()
+    index: tuple[int, ...] = ()
+    where: tuple[tuple[str, float], ...] = ()
+
+    def __str__(self) -> str:
+        if self.count is None:
+            return f"{self.variable}: {self.what}"
+        text = f"{self.variable}: {self.count} of {self.total} values {self.what}"
+        if self.example is not None:
+            text += f" (e.g. {_number(self.example)}{_location(self)})"
+        return text
+
+
+def audit(ds: xr.Dataset) -> list[Problem]:
+    """Every problem found in the cube `ds` (an empty list: none), in the order of its variables."""
+    problems: list[Problem] = []
+    for name in schema.COORDS:
+        if name not in ds.variables:
+            problems.append(Problem(name, "is missing: every result cube has this coordinate"))
+    for name, var in ds.variables.items():
+        spec = schema.COORDS.get(name) if name in ds.coords else schema.VARIABLES.get(name)
+        if spec is None:
+            where = "coordinate" if name in ds.coords else "variable"
+            problems.append(Problem(name, f"is not a {where} of the result cube schema"))
+            continue
+        if tuple(var.dims) != tuple(spec.dims):
+            problems.append(Problem(name, f"has dims ({', '.join(var.dims)}); the schema says "
+                                          f"({', '.join(spec.dims)})"))
+        if np.dtype(var.dtype) != np.dtype(spec.dtype):
+            problems.append(Problem(name, f"is stored as {np.dtype(var.dtype)}; the schema says "
+                                          f"{np.dtype(spec.dtype)}"))
+        problems.extend(_values(ds, name, var, spec))
+    return problems
+
+
+def _values(ds, name, var, spec) -> list[Problem]:
+    """Value problems of one variable, each kind of fault reported once with its count."""
+    values = np.asarray(var.values)
+    if values.dtype.kind not in "biuf":  # strings, objects: nothing numeric to check
+        return [Problem(name, f"holds {values.dtype} values, not numbers")]
+    found = []
+    is_coord = name in schema.COORDS and name in ds.coords
+
+    def report(bad, what):
+        n = int(np.count_nonzero(bad))
+        if n:
+            pos = np.unravel_index(int(np.argmax(bad)), values.shape) if values.ndim else ()
+            found.append(_problem(ds, name, var, values, pos, n, what, is_coord))
+        return n
+
+    flags = spec.flag_values
+    floating = values.dtype.kind == "f"
+    if flags is not None:
+        kind = name.removesuffix(schema.MOVING_SUFFIX).removeprefix("history_")
+        report(~np.isin(values, np.asarray(flags)), f"are not valid {kind} codes")
+        return found
+    if floating:
+        nan = np.isnan(values)
+        if is_coord:
+            report(nan, "are NaN (a grid coordinate is never NaN)")
+        report(np.isinf(values), "are infinite (no method writes infinities; unbounded points are NaN)")
+        finite = np.isfinite(values)
+    else:
+        finite = np.ones(values.shape, dtype=bool)
+    if spec.valid_range is not None:
+        lo, hi = spec.valid_range
+        with np.errstate(invalid="ignore"):
+            outside = finite & ((values < lo) | (values > hi))
+        report(outside, f"lie outside the valid range {_range(lo, hi)}")
+    else:
+        outside = np.zeros(values.shape, dtype=bool)
+    if spec.integral and floating:
+        with np.errstate(invalid="ignore"):
+            report(finite & ~outside & (values != np.round(values)), "are not whole numbers")
+    if is_coord and values.ndim == 1 and values.size > 1:
+        # among values that are numbers (a NaN is reported above, once)
+        known = ~np.isnan(values) if floating else np.ones(values.shape, dtype=bool)
+        with np.errstate(invalid="ignore"):
+            step_bad = np.concatenate(([False], known[1:] & known[:-1] & ~(np.diff(values) > 0)))
+        report(step_bad, "are not strictly increasing (each must exceed the one before it)")
+    return found
+
+
+def _problem(ds, name, var, values, pos, n, what, is_coord) -> Problem:
+    pos = tuple(int(i) for i in pos)
+    where = []
+    if not is_coord:
+        for dim, i in zip(var.dims, pos):
+            if dim in ds.coords and ds[dim].ndim == 1:
+                where.append((dim, _scalar(ds[dim].values[i])))
+    return Problem(name, what, n, int(values.size), _scalar(values[pos]), tuple(var.dims), pos, tuple(where))
+
+
+def _scalar(x):
+    return np.asarray(x).item()
+
+
+def _number(x) -> str:
+    if isinstance(x, float):
+        return f"{x:.6g}"
+    return str(x)
+
+
+def _range(lo: float, hi: float) -> str:
+    left = "(0" if lo == schema.POSITIVE[0] else f"[{lo:g}"
+    right = f"{hi:g})" if np.isinf(hi) else f"{hi:g}]"
+    return f"{left}, {right}"
+
+
+def _location(p: Problem) -> str:
+    """ " at frequency_ratio=..., force_ratio=..." ((r, beta), as points are named elsewhere), or
+    " at history[i], sample[j]" on dims without coordinates."""
+    named = dict(p.where)
+    dims_text = []
+    for dim, i in sorted(zip(p.dims, p.index), key=lambda d: d[0] != "frequency_ratio"):
+        if dim in named:
+            dims_text.append(f"{dim}={named[dim]:.12g}")
+        else:
+            dims_text.append(f"{dim}[{i}]")
+    return " at " + ", ".join(dims_text) if dims_text else ""
+
+
+__all__ = ["Problem", "audit"]

@@ -1,0 +1,142 @@
+"""Where and how a command writes its outputs: checked before it computes, written all or nothing.
+
+The atomic writers (friction_sweep.storage.atomic, cube.write_atomic) rename a finished temporary
+file over the target. That is right for a regular file, but renaming over a symlink replaces the
+link (not the file it points to), and a directory, FIFO or device in the target's place fails only
+after the computation. So a command asks `refuse_special_output` (and, if it draws,
+`missing_figures_extra`) first and stops with the reason; then computes everything; then writes
+its files with `write_all`, so that a full disk leaves the previous outputs as they were.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from collections.abc import Callable, Iterable
+from pathlib import Path
+
+#: what a non-regular file is, by its st_mode type, in refusals
+_KINDS = (
+    (stat.S_ISDIR, "a directory"),
+    (stat.S_ISFIFO, "a named pipe (FIFO)"),
+    (stat.S_ISSOCK, "a socket"),
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+)
+
+#: the extra that brings matplotlib, as the refusal names it
+FIGURES_EXTRA = "pip install 'friction_sweep[figures]'"
+
+
+def refuse_special_output(path: str | os.PathLike[str]) -> str | None:
+    """Why `path` must not be written as an output file, or None when it may be.
+
+    May be: a path that does not exist yet (its folders are created when written), or an existing
+    regular file (replaced atomically). Refused: a symlink (even to a regular file: fsweep never
+    replaces links), anything else that exists there (directory, FIFO, socket, device), and a path
+    one of whose parents exists as something other than a folder.
+    """
+    path = Path(path)
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        st = None
+    except NotADirectoryError:  # a parent is a file: said below, naming that parent
+        st = None
+    except OSError as err:
+        return f"cannot check the output {path}: {err.strerror or err}"
+    if st is not None:
+        if stat.S_ISLNK(st.st_mode):
+            return (f"{path} is a symbolic link to {os.readlink(path)}; fsweep never replaces links: "
+                    "name the file itself, or remove the link")
+        if not stat.S_ISREG(st.st_mode):
+            return f"{path} is {file_kind(st.st_mode)}, not a regular file"
+        return None
+    return _refuse_parent(path)
+
+
+def _refuse_parent(path: Path) -> str | None:
+    """The reason the nearest existing ancestor of `path` cannot hold it (None if it is a folder)."""
+    for parent in path.parents:  # as written: relative ones end at ".", which exists
+        try:
+            st = os.stat(parent)  # followed: a link to a folder is a fine place to write
+        except FileNotFoundError:
+            if os.path.islink(parent):
+                return f"parent {parent} is a broken symbolic link to {os.readlink(parent)}"
+            continue  # created when the output is written
+        except NotADirectoryError:
+            continue  # an ancestor further up is a file: reported when the loop reaches it
+        except OSError as err:
+            return f"cannot check the folder {parent}: {err.strerror or err}"
+        if stat.S_ISDIR(st.st_mode):
+            return None
+        what = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
+        return f"parent {parent} is {what}, not a folder"
+    return None
+
+
+def missing_figures_extra() -> str | None:
+    """Why figures cannot be drawn (matplotlib missing or broken), or None when they can.
+
+    Commands that end with a figure ask this before they compute, so that a missing optional
+    dependency costs nothing and leaves no partial set of outputs.
+    """
+    try:
+        # both imports, explicitly: pyplot is what draws, and a broken install (a missing backend
+        # dependency) fails only there; `import matplotlib` first so that a matplotlib blocked in
+        # sys.modules is noticed even when pyplot was imported earlier
+        import matplotlib  # noqa: F401
+        import matplotlib.pyplot  # noqa: F401
+    except ImportError as err:
+        return f"this command draws figures, which need matplotlib ({err}): {FIGURES_EXTRA}"
+    return None
+
+
+def file_kind(mode: int) -> str:
+    """What a non-regular file is ("a directory", "a named pipe (FIFO)", ...), for messages."""
+    return next((name for test, name in _KINDS if test(mode)), "not a regular file")
+
+
+
+def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], object]]]) -> list[Path]:
+    """Write a command's outputs all or nothing; returns their paths.
+
+    `writers` pairs each target with a function that writes a given path (atomically, through
+    friction_sweep.storage.atomic or cube.write_atomic). Each first writes a hidden staged file next
+    to its target; only when every one has succeeded are they renamed into place. A failure while
+    writing (a full disk, a read-only folder) thus changes none of the targets and leaves no staged
+    file: the error is re-raised for the command to report. Renames need no space, so the second
+    phase fails only in exotic cases (the folder removed meanwhile), which re-raise likewise.
+    """
+    staged: list[tuple[Path, Path]] = []
+    try:
+        for target, write in writers:
+            target = Path(target)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            tmp = target.with_name(f".{target.name}.{os.getpid()}.staged")
+            staged.append((tmp, target))
+            write(tmp)
+        for tmp, target in staged:
+            os.replace(tmp, target)
+    except BaseException:
+        for tmp, _ in staged:
+            if os.path.lexists(tmp):
+                os.unlink(tmp)
+        raise
+    for folder in {target.parent for _, target in staged}:
+        _fsync_folder(folder)
+    return [target for _, target in staged]
+
+
+def _fsync_folder(folder: Path) -> None:
+    """Make the renames durable (best effort: not every platform or file system allows it)."""
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
