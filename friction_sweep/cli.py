@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import shlex
+import signal
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -17,13 +19,17 @@ from friction_sweep.spec import SpecError, load_spec
 EXIT_BAD_INPUT = 2
 EXIT_RUNTIME = 1
 EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143  # 128 + SIGTERM, as a shell reports a process it ended
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, turned into an interruption so that every clean-up that Ctrl-C runs also runs."""
+
+
+def _on_sigterm(signum, frame):
+    raise _Terminated
 EXIT_FINDINGS = 1  # fsweep check: a rule failed
 
-# A grid is "huge" (run only with --yes) past any of these: the run would take long, need much
-# memory, or both; the refusal says how much.
-HUGE_SECONDS = 1800.0
-HUGE_BYTES = 4 * 2**30
-BYTES_PER_POINT = 400  # ~20 float64 outputs and working copies per grid point
 
 
 def _fail(message: str, code: int = EXIT_BAD_INPUT):
@@ -50,10 +56,12 @@ class _Group(click.Group):
     def invoke(self, ctx):
         try:
             return super().invoke(ctx)
-        except KeyboardInterrupt:
-            # nothing half-written: results are only ever renamed into place when complete
-            click.echo("fsweep: interrupted; no result was written or changed", err=True)
-            sys.exit(EXIT_INTERRUPTED)
+        except KeyboardInterrupt as err:
+            # nothing half-written: results are only ever renamed into place when complete (a run
+            # says more: it catches this itself, to name the finished tiles it keeps)
+            how = "terminated" if isinstance(err, _Terminated) else "interrupted"
+            click.echo(f"fsweep: {how}; no result was written or changed", err=True)
+            sys.exit(EXIT_TERMINATED if isinstance(err, _Terminated) else EXIT_INTERRUPTED)
 
 
 @click.group(cls=_Group, context_settings={"help_option_names": ["-h", "--help"]})
@@ -63,23 +71,50 @@ def main():
 
 
 @main.command()
-@click.argument("spec", type=click.Path(dir_okay=False, path_type=Path))
-def validate(spec: Path):
-    """Check SPEC without computing or writing anything."""
+@click.argument("spec", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), help="Result file to check "
+              "(overrides the spec's `output`).")
+def validate(spec: Path, output: Path | None):
+    """Check SPEC, and where its result would go, without computing or writing anything."""
     s = _load(spec)
+    out = _output_path(spec, s, output)
+    _refuse_output(out)
+    _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_ratio.size
     click.echo(
         f"{spec}: ok: excitation {s.scene.excitation}, method {s.method}, "
         f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
-        f"outputs {', '.join(s.outputs)}, output {_output_path(spec, s, None)}"
+        f"outputs {', '.join(s.outputs)}, output {out}"
     )
+    from friction_sweep.sweep.estimate import estimate
+
+    cost = estimate(s, jobs=1, executor="serial")
+    click.echo(f"  estimate on one worker: {cost.describe()}")
+
+
+@main.command("settings")
+@click.argument("method", required=False)
+def settings_(method: str | None):
+    """List each method's settings: default, meaningful range (values outside are refused), and why."""
+    from friction_sweep import methods
+    from friction_sweep.spec import METHOD_SETTINGS
+
+    names = [method] if method else list(METHOD_SETTINGS)
+    if method is not None and method not in METHOD_SETTINGS:
+        _fail(f"unknown method {method!r} (available: {', '.join(METHOD_SETTINGS)})")
+    for name in names:
+        known = METHOD_SETTINGS[name]
+        click.echo(f"{name}:" + ("" if known else " no settings"))
+        defaults = methods.get(name).SETTINGS
+        for key, setting in known.items():
+            click.echo(f"  {key:<28} default {defaults.get(key)!s:<10} range {setting.describe():<22} {setting.why}")
 
 
 @main.command()
-@click.argument("spec", type=click.Path(dir_okay=False, path_type=Path))
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path), help="Result file (overrides the spec's `output`).")
+@click.argument("spec", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), help="Result file (overrides the spec's `output`).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing result (atomically).")
-@click.option("-j", "--jobs", type=click.IntRange(min=1), default=1, show_default=True, help="Worker processes.")
+@click.option("-j", "--jobs", type=click.IntRange(min=1, max=1024), default=1, show_default=True, help="Workers.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("--yes", is_flag=True, help="Run even a huge grid (one estimated to take over 30 min or 4 GiB).")
 @click.option("--executor", type=click.Choice(["threads", "processes", "dask", "serial"]), default="threads",
@@ -93,50 +128,81 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
     from friction_sweep import methods
     from friction_sweep.sweep import checkpoint
-    from friction_sweep.sweep.runner import TILE_FORCES, TILE_FREQUENCIES, layout
+    from friction_sweep.sweep import estimate as cost_model
+    from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES, layout
 
     _logging(verbose)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _on_sigterm)
     if scheduler:
         executor = "dask"
 
     s = _load(spec)
     out = _output_path(spec, s, output)
+    if resume and overwrite:
+        _fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
+    _refuse_output(out)
     if out.exists() and not overwrite and not resume:
         _fail(f"{out} exists; pass --overwrite to replace it")
-    if out.exists() and out.is_dir():
-        _fail(f"{out} is a directory")
+    if executor == "dask":
+        _check_dask(scheduler)
     method = methods.get(s.method)
-    r, beta = s.frequency_ratio, s.force_ratio
-    points = r.size * beta.size
-    seconds = points * method.COST_PER_POINT_S / jobs
-    memory = points * BYTES_PER_POINT
-    if (seconds > HUGE_SECONDS or memory > HUGE_BYTES) and not yes:
-        _fail(f"{spec}: grid: {points} points with method {s.method} would take about {_duration(seconds)} "
-              f"with {jobs} worker(s) and {memory / 2**30:.1f} GiB of memory; pass --yes to run it")
+    cost = cost_model.estimate(s, jobs=jobs, executor=executor)
+    if (cost.seconds > cost_model.HUGE_SECONDS or cost.bytes > cost_model.HUGE_BYTES) and not yes:
+        _fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
+              f"pass --yes to run it")
     _check_writable(out)
+    r, beta = s.frequency_ratio, s.force_ratio
     sweep = s.sweep.direction if s.sweep is not None else None
     key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
                                  tile=TILE_FORCES if sweep else TILE_FREQUENCIES, version=friction_sweep.__version__)
-    settings, extra = dict(s.settings), {}
-    if s.accuracy is not None:
-        import json
-
-        from friction_sweep.bench.workprecision import choose
-
-        try:
-            chosen, row = choose("event" if s.method == "auto" else s.method, s.accuracy)
-        except LookupError as err:
-            _fail(f"{spec}: accuracy: {err}")
-        settings.update(chosen)
-        extra = {"accuracy_requested": s.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
-        click.echo(f"accuracy {s.accuracy:g}: {s.method} with {chosen} (benchmark worst error "
-                   f"{row['worst_error']:.1e}, {row['seconds_per_point'] * 1e3:.3g} ms per point)", err=True)
+    settings, extra = _accuracy_settings(s, spec, quiet=False)
     store = checkpoint.Checkpoint(out, key, len(layout(r.size, beta.size, sweep)))
     try:
         with checkpoint.Lock(out):
             _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, settings,
                         extra)
-    except checkpoint.Busy as err:
+    except (checkpoint.Busy, checkpoint.Mismatch) as err:
+        _fail(str(err))
+
+
+def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
+    """The run's settings, with those that `accuracy:` chooses from the benchmark's calibration, and
+    the attributes that record the choice."""
+    settings, extra = dict(s.settings), {}
+    if s.accuracy is None:
+        return settings, extra
+    import json
+
+    from friction_sweep.bench.workprecision import choose
+
+    try:
+        chosen, row = choose("event" if s.method == "auto" else s.method, s.accuracy)
+    except LookupError as err:
+        _fail(f"{spec}: accuracy: {err}")
+    settings.update(chosen)
+    extra = {"accuracy_requested": s.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
+    if not quiet:
+        click.echo(f"accuracy {s.accuracy:g}: {s.method} with {chosen} (benchmark worst error "
+                   f"{row['worst_error']:.1e}, {row['seconds_per_point'] * 1e3:.3g} ms per point)", err=True)
+    return settings, extra
+
+
+def _refuse_output(out: Path) -> None:
+    from friction_sweep.storage.outputs import refuse_special_output
+
+    reason = refuse_special_output(out)
+    if reason is not None:
+        _fail(f"output: {reason}")
+
+
+def _check_dask(scheduler: str | None) -> None:
+    """Fail in a second, not after a 30 s connection timeout, where Dask cannot run the tiles."""
+    from friction_sweep.sweep.executors import DaskUnavailable, check_dask
+
+    try:
+        check_dask(scheduler)
+    except DaskUnavailable as err:
         _fail(str(err))
 
 
@@ -147,27 +213,43 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
     from friction_sweep.sweep import checkpoint
     from friction_sweep.sweep.runner import run_grid
 
+    if store.exists() and store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir():
+        store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
     if store.exists() and not resume:
-        _fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
-              f"continue it, or delete that folder to start afresh")
+        if store.belongs():
+            _fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
+                  f"continue it, or clear them with: {store.clear_command}")
+        store.start(resume=False)  # raises Mismatch naming the command that clears it
     if resume and out.exists() and not store.exists():
-        _fail(f"{out} is complete: there is nothing to resume (pass --overwrite to recompute it)")
+        _fail(f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
+              f"instead of --resume)")
     try:
-        done = store.start(resume)
-    except checkpoint.Mismatch as err:
-        _fail(str(err))
+        done, dropped = store.start(resume)
+    except checkpoint.SaveFailed as err:
+        _fail(str(err), EXIT_RUNTIME)
+    for name in dropped:
+        click.echo(f"fsweep: warning: {store.dir / name} was damaged; its tile is computed again", err=True)
     r, beta = s.frequency_ratio, s.force_ratio
     start = time.perf_counter()
-    with _progress(quiet, r.size * beta.size) as advance:
-        arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
-                          settings=settings, sweep=s.sweep.direction if s.sweep is not None else None,
-                          jobs=jobs, executor=executor, scheduler=scheduler, done=done,
-                          on_done=store.save, on_tile=advance)
-        if s.time_history is not None:
-            pts = np.asarray(s.time_history.points, dtype=float)
-            hist = method.time_histories(s.scene.excitation, pts, s.time_history.samples_per_period,
-                                         s.scene.effects.declared(), settings)
-            arrays.update(hist, history_frequency_ratio=pts[:, 0], history_force_ratio=pts[:, 1])
+    try:
+        with _progress(quiet, r.size * beta.size) as advance:
+            arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
+                              settings=settings, sweep=s.sweep.direction if s.sweep is not None else None,
+                              jobs=jobs, executor=executor, scheduler=scheduler, done=done,
+                              on_done=store.save, on_tile=advance)
+            if s.time_history is not None:
+                pts = np.asarray(s.time_history.points, dtype=float)
+                hist = method.time_histories(s.scene.excitation, pts, s.time_history.samples_per_period,
+                                             s.scene.effects.declared(), settings)
+                arrays.update(hist, history_frequency_ratio=pts[:, 0], history_force_ratio=pts[:, 1])
+    except _Terminated:
+        _stopped(store, "terminated", EXIT_TERMINATED)
+    except KeyboardInterrupt:
+        _stopped(store, "interrupted", EXIT_INTERRUPTED)
+    except checkpoint.SaveFailed as err:
+        _fail(str(err), EXIT_RUNTIME)
+    except Exception as err:  # a lost scheduler, a bug: one line, and the finished tiles stay usable
+        _stopped(store, f"the run failed: {type(err).__name__}: {' '.join(str(err).split())[:300]}", EXIT_RUNTIME)
     elapsed = time.perf_counter() - start
 
     command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)])
@@ -192,7 +274,9 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
     except FileExistsError:
         _fail(f"{out} appeared while the sweep ran; nothing was replaced (pass --overwrite)")
     except OSError as err:
-        _fail(f"could not write {out}: {err}; nothing was written", EXIT_RUNTIME)
+        kept = f"; its {store.finished()} finished tiles are kept in {store.dir}: rerun with --resume" \
+            if store.finished() else ""
+        _fail(f"could not write {out}: {err.strerror or err}; nothing was written{kept}", EXIT_RUNTIME)
 
     store.remove()
     click.echo(f"wrote {out}")
@@ -201,6 +285,16 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
         f"{r.size} frequency ratios = {beta.size * r.size} points in {elapsed:.2f} s"
     )
     _echo_regimes(ds)
+
+
+def _stopped(store, why: str, code: int):
+    """End a run that stopped early: keep finished tiles for --resume, and say so; else leave nothing."""
+    n = store.finished()
+    if n:
+        _fail(f"{why}; no result was written; {n} finished tiles are kept in {store.dir}: rerun with --resume "
+              f"to continue", code)
+    store.remove()
+    _fail(f"{why}; nothing was written", code)
 
 
 def _logging(verbose: int) -> None:
@@ -228,7 +322,7 @@ def _check_writable(out: Path) -> None:
         with tempfile.NamedTemporaryFile(dir=out.parent, prefix=f".{out.name}.", suffix=".probe"):
             pass
     except OSError as err:
-        _fail(f"cannot write the output {out}: {err.strerror or err}", EXIT_RUNTIME)
+        _fail(f"cannot write the output {out}: {err.strerror or err}")
 
 
 def _recorded_settings(s, method, settings) -> dict:
@@ -297,8 +391,9 @@ class _progress:
 @main.command()
 @click.argument("result", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 def info(result: Path):
-    """Describe a result cube: dims, method, provenance, regime counts."""
-    from friction_sweep.storage import cube
+    """Describe a result cube: dims, method, provenance, regime counts; exit 2 if it holds values
+    no run writes (outside a variable's valid range, or codes outside its flags)."""
+    from friction_sweep.storage import audit, cube
 
     try:
         ds = cube.open_cube(result)
@@ -307,6 +402,7 @@ def info(result: Path):
     a = ds.attrs
     if "friction_sweep_version" not in a:
         _fail(f"{result} is not a friction_sweep result cube (no provenance attributes)")
+    problems = audit.audit(ds)
     click.echo(f"{result}")
     click.echo("  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()))
     for name in ("frequency_ratio", "force_ratio"):
@@ -328,6 +424,10 @@ def info(result: Path):
             finite = np.isfinite(v)
             if finite.any():
                 click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} ({finite.sum()} finite of {v.size})")
+    if problems:  # the summary above is shown, but not trusted
+        for p in problems[:-1]:
+            click.echo(f"fsweep: error: {result}: {p}", err=True)
+        _fail(f"{result}: {problems[-1]}")
 
 
 @main.command()
@@ -381,29 +481,30 @@ def _shown(v) -> str:
 
 @main.command()
 @click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
-@click.option("-o", "--output", type=click.Path(dir_okay=False, path_type=Path),
+@click.option("-o", "--output", type=click.Path(path_type=Path),
               default=Path("results/bench/workprecision.h5"), show_default=True, help="Dataset to write.")
 @click.option("--calibrate", is_flag=True, help="Also rewrite the calibration that `accuracy:` in specs uses.")
 def bench(quick: bool, output: Path, calibrate: bool):
     """Measure what accuracy costs in time: error and time per point of every method and setting."""
-    import json
-
     from friction_sweep.bench import workprecision as wp
-    from friction_sweep.storage import atomic, cube
+    from friction_sweep.storage.outputs import missing_figures_extra
 
     if calibrate and quick:
         _fail("--calibrate needs the full benchmark, not --quick")
+    # every refusal before the benchmark's seconds to minutes of computing
+    problem = wp.refuse_outputs(output, calibrate) or missing_figures_extra()
+    if problem:
+        _fail(problem)
     _check_writable(output)
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
-    cube.write_atomic(ds, output, overwrite=True)
-    wp.figure(ds, output.with_suffix(".png"))
     table = wp.markdown(ds)
-    atomic.write_text(output.with_suffix(".md"), table + "\n")
-    if calibrate:
-        atomic.write_text(wp.CALIBRATION, json.dumps(wp.calibration_table(ds), indent=1) + "\n")
+    try:
+        paths = wp.write(ds, output, calibrate)  # all or nothing
+    except OSError as err:
+        _fail(f"could not write the benchmark's results ({output}): {err.strerror or err}; "
+              "no output was changed", EXIT_RUNTIME)
     click.echo(table)
-    click.echo(f"wrote {output}, {output.with_suffix('.png')}, {output.with_suffix('.md')}"
-               + (f", {wp.CALIBRATION}" if calibrate else ""))
+    click.echo("wrote " + ", ".join(str(p) for p in paths))
 
 
 def _register_validate_data():

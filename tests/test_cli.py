@@ -276,11 +276,11 @@ time_history: {points: [[0.95, 0.8]], samples_per_period: 32}
 
 
 def test_huge_grid_is_refused_with_an_estimate_unless_yes(runner, tmp_path, monkeypatch):
-    import friction_sweep.cli as cli
+    import friction_sweep.sweep.estimate as estimate
 
     text = SMALL.format(excitation="base", output="out.h5").replace("method: theory", "method: event")
     spec = write_spec(tmp_path, text=text)
-    monkeypatch.setattr(cli, "HUGE_SECONDS", 1e-6)  # make this small grid count as huge
+    monkeypatch.setattr(estimate, "HUGE_SECONDS", 1e-6)  # make this small grid count as huge
     with in_dir(tmp_path):
         res = runner.invoke(main, ["run", str(spec)])
         assert res.exit_code == 2
@@ -301,8 +301,8 @@ def test_unwritable_output_folder_fails_before_computing(runner, tmp_path, monke
     called = []
     monkeypatch.setattr(runner_module, "run_grid", lambda *a, **k: called.append(1))
     res = runner.invoke(main, ["run", str(spec), "-o", str(blocker / "out.h5")])
-    assert res.exit_code == 1
-    assert "cannot write the output" in res.output and "out.h5" in res.output
+    assert res.exit_code == 2
+    assert f"parent {blocker} is a file, not a folder" in res.output
     assert called == []  # nothing computed in vain
     assert blocker.read_text() == "not a folder"
 
@@ -324,7 +324,7 @@ def test_full_disk_at_the_end_keeps_the_old_result(runner, tmp_path, monkeypatch
     assert "No space left on device" in res.output and "nothing was written" in res.output
     assert out.read_bytes() == before
     # no temporary file; the finished tiles wait in the checkpoint for --resume
-    assert sorted(p.name for p in tmp_path.iterdir()) == [".out.h5.lock", ".out.h5.partial", "out.h5", "spec.yaml"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".out.h5.partial", "out.h5", "spec.yaml"]
     monkeypatch.undo()
     import friction_sweep.methods.theory as theory_module
 
@@ -443,11 +443,35 @@ def test_resume_refuses_a_checkpoint_of_another_sweep(runner, tmp_path, monkeypa
 
     spec = write_spec(tmp_path, text=EVENT_SPEC)
     out = tmp_path / "out.h5"
-    monkeypatch.setattr(event_module, "compute_tile", lambda *a, **k: (_ for _ in ()).throw(KeyboardInterrupt))
-    assert runner.invoke(main, ["run", str(spec), "-o", str(out)]).exit_code == 130
+    real, calls = event_module.compute_tile, []
+
+    def interrupted_after_one(*a, **k):
+        calls.append(1)
+        if len(calls) > 1:
+            raise KeyboardInterrupt
+        return real(*a, **k)
+
+    monkeypatch.setattr(event_module, "compute_tile", interrupted_after_one)
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--executor", "serial"])
+    assert res.exit_code == 130 and "1 finished tiles are kept" in res.output and "--resume" in res.output
     spec.write_text(EVENT_SPEC.replace("1.2]", "1.3]"))
-    res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--resume"])
-    assert res.exit_code == 2 and "different sweep" in res.output
+    for args in (["--resume"], []):  # both name the command that clears the other sweep's tiles
+        res = runner.invoke(main, ["run", str(spec), "-o", str(out), *args])
+        assert res.exit_code == 2 and "different sweep" in res.output
+        assert f"rm -r {tmp_path / '.out.h5.partial'}" in res.output
+
+
+def test_a_run_that_failed_before_any_tile_does_not_block_the_next(runner, tmp_path, monkeypatch):
+    import friction_sweep.methods.event as event_module
+
+    spec = write_spec(tmp_path, text=EVENT_SPEC)
+    out = tmp_path / "out.h5"
+    monkeypatch.setattr(event_module, "compute_tile", lambda *a, **k: 1 / 0)
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out)])
+    assert res.exit_code == 1 and "ZeroDivisionError" in res.output and len(res.output.splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
+    monkeypatch.undo()
+    assert runner.invoke(main, ["run", str(spec), "-o", str(out)]).exit_code == 0
 
 
 def test_a_second_run_on_the_same_output_is_refused(runner, tmp_path):

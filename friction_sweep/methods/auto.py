@@ -15,8 +15,6 @@ from friction_sweep import regimes, ties
 from friction_sweep.methods import event, theory
 
 NAME = "auto"
-#: rough wall time per grid point on one core, for the huge-grid estimate (measured, rounded up)
-COST_PER_POINT_S = 5e-4
 EXCITATIONS = ("force", "base", "joined")
 EFFECTS: tuple[str, ...] = ()  # the theory models none; a scene with effects should use `event`
 SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "starts"}, "theory_margin": 0.02}

@@ -23,8 +23,6 @@ from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
 
 NAME = "event"
-#: rough wall time per grid point on one core, for the huge-grid estimate (measured, rounded up)
-COST_PER_POINT_S = 5e-4
 EXCITATIONS = ("force", "base", "joined")
 EFFECTS = ("viscous_damping", "static_friction_ratio")
 

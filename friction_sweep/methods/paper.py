@@ -60,9 +60,6 @@ from friction_sweep.methods import theory
 from friction_sweep.theory.phase import wrap_lag_degrees
 
 NAME = "paper"
-#: rough wall time per grid point on one core at the defaults (smooth points 0.1-0.5 s, measured;
-#: stick-slip points run to max_evaluations), for the huge-grid estimate
-COST_PER_POINT_S = 5.0
 EXCITATIONS = ("force", "base", "joined")
 EFFECTS: tuple[str, ...] = ()  # plain Coulomb friction only, as in the paper
 

@@ -9,8 +9,6 @@ from friction_sweep.kernels import steady
 from friction_sweep.methods import event
 
 NAME = "rk4"
-#: rough wall time per grid point on one core, for the huge-grid estimate (measured, rounded up)
-COST_PER_POINT_S = 2e-3
 EXCITATIONS = event.EXCITATIONS
 EFFECTS = event.EFFECTS
 SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "stop_tol"},

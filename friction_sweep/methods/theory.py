@@ -32,8 +32,6 @@ from friction_sweep.theory import joined
 from friction_sweep.theory.phase import wrap_lag_degrees
 
 NAME = "theory"
-#: rough wall time per grid point on one core, for the huge-grid estimate (measured, rounded up)
-COST_PER_POINT_S = 1e-4
 EXCITATIONS = ("force", "base", "joined")
 EFFECTS: tuple[str, ...] = ()
 

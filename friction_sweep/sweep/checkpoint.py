@@ -5,7 +5,7 @@ everything that decides the numbers: spec content, method, settings, tile layout
 `tile-NNNNN.npz` per finished tile, each written to a temporary name and renamed, so a kill -9 leaves
 only whole tiles. `fsweep run --resume` reloads them and computes the rest; the folder is removed once
 the cube is written. `.out.h5.lock` is held with flock for the whole run: the kernel releases it
-when the process ends, however it ends.
+when the process ends, however it ends; a run that ends normally also removes the file.
 """
 
 from __future__ import annotations
@@ -14,18 +14,25 @@ import fcntl
 import hashlib
 import json
 import os
+import shlex
 import shutil
 from pathlib import Path
 
 import numpy as np
 
+from friction_sweep.storage import atomic
+
 
 class Busy(RuntimeError):
-    """Another run holds the output's lock."""
+    """Another run holds the output's lock, or the lock cannot be taken at all."""
 
 
 class Mismatch(RuntimeError):
-    """The checkpoint on disk belongs to a different sweep."""
+    """The checkpoint on disk belongs to a different sweep, or cannot be trusted."""
+
+
+class SaveFailed(RuntimeError):
+    """A finished tile or the manifest could not be written (a full disk, an I/O error)."""
 
 
 def fingerprint(**parts) -> str:
@@ -42,27 +49,47 @@ def fingerprint(**parts) -> str:
 
 
 class Lock:
+    """flock on `.out.lock` for the whole run; the file is removed when the run ends."""
+
     def __init__(self, out: Path):
         self.path = out.parent / f".{out.name}.lock"
-        self.fd = None
+        self.out = out
+        self.fd: int | None = None
 
     def __enter__(self):
-        self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            os.close(self.fd)
-            self.fd = None
-            raise Busy(f"another fsweep run is writing {self.path.parent / self.path.name[1:-5]} "
-                       f"(it holds {self.path}); wait for it to finish") from None
-        os.ftruncate(self.fd, 0)
-        os.write(self.fd, str(os.getpid()).encode())
+        while True:
+            try:
+                fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as err:
+                what = "is a folder, not a lock file" if self.path.is_dir() else f"cannot be opened ({err.strerror})"
+                raise Busy(f"{self.path}, where fsweep locks {self.out}, {what}: remove it if no run is "
+                           f"writing {self.out}") from None
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                os.close(fd)
+                raise Busy(f"another fsweep run is writing {self.out} (it holds {self.path}); wait for it "
+                           f"to finish") from None
+            # the run before us may have removed the file between our open and our lock: then we
+            # hold a lock on a file nobody else can see, so take the one now at the path
+            try:
+                same = os.stat(self.path).st_ino == os.fstat(fd).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                break
+            os.close(fd)
+        self.fd = fd
+        os.ftruncate(fd, 0)
+        os.write(fd, str(os.getpid()).encode())
         return self
 
     def __exit__(self, *exc):
         if self.fd is not None:
+            self.path.unlink(missing_ok=True)  # while still held: no one can take the old file
             fcntl.flock(self.fd, fcntl.LOCK_UN)
             os.close(self.fd)
+            self.fd = None
         return False
 
 
@@ -72,42 +99,70 @@ class Checkpoint:
         self.key = key
         self.n_tiles = n_tiles
 
+    @property
+    def clear_command(self) -> str:
+        return f"rm -r {shlex.quote(str(self.dir))}"
+
     def exists(self) -> bool:
-        return (self.dir / "manifest.json").exists()
+        return os.path.lexists(self.dir)
 
     def finished(self) -> int:
-        return len(list(self.dir.glob("tile-*.npz"))) if self.dir.exists() else 0
+        return len(list(self.dir.glob("tile-*.npz"))) if self.dir.is_dir() else 0
 
-    def start(self, resume: bool) -> dict[int, dict]:
-        """Open for writing; with resume, return the finished tiles (checked against the key)."""
+    def belongs(self) -> bool:
+        """Whether the checkpoint on disk is this sweep's (Mismatch if it cannot be read)."""
+        if self.dir.is_symlink() or not self.dir.is_dir():
+            raise Mismatch(f"{self.dir} is not a folder, so it holds no checkpoint; remove it with: "
+                           f"{self.clear_command}")
+        try:
+            manifest = json.loads((self.dir / "manifest.json").read_text(encoding="utf-8"))
+            return manifest["key"] == self.key
+        except FileNotFoundError:
+            return False  # killed before its manifest was written: it holds nothing of any sweep
+        except (OSError, ValueError, KeyError, TypeError) as err:
+            raise Mismatch(f"{self.dir}/manifest.json cannot be read ({_why(err)}), so its tiles cannot be "
+                           f"trusted; clear them with: {self.clear_command}") from None
+
+    def start(self, resume: bool) -> tuple[dict[int, dict], list[str]]:
+        """Open for writing; with resume, return the finished tiles, and the names of damaged tiles
+        that were dropped (to be computed again)."""
         done: dict[int, dict] = {}
+        dropped: list[str] = []
         if self.exists():
-            manifest = json.loads((self.dir / "manifest.json").read_text())
-            if manifest.get("key") != self.key:
-                raise Mismatch(f"{self.dir} holds tiles of a different sweep (spec, method, settings or version "
-                               f"changed); delete it to start afresh")
+            if not self.belongs():
+                raise Mismatch(f"{self.dir} holds {self.finished()} finished tiles of a different sweep (spec, "
+                               f"method, settings or version changed); clear them with: {self.clear_command}")
             if resume:
                 for path in sorted(self.dir.glob("tile-*.npz")):
-                    with np.load(path) as data:
-                        done[int(path.stem.split("-")[1])] = {k: data[k] for k in data.files}
-        self.dir.mkdir(parents=True, exist_ok=True)
-        _atomic_write(self.dir / "manifest.json", json.dumps({"key": self.key, "tiles": self.n_tiles}).encode())
-        return done
+                    try:
+                        index = int(path.stem.split("-")[1])
+                        with np.load(path) as data:
+                            tile = {k: data[k] for k in data.files}
+                        if not 0 <= index < self.n_tiles or not tile:
+                            raise ValueError("not a tile of this sweep")
+                    except Exception:  # any damage (truncated, not a zip, bad index): compute it again
+                        path.unlink(missing_ok=True)
+                        dropped.append(path.name)
+                        continue
+                    done[index] = tile
+        try:
+            self.dir.mkdir(parents=True, exist_ok=True)
+            atomic.write_bytes(self.dir / "manifest.json", json.dumps({"key": self.key, "tiles": self.n_tiles}).encode())
+        except OSError as err:
+            raise SaveFailed(f"could not start a checkpoint in {self.dir}: {_why(err)}") from None
+        return done, dropped
 
     def save(self, index: int, tile: dict) -> None:
-        path = self.dir / f"tile-{index:05d}.npz"
-        tmp = self.dir / f".tile-{index:05d}.npz.tmp"
-        with open(tmp, "wb") as fh:
-            np.savez(fh, **tile)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
+        try:
+            atomic.write(self.dir / f"tile-{index:05d}.npz", lambda fh: np.savez(fh, **tile))
+        except OSError as err:
+            raise SaveFailed(f"could not save a finished tile in {self.dir}: {_why(err)}; its "
+                             f"{self.finished()} finished tiles are kept: rerun with --resume once it can be "
+                             f"written") from None
 
     def remove(self) -> None:
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
-def _atomic_write(path: Path, data: bytes) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_bytes(data)
-    os.replace(tmp, path)
+def _why(err: BaseException) -> str:
+    return (getattr(err, "strerror", None) or " ".join(str(err).split()) or type(err).__name__).rstrip(".")

@@ -38,6 +38,41 @@ def run_processes(fn, work, jobs) -> Iterator[tuple[int, dict]]:
     return _run_pool(ProcessPoolExecutor, fn, work, jobs)
 
 
+class DaskUnavailable(RuntimeError):
+    """Dask cannot run the tiles: not installed, or the scheduler's address is wrong or unreachable."""
+
+
+#: seconds to wait for a scheduler's port to answer before a run starts (Dask's own wait is 30 s)
+CONNECT_TIMEOUT_S = 5.0
+
+
+def check_dask(scheduler: str | None) -> None:
+    """DaskUnavailable with the reason, unless Dask is installed and `scheduler` (if given) is a
+    reachable tcp:// address. Cheap: no client is made."""
+    import importlib.util
+    import socket
+
+    if importlib.util.find_spec("distributed") is None:
+        raise DaskUnavailable("--executor dask needs dask.distributed: pip install 'dask[distributed]'")
+    if scheduler is None:
+        return
+    from urllib.parse import urlsplit
+
+    url = urlsplit(scheduler if "://" in scheduler else f"tcp://{scheduler}")
+    try:
+        host, port = url.hostname, url.port
+    except ValueError:
+        host, port = None, None
+    if url.scheme != "tcp" or not host or port is None or url.path not in ("", "/"):
+        raise DaskUnavailable(f"--scheduler: {scheduler!r} is not a scheduler address (expected "
+                              "tcp://HOST:PORT, as the scheduler prints it)")
+    try:
+        socket.create_connection((host, port), timeout=CONNECT_TIMEOUT_S).close()
+    except OSError as err:
+        why = err.strerror or ("no answer" if isinstance(err, TimeoutError) else str(err) or type(err).__name__)
+        raise DaskUnavailable(f"--scheduler: cannot reach the Dask scheduler at {scheduler}: {why}") from None
+
+
 def run_dask(fn, work, jobs, scheduler: str | None = None, retries: int = 3) -> Iterator[tuple[int, dict]]:
     """Tiles as Dask tasks: on `scheduler` (address) or on a LocalCluster of `jobs` workers.
 
@@ -47,11 +82,17 @@ def run_dask(fn, work, jobs, scheduler: str | None = None, retries: int = 3) -> 
     from dask.distributed import Client, LocalCluster, as_completed
 
     cluster = None
+    # Dask's own INFO lines and a worker's shutdown noise at Ctrl-C are not the user's business
+    # unless they asked (-v): fsweep reports what happened in one line
+    quiet = logging.INFO if log.isEnabledFor(logging.INFO) else logging.CRITICAL
+    for name in ("distributed", "tornado", "asyncio"):
+        logging.getLogger(name).setLevel(quiet)
     if scheduler is None:
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None)
+        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=quiet)
         client = Client(cluster)
     else:
-        client = Client(scheduler)
+        client = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S:g}s")
     log.info("dask: %s", client)
     try:
         futures = {client.submit(fn, args, pure=False, retries=retries): i for i, args in enumerate(work)}

@@ -15,28 +15,17 @@ import numpy as np
 
 from friction_sweep import methods
 from friction_sweep.sweep.executors import execute
+from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES, layout, tiles
 
 log = logging.getLogger("friction_sweep")
 
-GRID_OUTPUTS = ("transmissibility", "phase", "regime")
+__all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_grid", "tiles"]
 
-#: frequency ratios per tile; fixed so results never depend on how tiles are scheduled
-TILE_FREQUENCIES = 32
-#: force ratios per tile of a swept run (each force ratio is one sequential sweep)
-TILE_FORCES = 4
+GRID_OUTPUTS = ("transmissibility", "phase", "regime")
 
 #: chosen by measurement on 2 cores (README, make bench): threads share one compiled kernel and skip
 #: process start-up; the kernels release the GIL
 DEFAULT_EXECUTOR = "threads"
-
-
-def tiles(n_frequencies: int, size: int = TILE_FREQUENCIES) -> list[slice]:
-    return [slice(i, min(i + size, n_frequencies)) for i in range(0, n_frequencies, size)]
-
-
-def layout(n_frequencies: int, n_forces: int, sweep: str | None = None) -> list[slice]:
-    """The run's tiles: slices of the frequency ratios, or of the force ratios for a swept run."""
-    return tiles(n_forces, TILE_FORCES) if sweep else tiles(n_frequencies)
 
 
 def compute_tile(args):
@@ -86,7 +75,7 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         if on_tile is not None:
             on_tile((s.stop - s.start) * (r.size if sweep else beta.size))
 
-    done = done or {}
+    done = {i: tile for i, tile in (done or {}).items() if _fits(tile, parts[i], r.size, beta.size, sweep)}
     for i, tile in done.items():
         place(parts[i], tile)
     todo = [i for i in range(len(parts)) if i not in done]
@@ -102,4 +91,16 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         if on_done is not None:
             on_done(index, tile)
         place(parts[index], tile)
+    if len({frozenset(t) for t in done.values()} | ({frozenset(tile)} if todo else set())) > 1:
+        raise ValueError("the checkpoint's tiles hold other variables than this run computes: clear the "
+                         "checkpoint folder and run again")
     return results
+
+
+def _fits(tile: dict, part: slice, n_r: int, n_beta: int, sweep: str | None) -> bool:
+    """Whether a tile read back from a checkpoint has the shape of its place in the grid (a damaged
+    or foreign one is computed again)."""
+    n = part.stop - part.start
+    grid = (n, n_r) if sweep else (n_beta, n)
+    line = (n_r,) if sweep else (n,)
+    return all(np.shape(v) in (grid, line) for v in tile.values())
