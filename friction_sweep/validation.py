@@ -14,24 +14,29 @@ summarises |predicted - measured| by its maximum and RMS for each method and def
     fsweep validate-data [--data PATH] [-o DIR]       (or: python -m friction_sweep.validation)
 
 writes `table.csv`, `table.md` and `phase_measured_vs_predicted.png` into DIR (default
-results/validation). matplotlib (the `figures` extra) is needed only for the PNG.
+results/validation), all three or none. The PNG needs matplotlib (the `figures` extra): without it
+the command refuses before computing anything.
 """
 
 from __future__ import annotations
 
+import codecs
 import csv
-import io
 import math
 import os
+import stat
+import sys
 from pathlib import Path
 
 import click
 import numpy as np
 import pandas as pd
 
-from friction_sweep.storage.atomic import save_figure, write_text
-
 from friction_sweep import regimes
+from friction_sweep.spec.grid import FORCE_RATIO_MAX, FREQUENCY_RATIO_NOTE, FREQUENCY_RATIO_RANGE
+from friction_sweep.storage import outputs
+from friction_sweep.storage.atomic import save_figure, write_text
+from friction_sweep.storage.outputs import file_kind
 
 #: where the data lie in a checkout: <repo>/../shared/data/...
 DEFAULT_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "experiment_phase_fixed_wall.csv"
@@ -44,6 +49,11 @@ METHODS = ("theory", "event")
 DEFINITIONS = ("phase", "peak_phase")  # first harmonic; between maxima
 DEFINITION_NAMES = {"phase": "first-harmonic phase", "peak_phase": "peak (between maxima) phase"}
 OUTPUT_FILES = ("table.csv", "table.md", "phase_measured_vs_predicted.png")
+#: the rig's file is 3 KB; a file past this is not measured data, and would take hours to predict
+MAX_DATA_BYTES = 16 * 2**20
+FIGURE_DPI = 150
+EXIT_BAD_INPUT = 2  # as the fsweep CLI
+EXIT_RUNTIME = 1
 
 
 class DataError(ValueError):
@@ -57,34 +67,100 @@ def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFram
     """The measured points as a DataFrame, one row per point, in file order.
 
     Lines starting with `#` are comments; the first other line is the header. Every column that
-    parses as a number becomes float64. Raises DataError on a missing file, missing columns,
-    non-numeric or non-finite values in the required columns, or no data rows.
+    parses as a number becomes float64. Raises DataError, its message `FILE[:LINE]: reason`, on a
+    file that cannot be read or is not UTF-8 CSV text, missing or repeated columns, a row with the
+    wrong number of fields, non-numeric or non-finite values in the required columns, frequency
+    ratios outside [0.01, 100] or force ratios outside [0, 1e6] (the spec's ranges), or no data rows.
     """
     path = Path(path) if path is not None else DEFAULT_DATA
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise DataError(f"cannot read the measured data {path}: {err.strerror or err}") from None
-    lines = [line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
-    rows = list(csv.DictReader(io.StringIO("\n".join(lines))))
+    header, header_line, rows = None, 0, []
+    for number, line in enumerate(_read_text(path).split("\n"), start=1):
+        line = line.rstrip("\r")
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        try:
+            fields = next(csv.reader([line]))
+        except csv.Error as err:
+            raise DataError(f"{path}:{number}: not a CSV line ({err})") from None
+        if header is None:
+            header, header_line = [name.strip() for name in fields], number
+            _check_header(path, number, header)
+            continue
+        if len(fields) != len(header):
+            raise DataError(f"{path}:{number}: {len(fields)} fields, but the header (line {header_line}) "
+                            f"has {len(header)}")
+        rows.append((number, fields))
     if not rows:
         raise DataError(f"{path}: no data rows")
-    missing = [c for c in REQUIRED if c not in rows[0]]
-    if missing:
-        raise DataError(f"{path}: missing column(s) {', '.join(missing)} (have: {', '.join(rows[0])})")
-    table = pd.DataFrame(rows)
-    for column in table.columns:
-        converted = pd.to_numeric(table[column], errors="coerce")
+    columns = {name: [fields[i].strip() for _, fields in rows] for i, name in enumerate(header)}
+    table = pd.DataFrame(columns)
+    for column in header:
         if column in REQUIRED:
-            bad = ~np.isfinite(converted.to_numpy(dtype=float))
-            if bad.any():
-                i = int(np.flatnonzero(bad)[0])
-                raise DataError(f"{path}: row {i + 1}: {column} must be a finite number (got {table[column][i]!r})")
+            table[column] = [_required_number(path, number, column, value)
+                             for (number, _), value in zip(rows, columns[column])]
+            continue
+        converted = pd.to_numeric(table[column], errors="coerce")
         if converted.notna().all():
             table[column] = converted.astype(float)
-    if (table["frequency_ratio"] <= 0).any() or (table["force_ratio"] < 0).any():
-        raise DataError(f"{path}: frequency ratios must be > 0 and force ratios >= 0")
     return table
+
+
+def _read_text(path: Path) -> str:
+    """The file's text, refusing what is not a readable, reasonably small UTF-8 text file."""
+    try:
+        st = os.stat(path)
+    except OSError as err:
+        raise DataError(f"{path}: cannot read the measured data: {err.strerror or err}") from None
+    # a FIFO or device would block or never end, and a directory is a common slip
+    if not stat.S_ISREG(st.st_mode):
+        raise DataError(f"{path}: is {file_kind(st.st_mode)}, not a CSV file")
+    if st.st_size > MAX_DATA_BYTES:
+        raise DataError(f"{path}: {st.st_size} bytes, too large for a measured-data CSV "
+                        f"(at most {MAX_DATA_BYTES // 2**20} MiB)")
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_DATA_BYTES + 1)
+    except OSError as err:
+        raise DataError(f"{path}: cannot read the measured data: {err.strerror or err}") from None
+    if not data.strip():
+        raise DataError(f"{path}: empty file")
+    if b"\0" in data:
+        line = data[: data.index(b"\0")].count(b"\n") + 1
+        raise DataError(f"{path}:{line}: binary data (a NUL byte), not a CSV text file")
+    if data.startswith(codecs.BOM_UTF8):  # as spreadsheets save "UTF-8 CSV"
+        data = data[len(codecs.BOM_UTF8):]
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        line = data[: err.start].count(b"\n") + 1
+        raise DataError(f"{path}:{line}: not UTF-8 text (byte 0x{data[err.start]:02x}); "
+                        "save the file as UTF-8 CSV") from None
+
+
+def _check_header(path: Path, number: int, header: list[str]) -> None:
+    repeated = sorted({name for name in header if header.count(name) > 1})
+    if repeated:
+        raise DataError(f"{path}:{number}: column(s) {', '.join(repeated)} appear more than once")
+    missing = [c for c in REQUIRED if c not in header]
+    if missing:
+        raise DataError(f"{path}:{number}: missing column(s) {', '.join(missing)} (have: {', '.join(header)})")
+
+
+def _required_number(path: Path, number: int, column: str, value: str) -> float:
+    """A required column's value on line `number`: a finite number, within the column's range."""
+    try:
+        x = float(value)
+    except ValueError:
+        x = math.nan
+    if not math.isfinite(x):
+        raise DataError(f"{path}:{number}: {column} must be a finite number (got {value!r})")
+    r_lo, r_hi = FREQUENCY_RATIO_RANGE
+    if column == "frequency_ratio" and not r_lo <= x <= r_hi:
+        raise DataError(f"{path}:{number}: frequency_ratio must be between {r_lo:g} and {r_hi:g} (got {value}): "
+                        f"{FREQUENCY_RATIO_NOTE}")
+    if column == "force_ratio" and not 0 <= x <= FORCE_RATIO_MAX:
+        raise DataError(f"{path}:{number}: force_ratio must be between 0 and {FORCE_RATIO_MAX:g} (got {value})")
+    return x
 
 
 # --- predicting -------------------------------------------------------------------------------------
@@ -202,6 +278,11 @@ def markdown_report(table: pd.DataFrame, summary: pd.DataFrame, data_path) -> st
 
 
 def plot(table: pd.DataFrame, path: str | os.PathLike[str]) -> Path:
+    """Draw `figure(table)` into the PNG `path` (atomically)."""
+    return save_figure(figure(table), Path(path), dpi=FIGURE_DPI)
+
+
+def figure(table: pd.DataFrame):
     """Measured against predicted phase, one panel per phase definition, one marker per force ratio
     (theory filled, event simulation as black crosses on top), with the identity line."""
     import matplotlib
@@ -209,7 +290,6 @@ def plot(table: pd.DataFrame, path: str | os.PathLike[str]) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    path = Path(path)
     markers = "osD^vP*X"
     betas = sorted(table["force_ratio"].unique())
     colours = [plt.get_cmap("viridis")(x) for x in np.linspace(0.0, 0.85, max(len(betas), 1))]
@@ -229,34 +309,66 @@ def plot(table: pd.DataFrame, path: str | os.PathLike[str]) -> Path:
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", fontsize=7.5)
     fig.suptitle("Fixed-wall base excitation: measured against predicted phase lag")
-    return save_figure(fig, path, dpi=150)
+    return fig
 
 
 def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_path) -> list[Path]:
-    output_dir = Path(output_dir)
-    output_dir.mkdir(parents=True, exist_ok=True)
-    csv_path, md_path, png_path = (output_dir / name for name in OUTPUT_FILES)
-    write_text(csv_path, table.to_csv(index=False, float_format="%.10g"))
-    write_text(md_path, markdown_report(table, summary, data_path))
-    plot(table, png_path)
-    return [csv_path, md_path, png_path]
+    """Write table.csv, table.md and the figure into `output_dir`, all or nothing: everything is
+    rendered first, then written (outputs.write_all), so a failure changes none of the three."""
+    import matplotlib.pyplot as plt
+
+    csv_path, md_path, png_path = (Path(output_dir) / name for name in OUTPUT_FILES)
+    csv_text = table.to_csv(index=False, float_format="%.10g")
+    md_text = markdown_report(table, summary, data_path)
+    fig = figure(table)
+    try:
+        return outputs.write_all([
+            (csv_path, lambda tmp: write_text(tmp, csv_text)),
+            (md_path, lambda tmp: write_text(tmp, md_text)),
+            (png_path, lambda tmp: save_figure(fig, tmp, dpi=FIGURE_DPI)),
+        ])
+    finally:
+        plt.close(fig)  # save_figure closes it too, but not when an earlier write failed
 
 
 # --- command ----------------------------------------------------------------------------------------
 
 
+def _fail(message: str, code: int = EXIT_BAD_INPUT):
+    """One line on stderr and the exit code, as fsweep's other commands (cli._fail) do."""
+    click.echo(f"fsweep: error: {message}", err=True)
+    sys.exit(code)
+
+
 @click.command("validate-data")
-@click.option("--data", type=click.Path(dir_okay=False, path_type=Path), default=None,
+# no click.Path checks (dir_okay, file_okay): their refusals are multi-line usage errors; ours
+# below are one line each
+@click.option("--data", type=click.Path(path_type=Path), default=None,
               help=f"Measured data CSV (default: {DEFAULT_DATA}).")
-@click.option("-o", "--output-dir", type=click.Path(file_okay=False, path_type=Path), default=DEFAULT_OUTPUT_DIR,
+@click.option("-o", "--output-dir", type=click.Path(path_type=Path), default=DEFAULT_OUTPUT_DIR,
               show_default=True, help="Folder for table.csv, table.md and phase_measured_vs_predicted.png.")
 def validate_data(data: Path | None, output_dir: Path):
     """Compare the measured phase lags of the fixed-wall rig with the theory and the simulation."""
+    # Every refusal comes before the predictions (seconds; more where numba compiles first), and
+    # nothing is written until everything is computed.
+    if data is None and not DEFAULT_DATA.exists():
+        _fail(f"no measured data at {DEFAULT_DATA} (the default, next to the repository): "
+              "pass --data FILE")
     data_path = data if data is not None else DEFAULT_DATA
     try:
-        table, summary = validate(data_path)
+        measured = read_measurements(data_path)
     except DataError as err:
-        raise click.BadParameter(str(err), param_hint="--data") from None
+        _fail(str(err))
+    for target in (output_dir / name for name in OUTPUT_FILES):
+        refusal = outputs.refuse_special_output(target)
+        if refusal:
+            _fail(refusal)
+    missing = outputs.missing_figures_extra()
+    if missing:
+        _fail(missing)
+
+    table = predict(measured)
+    summary = summarize(table)
     click.echo(f"measured data: {data_path} ({len(table)} points, force ratios "
                f"{', '.join(f'{b:g}' for b in sorted(table['force_ratio'].unique()))})")
     click.echo("phase lags in degrees; predictions at the measured frequency ratio; Δ = predicted − measured\n")
@@ -266,7 +378,7 @@ def validate_data(data: Path | None, output_dir: Path):
     try:
         paths = write_outputs(table, summary, output_dir, data_path)
     except OSError as err:
-        raise click.ClickException(f"could not write into {output_dir}: {err.strerror or err}") from None
+        _fail(f"could not write into {output_dir}: {err.strerror or err}; no output was changed", EXIT_RUNTIME)
     click.echo("\nwrote " + ", ".join(str(p) for p in paths))
 
 

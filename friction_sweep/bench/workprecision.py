@@ -167,6 +167,14 @@ def markdown(ds: xr.Dataset) -> str:
 
 
 def figure(ds: xr.Dataset, path) -> None:
+    """Draw `draw(ds)` into the PNG `path` (atomically)."""
+    from friction_sweep.storage.atomic import save_figure
+
+    save_figure(draw(ds), path, dpi=FIGURE_DPI)
+
+
+def draw(ds: xr.Dataset):
+    """The work-precision figure: error against time per point, one panel per region and wall."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -191,12 +199,57 @@ def figure(ds: xr.Dataset, path) -> None:
     axes[0, 0].legend()
     fig.suptitle("Work-precision: what accuracy costs in time")
     fig.tight_layout()
-    from friction_sweep.storage.atomic import save_figure
-
-    save_figure(fig, path, dpi=110)
+    return fig
 
 
 CALIBRATION = Path(__file__).with_name("calibration.json")
+FIGURE_DPI = 110
+
+
+def output_paths(output, calibrate: bool = False) -> list[Path]:
+    """What `fsweep bench -o OUTPUT` writes: the dataset, its figure and table beside it, and with
+    --calibrate the calibration that `accuracy:` in specs reads."""
+    output = Path(output)
+    paths = [output, output.with_suffix(".png"), output.with_suffix(".md")]
+    return paths + [CALIBRATION] if calibrate else paths
+
+
+def refuse_outputs(output, calibrate: bool = False) -> str | None:
+    """Why the benchmark must not write where `output` says (None if it may), asked before the
+    minutes of computing: a path that is a link, folder, FIFO or device, or a dataset named so that
+    its own figure or table would replace it (`-o x.png`)."""
+    from friction_sweep.storage.outputs import refuse_special_output
+
+    paths = output_paths(output, calibrate)
+    if len(set(paths[:3])) < 3:
+        return (f"{output}: the figure and the table are written beside the dataset with the suffixes .png "
+                "and .md, so the dataset cannot have either: name it .h5")
+    return next((reason for reason in map(refuse_special_output, paths) if reason), None)
+
+
+def write(ds: xr.Dataset, output, calibrate: bool = False) -> list[Path]:
+    """Write the dataset, figure, table (and calibration) of `output_paths`, all or nothing:
+    everything is rendered first, then written (storage.outputs.write_all), so a failure (a full
+    disk) changes none of them. Returns the paths written."""
+    import matplotlib.pyplot as plt
+
+    from friction_sweep.storage import atomic, cube, outputs
+
+    paths = output_paths(output, calibrate)
+    table = markdown(ds) + "\n"
+    calibration = json.dumps(calibration_table(ds), indent=1) + "\n" if calibrate else ""
+    fig = draw(ds)
+    writers = [
+        (paths[0], lambda tmp: cube.write_atomic(ds, tmp, overwrite=True)),
+        (paths[1], lambda tmp: atomic.save_figure(fig, tmp, dpi=FIGURE_DPI)),
+        (paths[2], lambda tmp: atomic.write_text(tmp, table)),
+    ]
+    if calibrate:
+        writers.append((paths[3], lambda tmp: atomic.write_text(tmp, calibration)))
+    try:
+        return outputs.write_all(writers)
+    finally:
+        plt.close(fig)  # save_figure closes it too, but not when an earlier write failed
 
 
 def calibration_table(ds: xr.Dataset) -> dict:
