@@ -1,0 +1,466 @@
+"""Hostile input and faults: every case ends in one line, its documented exit code, no leftover file
+and no damaged result (README, "What fsweep guarantees when things go wrong").
+
+To add a case, add a row to CASES: the spec text (None: a good one), the command line, what to set
+up first, the exit code, words the message must hold, and the files that must and must not exist
+afterwards (paths relative to the case's folder; `*` globs). Every row also checks: no traceback,
+one message line on failure, no temporary file anywhere in the folder.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+import subprocess
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import pytest
+import xarray as xr
+from click.testing import CliRunner
+
+from friction_sweep.cli import main
+
+GOOD = """\
+scene: {excitation: base}
+grid:
+  frequency_ratio: {start: 0.5, stop: 2.0, num: 40}
+  force_ratio: [0.1, 0.4]
+method: theory
+output: out.h5
+"""
+EVENT = GOOD.replace("method: theory", "method: event")
+
+
+def _nested(kind: str, depth: int) -> str:
+    inner = "[" * depth + "]" * depth if kind == "list" else "{a: " * depth + "1" + "}" * depth
+    return f"scene: {{excitation: base}}\ngrid: {{frequency_ratio: 1, force_ratio: 0.1}}\nx: {inner}\n"
+
+
+def _alias_bomb() -> str:
+    lines = ['a: &a ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
+    for i, name in enumerate("bcdefghi"):
+        prev = "abcdefghi"[i]
+        lines.append(f"{name}: &{name} [" + ", ".join(f"*{prev}" for _ in range(9)) + "]")
+    return "\n".join(lines) + "\n"
+
+
+def _merge_bomb() -> str:
+    lines = ["a0: &a0 {k0: 1, k1: 1, k2: 1, k3: 1}"]
+    for i in range(1, 9):
+        lines.append(f"a{i}: &a{i} {{" + ", ".join(f"m{j}: *a{i - 1}" for j in range(10)) + "}")
+    return "\n".join(lines) + "\n"
+
+
+def _settings(method: str, text: str) -> str:
+    return GOOD.replace("method: theory", f"method: {method}\nsettings: {{{text}}}")
+
+
+# ---- set-ups: each gets the case folder --------------------------------------------------------
+
+
+def _good_cube(d: Path) -> None:
+    assert CliRunner().invoke(main, ["run", str(d / "spec.yaml"), "-o", str(d / "out.h5"), "-q"]).exit_code == 0
+    (d / "before.bytes").write_bytes((d / "out.h5").read_bytes())
+
+
+def _fifo(d: Path) -> None:
+    os.mkfifo(d / "out.h5")
+
+
+def _device(d: Path) -> None:
+    try:
+        os.mknod(d / "out.h5", stat.S_IFCHR | 0o600, os.makedev(1, 3))
+    except PermissionError:
+        pytest.skip("making a device node needs root")
+
+
+def _socket(d: Path) -> None:
+    import socket
+
+    s = socket.socket(socket.AF_UNIX)
+    s.bind(str(d / "out.h5"))
+    s.close()
+
+
+def _symlink_to_cube(d: Path) -> None:
+    _good_cube(d)
+    (d / "out.h5").rename(d / "real.h5")
+    (d / "out.h5").symlink_to("real.h5")
+
+
+def _dangling(d: Path) -> None:
+    (d / "out.h5").symlink_to("nowhere/else.h5")
+
+
+def _file_parent(d: Path) -> None:
+    (d / "afile").write_text("not a folder")
+
+
+def _partial_is_file(d: Path) -> None:
+    (d / ".out.h5.partial").write_text("not a folder")
+
+
+def _lock_is_folder(d: Path) -> None:
+    (d / ".out.h5.lock").mkdir()
+
+
+def _interrupted(d: Path, spec: str = EVENT) -> None:
+    """An event run stopped after two of its tiles (kill -9), with its checkpoint left."""
+    code = (
+        "import sys\n"
+        "import friction_sweep.methods.event as e\n"
+        "real, n = e.compute_tile, [0]\n"
+        "def once(*a, **k):\n"
+        "    n[0] += 1\n"
+        "    if n[0] > 2:\n"
+        "        import os, signal; os.kill(os.getpid(), signal.SIGKILL)\n"
+        "    return real(*a, **k)\n"
+        "e.compute_tile = once\n"
+        "from friction_sweep.cli import main\n"
+        "main(['run', 'spec.yaml', '-q', '--executor', 'serial'])\n"
+    )
+    (d / "spec.yaml").write_text(spec)
+    subprocess.run([sys.executable, "-c", code], cwd=d, capture_output=True, check=False)
+    assert len(list((d / ".out.h5.partial").glob("tile-*.npz"))) == 2
+
+
+def _bad_manifest(d: Path) -> None:
+    _interrupted(d, EVENT_LONG)
+    (d / ".out.h5.partial" / "manifest.json").write_text("{not json")
+
+
+def _truncated_tile(d: Path) -> None:
+    _interrupted(d, EVENT_LONG)
+    tile = d / ".out.h5.partial" / "tile-00001.npz"
+    tile.write_bytes(tile.read_bytes()[:100])
+
+
+def _other_sweep(d: Path) -> None:
+    _interrupted(d, EVENT_LONG)
+    (d / "spec.yaml").write_text(EVENT_LONG.replace("0.1, 0.4", "0.1, 0.5"))
+
+
+EVENT_LONG = EVENT.replace("num: 40", "num: 100")
+
+
+@dataclass
+class Case:
+    id: str
+    spec: str | None = GOOD
+    args: tuple[str, ...] = ("run", "{spec}", "-q")
+    setup: Callable[[Path], None] | None = None
+    exit: int = 2
+    words: tuple[str, ...] = ()
+    exist: tuple[str, ...] = ()
+    absent: tuple[str, ...] = ("out.h5", ".out.h5.partial", ".out.h5.lock")
+    check: Callable[[Path], None] | None = None
+    lines: int | None = 1  # message lines on stderr after "invalid spec" (None: any number)
+    extra: dict = field(default_factory=dict)
+
+
+def _cube_unchanged(d: Path) -> None:
+    assert (d / "out.h5").read_bytes() == (d / "before.bytes").read_bytes()
+
+
+def _real_unchanged(d: Path) -> None:
+    assert (d / "out.h5").is_symlink() and os.readlink(d / "out.h5") == "real.h5"
+    assert (d / "real.h5").read_bytes() == (d / "before.bytes").read_bytes()
+
+
+def _still(kind: Callable[[int], bool]) -> Callable[[Path], None]:
+    return lambda d: kind(os.lstat(d / "out.h5").st_mode) or pytest.fail("the special file was replaced")
+
+
+def _resumed_cube_is_complete(d: Path) -> None:
+    """The damaged tile was computed again: the cube equals an uninterrupted run's, bit for bit."""
+    assert CliRunner().invoke(main, ["run", str(d / "spec.yaml"), "-o", str(d / "ref.h5"), "-q"]).exit_code == 0
+    with xr.open_dataset(d / "out.h5", engine="h5netcdf") as got, xr.open_dataset(d / "ref.h5", engine="h5netcdf") as ref:
+        assert set(got.data_vars) == set(ref.data_vars)
+        for name in ref.data_vars:
+            np.testing.assert_array_equal(got[name].values, ref[name].values)
+
+
+CASES = [
+    # ---- spec files that cost without bound, or crash the reader
+    Case("alias bomb", _alias_bomb(), words=("aliases repeat more than",)),
+    Case("merge-key alias bomb", _merge_bomb(), words=("aliases repeat more than",)),
+    Case("recursive alias in a map", "scene: &s {excitation: base, x: *s}\ngrid: {frequency_ratio: 1, "
+         "force_ratio: 0.1}\n", words=("recursive YAML alias", "line 1")),
+    Case("recursive alias in a list", "scene: {excitation: base}\ngrid: &g {frequency_ratio: [1, *g], "
+         "force_ratio: 0.1}\n", words=("recursive YAML alias", "line 2")),
+    Case("5000-deep list", _nested("list", 5000), words=("nested deeper",)),
+    Case("3000-deep map", _nested("map", 3000), words=("nested deeper",)),
+    Case("40-deep map", _nested("map", 40), words=("nested deeper than 32 levels",)),
+    Case("frequency ratio 1e-10", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "[1.0e-10]"),
+         words=("frequency_ratio[0]", "must be >= 0.01", "cost")),
+    Case("frequency ratio 1e-300", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "[1.0e-300]"),
+         words=("must be >= 0.01",)),
+    Case("frequency ratio 1e-6", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "[1.0e-6, 1]"),
+         words=("must be >= 0.01",)),
+    Case("frequency ratio 1e20", GOOD.replace("stop: 2.0", "stop: 1.0e20"), words=("must be <= 100",)),
+    Case("force ratio 1e300", GOOD.replace("[0.1, 0.4]", "[0.1, 1.0e300]"), words=("must be <= 1000000",)),
+    Case("400-digit integer", GOOD.replace("[0.1, 0.4]", "1" + "0" * 400),
+         words=("force_ratio", "too large", "401 digits")),
+    Case("history too large", EVENT.replace("output: out.h5", "output: out.h5\noutputs: [regime, time_history]\n"
+                                            "time_history: {points: [" + ", ".join(["[1, 0.1]"] * 200)
+                                            + "], samples_per_period: 100000}"),
+         words=("samples per variable",)),
+    Case("negative history force ratio", EVENT.replace(
+        "output: out.h5", "outputs: [regime, time_history]\ntime_history: {points: [[1, 0.1], [2, 0.1], [3, -0.1]]}"),
+        words=("time_history.points[2][1]", "force ratio must be between 0 and")),
+    Case("binary spec file", "\x00\xff\xfe binary", words=("not UTF-8",)),
+    Case("empty spec", "", words=("must be a mapping",)),
+    # ---- settings outside their meaningful range (all reported at once)
+    Case("steady_tol 10", _settings("event", "steady_tol: 10"), words=("settings.steady_tol", "<= 0.001")),
+    Case("work_budget int64 max", _settings("event", "work_budget: 9223372036854775807"),
+         words=("settings.work_budget", "between 1 and")),
+    Case("max_periods 1e23", _settings("event", "max_periods: 99999999999999999999999"),
+         words=("settings.max_periods",)),
+    Case("paper transient_fraction 1.5", _settings("paper", "transient_fraction: 1.5"),
+         words=("settings.transient_fraction", "between 0 and 0.9")),
+    Case("initial displacement 1e300", _settings("event", "initial_displacement: 1.0e300"),
+         words=("settings.initial_displacement",)),
+    Case("rk4 a billion steps", _settings("rk4", "steps_per_period: 1000000000"),
+         words=("settings.steps_per_period",)),
+    Case("three bad settings", _settings("event", "steady_tol: -1, stop_tol: 1, max_periods: 0"),
+         words=("settings.steady_tol", "settings.stop_tol", "settings.max_periods"), lines=3),
+    Case("a setting of the wrong type", _settings("event", "max_periods: 1.5"), words=("must be an integer",)),
+    # ---- outputs that are not regular files, or cannot be made
+    Case("FIFO as output", args=("run", "{spec}", "--overwrite", "-q"), setup=_fifo,
+         words=("named pipe",), absent=(".out.h5.partial", ".out.h5.lock"), check=_still(stat.S_ISFIFO)),
+    Case("device node as output", args=("run", "{spec}", "--overwrite", "-q"), setup=_device,
+         words=("character device",), absent=(".out.h5.partial",), check=_still(stat.S_ISCHR)),
+    Case("socket as output", args=("run", "{spec}", "--overwrite", "-q"), setup=_socket,
+         words=("socket",), absent=(".out.h5.partial",), check=_still(stat.S_ISSOCK)),
+    Case("folder as output", args=("run", "{spec}", "-o", "{d}/afolder", "--overwrite", "-q"),
+         setup=lambda d: (d / "afolder").mkdir(), words=("is a directory",), absent=("out.h5",)),
+    Case("symlink as output", args=("run", "{spec}", "--overwrite", "-q"), setup=_symlink_to_cube,
+         words=("symbolic link to real.h5", "never replaces links"), absent=(".out.h5.partial",),
+         check=_real_unchanged),
+    Case("dangling symlink as output", args=("run", "{spec}", "--overwrite", "-q"), setup=_dangling,
+         words=("symbolic link",), absent=(".out.h5.partial",)),
+    Case("parent is a file", args=("run", "{spec}", "-o", "{d}/afile/out.h5", "-q"), setup=_file_parent,
+         words=("afile is a file, not a folder",)),
+    Case("validate: parent is a file", args=("validate", "{spec}", "-o", "{d}/afile/out.h5"), setup=_file_parent,
+         words=("afile is a file, not a folder",)),
+    Case("existing output", setup=_good_cube, words=("exists", "--overwrite"), absent=(".out.h5.partial",),
+         check=_cube_unchanged),
+    Case("--resume --overwrite", args=("run", "{spec}", "--resume", "--overwrite", "-q"), setup=_good_cube,
+         words=("not both",), absent=(".out.h5.partial",), check=_cube_unchanged),
+    Case("--resume on a complete output", args=("run", "{spec}", "--resume", "-q"), setup=_good_cube,
+         words=("nothing to resume", "instead of --resume"), absent=(".out.h5.partial",), check=_cube_unchanged),
+    # ---- checkpoints and locks in a bad state
+    Case(".partial is a file", setup=_partial_is_file, words=("is not a folder", "rm -r"),
+         absent=("out.h5", ".out.h5.lock"), exist=(".out.h5.partial",)),
+    Case(".lock is a folder", setup=_lock_is_folder, words=("is a folder, not a lock file",),
+         absent=("out.h5", ".out.h5.partial"), exist=(".out.h5.lock",)),
+    Case("bad manifest.json", spec=None, args=("run", "{spec}", "--resume", "-q"), setup=_bad_manifest,
+         words=("manifest.json cannot be read", "rm -r"), absent=("out.h5", ".out.h5.lock"),
+         exist=(".out.h5.partial/tile-00000.npz",)),
+    Case("truncated tile", spec=None, args=("run", "{spec}", "--resume", "-q"), setup=_truncated_tile, exit=0,
+         words=("tile-00001.npz was damaged",), exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"),
+         check=_resumed_cube_is_complete),
+    Case("checkpoint of another sweep", spec=None, setup=_other_sweep,
+         words=("different sweep", "rm -r"), absent=("out.h5", ".out.h5.lock"), exist=(".out.h5.partial",)),
+    # ---- Dask that cannot run
+    Case("scheduler on a closed port", args=("run", "{spec}", "--scheduler", "tcp://127.0.0.1:9", "-q"),
+         words=("cannot reach the Dask scheduler", "refused")),
+    Case("scheduler not an address", args=("run", "{spec}", "--scheduler", "not an address", "-q"),
+         words=("is not a scheduler address",)),
+    # ---- cubes that cannot be trusted
+    Case("info on a foreign file", args=("info", "{d}/spec.yaml"), words=("not a readable result cube",),
+         absent=()),
+]
+
+
+@pytest.fixture(scope="module")
+def compiled():
+    """The event kernels compiled once for the module (loaded from numba's cache)."""
+    from friction_sweep.methods import event
+
+    event.compute_tile("base", np.array([1.5]), np.array([0.1]), ("regime",))
+
+
+@pytest.mark.parametrize("case", CASES, ids=lambda c: c.id)
+def test_hostile_case(case: Case, tmp_path: Path, compiled) -> None:
+    d = tmp_path
+    if case.spec is not None:
+        (d / "spec.yaml").write_bytes(case.spec.encode("latin-1") if "\x00" in case.spec else case.spec.encode())
+    if case.setup is not None:
+        case.setup(d)
+    args = [a.format(spec=d / "spec.yaml", d=d) for a in case.args]
+    old = os.getcwd()
+    os.chdir(d)
+    try:
+        res = CliRunner().invoke(main, args)
+    finally:
+        os.chdir(old)
+    assert res.exception is None or isinstance(res.exception, SystemExit), (
+        f"traceback: {res.exception!r}\n{res.output}")
+    assert "Traceback" not in res.output
+    assert res.exit_code == case.exit, res.output
+    for word in case.words:
+        assert word in res.output, f"{word!r} not in {res.output!r}"
+    if case.exit != 0 and case.lines is not None:
+        lines = [ln for ln in res.output.splitlines() if ln != "fsweep: error: invalid spec"]
+        assert len(lines) == case.lines, res.output
+    for pattern in case.exist:
+        assert list(d.glob(pattern)), f"{pattern} should exist: {sorted(p.name for p in d.iterdir())}"
+    for name in case.absent:
+        assert not os.path.lexists(d / name), f"{name} should not exist"
+    leftovers = [p for p in d.rglob("*") if p.name.endswith((".tmp", ".probe", ".staged"))]
+    assert not leftovers, leftovers
+    if case.check is not None:
+        case.check(d)
+
+
+# ---- faults: a full disk, file modes, locks; and the estimate's honesty -------------------------
+
+WIDE = GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "{start: 0.1, stop: 3.0, num: 300}").replace(
+    "[0.1, 0.4]", "{start: 0, stop: 1, num: 30}")
+
+
+def _fsweep(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+    """fsweep in its own process: a crash inside a library (h5py on a full disk) shows as its exit code."""
+    code = "import sys; from friction_sweep.cli import main; sys.exit(main(sys.argv[1:]))"
+    return subprocess.run([sys.executable, "-c", code, *args], cwd=cwd, capture_output=True, text=True, check=False)
+
+
+@pytest.fixture
+def small_disk(tmp_path):
+    """A tmpfs of a given size (root only; skipped where mounting is not allowed), unmounted after."""
+    mounted = []
+
+    def make(size: str) -> Path:
+        d = tmp_path / f"fs{len(mounted)}"
+        d.mkdir()
+        res = subprocess.run(["mount", "-t", "tmpfs", "-o", f"size={size}", "tmpfs", str(d)], capture_output=True,
+                             check=False)
+        if res.returncode != 0:
+            pytest.skip("mounting a small tmpfs is not allowed here")
+        mounted.append(d)
+        return d
+
+    yield make
+    for d in mounted:
+        subprocess.run(["umount", str(d)], check=False)
+
+
+@pytest.mark.parametrize("size, where", [("64k", "checkpoint"), ("600k", "result")])
+def test_a_full_disk_ends_in_one_line_keeping_finished_tiles(small_disk, size, where):
+    d = small_disk(size)
+    (d / "spec.yaml").write_text(WIDE)
+    (d / "one.yaml").write_text(GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "[1.5]").replace("[0.1, 0.4]", "0.1"))
+    assert _fsweep("run", "one.yaml", "-o", "out.h5", "-q", cwd=d).returncode == 0
+    before = (d / "out.h5").read_bytes()
+    res = _fsweep("run", "spec.yaml", "--overwrite", "-q", cwd=d)
+    assert res.returncode == 1, res.stderr
+    assert len(res.stderr.splitlines()) == 1 and "No space left on device" in res.stderr
+    assert "--resume" in res.stderr and "Traceback" not in res.stderr
+    assert (d / "out.h5").read_bytes() == before
+    assert not [p for p in d.rglob("*") if p.name.endswith(".tmp")]
+    assert not (d / ".out.h5.lock").exists()
+    tiles = list((d / ".out.h5.partial").glob("tile-*.npz"))
+    assert tiles if where == "result" else len(tiles) < 10
+
+
+def test_a_full_disk_while_checkpointing_keeps_what_was_finished(tmp_path, monkeypatch):
+    """The same by fault injection, where no tmpfs can be mounted; then --resume finishes the run."""
+    from friction_sweep.sweep import checkpoint
+
+    (tmp_path / "spec.yaml").write_text(WIDE)
+    real, calls = checkpoint.np.savez, []
+
+    def savez(fh, **arrays):
+        calls.append(1)
+        if len(calls) == 3:
+            fh.write(b"partial")
+            raise OSError(28, "No space left on device")
+        real(fh, **arrays)
+
+    monkeypatch.setattr(checkpoint.np, "savez", savez)
+    monkeypatch.chdir(tmp_path)
+    res = CliRunner().invoke(main, ["run", "spec.yaml", "-q", "--executor", "serial"])
+    assert res.exit_code == 1 and res.output.count("\n") == 1, res.output
+    assert "No space left on device" in res.output and "2 finished tiles are kept" in res.output
+    assert sorted(p.name for p in (tmp_path / ".out.h5.partial").iterdir()) == [
+        "manifest.json", "tile-00000.npz", "tile-00001.npz"]
+    monkeypatch.setattr(checkpoint.np, "savez", real)
+    res = CliRunner().invoke(main, ["run", "spec.yaml", "-q", "--resume"])
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "spec.yaml"]
+
+
+@pytest.mark.parametrize("mask, mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])
+def test_written_files_get_the_mode_the_umask_gives(tmp_path, mask, mode):
+    (tmp_path / "spec.yaml").write_text(EVENT_LONG)
+    old = os.umask(mask)
+    try:
+        _interrupted(tmp_path, EVENT_LONG)
+        tile = tmp_path / ".out.h5.partial" / "tile-00000.npz"
+        assert stat.S_IMODE(tile.stat().st_mode) == mode
+        res = CliRunner().invoke(main, ["run", str(tmp_path / "spec.yaml"), "-o", str(tmp_path / "out.h5"), "-q",
+                                        "--resume"])
+    finally:
+        os.umask(old)
+    assert res.exit_code == 0, res.output
+    assert stat.S_IMODE((tmp_path / "out.h5").stat().st_mode) == mode
+
+
+def test_a_lock_that_cannot_be_opened_is_one_line(tmp_path, monkeypatch):
+    from friction_sweep.sweep import checkpoint
+
+    real = os.open
+
+    def denied(path, *a, **k):
+        if str(path).endswith(".lock"):
+            raise PermissionError(13, "Permission denied")
+        return real(path, *a, **k)
+
+    (tmp_path / "spec.yaml").write_text(GOOD)
+    monkeypatch.setattr(checkpoint.os, "open", denied)
+    monkeypatch.chdir(tmp_path)
+    res = CliRunner().invoke(main, ["run", "spec.yaml", "-q"])
+    assert res.exit_code == 2 and "cannot be opened (Permission denied)" in res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
+
+
+def test_the_estimate_counts_tiles_and_workers_honestly():
+    from friction_sweep.spec import parse_spec_text
+    from friction_sweep.sweep.estimate import HUGE_SECONDS, estimate
+
+    spec = parse_spec_text(GOOD)
+    serial = [estimate(spec, jobs=j, executor="serial").seconds for j in (1, 8)]
+    assert serial[0] == serial[1]  # one worker however many were asked for
+    # 40 frequency ratios are two tiles: never more workers than tiles, nor than cores
+    assert estimate(spec, jobs=8, executor="threads").workers == min(2, os.cpu_count() or 1)
+    # ten million frequency ratios of one force ratio: per-tile and per-frequency work dominate
+    tall = parse_spec_text(GOOD.replace("{start: 0.5, stop: 2.0, num: 40}",
+                                        "{start: 0.5, stop: 2.0, step: 0.0000002}").replace("[0.1, 0.4]", "0.1"))
+    assert estimate(tall, jobs=2, executor="threads").seconds > HUGE_SECONDS
+
+
+def test_sigterm_ends_like_ctrl_c_keeping_finished_tiles(tmp_path):
+    code = (
+        "import os, signal, sys\n"
+        "import friction_sweep.methods.event as e\n"
+        "real, n = e.compute_tile, [0]\n"
+        "def once(*a, **k):\n"
+        "    n[0] += 1\n"
+        "    if n[0] > 2:\n"
+        "        os.kill(os.getpid(), signal.SIGTERM)\n"
+        "    return real(*a, **k)\n"
+        "e.compute_tile = once\n"
+        "from friction_sweep.cli import main\n"
+        "sys.exit(main(['run', 'spec.yaml', '-q', '--executor', 'serial']))\n"
+    )
+    (tmp_path / "spec.yaml").write_text(EVENT_LONG)
+    res = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, check=False)
+    assert res.returncode == 143, res.stderr
+    assert res.stderr.strip() == (f"fsweep: error: terminated; no result was written; 2 finished tiles are kept "
+                                  f"in .out.h5.partial: rerun with --resume to continue")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".out.h5.partial", "spec.yaml"]
