@@ -212,6 +212,7 @@ CASES = [
     Case("negative history force ratio", EVENT.replace(
         "output: out.h5", "outputs: [regime, time_history]\ntime_history: {points: [[1, 0.1], [2, 0.1], [3, -0.1]]}"),
         words=("time_history.points[2][1]", "force ratio must be between 0 and")),
+    Case("a key named like a union tag", "'<range>': 1\n" + GOOD, words=("<range>", "unknown key")),
     Case("binary spec file", "\x00\xff\xfe binary", words=("not UTF-8",)),
     Case("empty spec", "", words=("must be a mapping",)),
     # ---- settings outside their meaningful range (all reported at once)

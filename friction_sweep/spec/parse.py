@@ -48,7 +48,10 @@ def parse_spec_text(text: str, source: str = "<string>") -> Spec:
 def _problems(exc: ValidationError, doc: Document) -> list[SpecProblem]:
     problems = []
     for err in exc.errors():
-        path = tuple(p for p in err["loc"] if p not in AXIS_TAGS)
+        loc = err["loc"]
+        # a union tag follows the axis it belongs to; a key the user named "<range>" stays a key
+        path = tuple(p for i, p in enumerate(loc)
+                     if not (p in AXIS_TAGS and i and loc[i - 1] in ("frequency_ratio", "force_ratio")))
         path += tuple((err.get("ctx") or {}).get("at", ()))
         line, column = doc.locate(path, key=err["type"] == "extra_forbidden")
         problems.append(SpecProblem(doc.source, line, column, format_key(path), _reason(err, path)))
