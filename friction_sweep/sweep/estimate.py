@@ -24,6 +24,8 @@ from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES
 #: a grid is "huge" (run only with --yes) past either: the refusal says how much
 HUGE_SECONDS = 1800.0
 HUGE_BYTES = 4 * 2**30
+#: a run's process before its grid: Python with numba, xarray and h5py loaded (peak RSS of a 1-point run)
+BASE_BYTES = 300 * 2**20
 
 
 @dataclass(frozen=True)
@@ -46,10 +48,10 @@ class CostModel:
 COSTS = {
     "theory": CostModel(tile=2e-3, point=2e-5, frequency=2.5e-3, frequency_knee=0.05, frequency_slope=2.2,
                         point_bytes=600),
-    "event": CostModel(tile=2e-3, point=5e-4, knee=0.1, slope=1.5, period=2e-5),
-    "auto": CostModel(tile=4e-3, point=5e-4, knee=0.1, slope=1.5, frequency=2.5e-3, frequency_knee=0.05,
+    "event": CostModel(tile=3e-3, point=2e-4, knee=0.1, slope=1.5, period=2e-5),
+    "auto": CostModel(tile=5e-3, point=2e-4, knee=0.1, slope=1.5, frequency=2.5e-3, frequency_knee=0.05,
                       frequency_slope=2.2, period=2e-5),
-    "rk4": CostModel(tile=2e-3, point=2e-3, knee=0.1, slope=1.0, period=3e-5),
+    "rk4": CostModel(tile=3e-3, point=2e-3, knee=0.1, slope=1.0, period=3e-5),
     "paper": CostModel(tile=1e-2, point=5.0, knee=0.1, slope=1.0, period=0.05),
 }
 
@@ -91,7 +93,7 @@ def estimate(spec, *, jobs: int, executor: str) -> Estimate:
         history = len(spec.time_history.points) * spec.time_history.samples_per_period * 8 * 4
         serial += len(spec.time_history.points) * float(point.max()) * 4
     return Estimate(points=points, seconds=serial / workers, worst=worst / workers,
-                    bytes=points * model.point_bytes * starts + history, workers=workers)
+                    bytes=BASE_BYTES + points * model.point_bytes * starts + history, workers=workers)
 
 
 def _two_starts(spec) -> bool:
