@@ -152,6 +152,8 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
         _fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
               f"pass --yes to run it")
     _check_writable(out)
+    if not quiet:
+        click.echo(f"estimate: {cost.describe()}", err=True)
     r, beta = s.frequency_ratio, s.force_ratio
     sweep = s.sweep.direction if s.sweep is not None else None
     key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,

@@ -467,7 +467,7 @@ def test_a_run_that_failed_before_any_tile_does_not_block_the_next(runner, tmp_p
     spec = write_spec(tmp_path, text=EVENT_SPEC)
     out = tmp_path / "out.h5"
     monkeypatch.setattr(event_module, "compute_tile", lambda *a, **k: 1 / 0)
-    res = runner.invoke(main, ["run", str(spec), "-o", str(out)])
+    res = runner.invoke(main, ["run", str(spec), "-o", str(out), "-q"])
     assert res.exit_code == 1 and "ZeroDivisionError" in res.output and len(res.output.splitlines()) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]
     monkeypatch.undo()
