@@ -399,6 +399,19 @@ def test_dask_local_cluster_gives_the_same_bits(runner, tmp_path):
     _assert_same_bits(_cube_arrays(ref), _cube_arrays(out))
 
 
+def _interrupted_after(n: int, real):
+    """compute_tile that computes n tiles, then raises KeyboardInterrupt as Ctrl-C would."""
+    calls = []
+
+    def compute(*a, **k):
+        calls.append(1)
+        if len(calls) > n:
+            raise KeyboardInterrupt
+        return real(*a, **k)
+
+    return compute
+
+
 def test_interrupted_run_resumes_to_the_same_bits(runner, tmp_path, monkeypatch):
     import friction_sweep.methods.event as event_module
 
@@ -406,15 +419,7 @@ def test_interrupted_run_resumes_to_the_same_bits(runner, tmp_path, monkeypatch)
     ref, out = tmp_path / "ref.h5", tmp_path / "out.h5"
     assert runner.invoke(main, ["run", str(spec), "-o", str(ref)]).exit_code == 0
     real = event_module.compute_tile
-    calls = []
-
-    def interrupted_after_two(*a, **k):
-        calls.append(1)
-        if len(calls) > 2:
-            raise KeyboardInterrupt
-        return real(*a, **k)
-
-    monkeypatch.setattr(event_module, "compute_tile", interrupted_after_two)
+    monkeypatch.setattr(event_module, "compute_tile", _interrupted_after(2, real))
     res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--executor", "serial"])
     assert res.exit_code == 130 and "interrupted" in res.output
     assert not out.exists()
@@ -443,15 +448,7 @@ def test_resume_refuses_a_checkpoint_of_another_sweep(runner, tmp_path, monkeypa
 
     spec = write_spec(tmp_path, text=EVENT_SPEC)
     out = tmp_path / "out.h5"
-    real, calls = event_module.compute_tile, []
-
-    def interrupted_after_one(*a, **k):
-        calls.append(1)
-        if len(calls) > 1:
-            raise KeyboardInterrupt
-        return real(*a, **k)
-
-    monkeypatch.setattr(event_module, "compute_tile", interrupted_after_one)
+    monkeypatch.setattr(event_module, "compute_tile", _interrupted_after(1, event_module.compute_tile))
     res = runner.invoke(main, ["run", str(spec), "-o", str(out), "--executor", "serial"])
     assert res.exit_code == 130 and "1 finished tiles are kept" in res.output and "--resume" in res.output
     spec.write_text(EVENT_SPEC.replace("1.2]", "1.3]"))
