@@ -216,7 +216,7 @@ CASES = [
     Case("binary spec file", "\x00\xff\xfe binary", words=("not UTF-8",)),
     Case("empty spec", "", words=("must be a mapping",)),
     # ---- settings outside their meaningful range (all reported at once)
-    Case("steady_tol 10", _settings("event", "steady_tol: 10"), words=("settings.steady_tol", "<= 0.001")),
+    Case("steady_tol 10", _settings("event", "steady_tol: 10"), words=("settings.steady_tol", "between 1e-13 and 1e-06")),
     Case("work_budget int64 max", _settings("event", "work_budget: 9223372036854775807"),
          words=("settings.work_budget", "between 1 and")),
     Case("max_periods 1e23", _settings("event", "max_periods: 99999999999999999999999"),
