@@ -116,9 +116,7 @@ def _in_range(s: Setting, cheap_high: float | None = None) -> st.SearchStrategy:
     high = s.high if cheap_high is None else min(s.high, cheap_high)
     if s.kind == "int":
         return st.integers(int(s.low), int(high))
-    low = s.low if not s.low_open else max(s.low, high * 1e-9)
-    return st.one_of(st.just(high), st.floats(low, high, allow_nan=False, allow_infinity=False,
-                                              exclude_min=s.low_open))
+    return st.one_of(st.just(high), st.floats(s.low, high, allow_nan=False, allow_infinity=False))
 
 
 def _outside(s: Setting) -> list:
@@ -127,7 +125,7 @@ def _outside(s: Setting) -> list:
         wrong = [int(s.low) - 1, int(s.high) + 1, float(s.low) + 0.5, 10**30, True, "1"]
     else:
         wrong = [_up(s.high), math.nan, math.inf, "1e-3", False]
-        wrong.append(s.low if s.low_open else _down(s.low))
+        wrong.append(_down(s.low))
     return wrong
 
 

@@ -95,8 +95,8 @@ _STEADY = {
 METHOD_SETTINGS: dict[str, dict[str, Setting]] = {
     "theory": {},
     "event": {**_STEADY, "starts": Setting("int", 1, 2, "1: from rest only; 2: also from a moving start")},
-    "auto": {**_STEADY, "theory_margin": Setting("float", 0.0, 1.0, "relative distance from the theory's "
-                                                 "continuous limit inside which the simulation decides", low_open=True)},
+    "auto": {**_STEADY, "theory_margin": Setting("float", 1e-6, 1.0, "relative distance from the theory's "
+                                                 "continuous limit inside which the simulation decides")},
     "rk4": {**{k: v for k, v in _STEADY.items() if k != "stop_tol"},
             "starts": Setting("int", 1, 2, "1: from rest only; 2: also from a moving start"),
             "steps_per_period": Setting("int", 256, 100_000, "fixed RK4 steps per forcing period: fewer give "
