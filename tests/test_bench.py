@@ -85,7 +85,7 @@ def test_accuracy_in_a_spec_is_honoured_and_recorded(tmp_path):
 def test_accuracy_and_knobs_together_are_refused(tmp_path):
     spec = tmp_path / "s.yaml"
     spec.write_text("scene: {excitation: base}\ngrid: {frequency_ratio: 2.0, force_ratio: 0.3}\nmethod: event\n"
-                    "accuracy: 1.0e-6\nsettings: {stop_tol: 1.0e-9}\n")
+                    "accuracy: 1.0e-6\nsettings: {stop_tol: 1.0e-11}\n")
     res = CliRunner().invoke(main, ["validate", str(spec)])
     assert res.exit_code == 2 and "either accuracy or the knobs" in res.output
     spec.write_text("scene: {excitation: base}\ngrid: {frequency_ratio: 2.0, force_ratio: 0.3}\nmethod: theory\n"

@@ -203,6 +203,8 @@ CASES = [
          words=("must be >= 0.01",)),
     Case("frequency ratio 1e20", GOOD.replace("stop: 2.0", "stop: 1.0e20"), words=("must be <= 100",)),
     Case("force ratio 1e300", GOOD.replace("[0.1, 0.4]", "[0.1, 1.0e300]"), words=("must be <= 1000000",)),
+    Case("force ratio 1e-16", GOOD.replace("[0.1, 0.4]", "[0, 1.0e-16, 0.4]"),
+         words=("force_ratio[1]", "must be 0 or at least 1e-12")),
     Case("400-digit integer", GOOD.replace("[0.1, 0.4]", "1" + "0" * 400),
          words=("force_ratio", "too large", "401 digits")),
     Case("history too large", EVENT.replace("output: out.h5", "output: out.h5\noutputs: [regime, time_history]\n"
@@ -211,7 +213,7 @@ CASES = [
          words=("samples per variable",)),
     Case("negative history force ratio", EVENT.replace(
         "output: out.h5", "outputs: [regime, time_history]\ntime_history: {points: [[1, 0.1], [2, 0.1], [3, -0.1]]}"),
-        words=("time_history.points[2][1]", "force ratio must be between 0 and")),
+        words=("time_history.points[2][1]", "force ratio must be 0 or between 1e-12 and")),
     Case("a key named like a union tag", "'<range>': 1\n" + GOOD, words=("<range>", "unknown key")),
     Case("binary spec file", "\x00\xff\xfe binary", words=("not UTF-8",)),
     Case("empty spec", "", words=("must be a mapping",)),
@@ -465,3 +467,45 @@ def test_sigterm_ends_like_ctrl_c_keeping_finished_tiles(tmp_path):
     assert res.stderr.strip() == (f"fsweep: error: terminated; no result was written; 2 finished tiles are kept "
                                   f"in .out.h5.partial: rerun with --resume to continue")
     assert sorted(p.name for p in tmp_path.iterdir()) == [".out.h5.partial", "spec.yaml"]
+
+
+def test_the_estimate_knows_the_methods_defaults():
+    """The estimate is numba-free, so it keeps its own copy of the knobs' defaults: keep them equal."""
+    from friction_sweep import methods
+    from friction_sweep.sweep.estimate import _DEFAULTS
+
+    merged = {**methods.get("event").SETTINGS, **methods.get("rk4").SETTINGS, **methods.get("paper").SETTINGS}
+    assert {k: merged[k] for k in _DEFAULTS} == _DEFAULTS
+
+
+@pytest.mark.parametrize("r, beta, settings", [
+    (1.0, 0.1, {"steady_tol": 1e-6}),  # `steady_tol: 10` called this continuous
+    (1.0, 0.1, {"stop_tol": 1e-10, "max_orbit_period": 1024}),
+    (1.5, 0.1, {"work_budget": 10**8}),  # 2^63 overflowed into `unsettled`
+    (1.5, 0.1, {"initial_displacement": 2.0, "initial_velocity": -2.0}),
+    (0.3, 0.3, {"steady_tol": 1e-13, "stop_tol": 1e-15}),
+    (0.5, 0.25, {"max_periods": 100_000, "shoot_after": 1_000_000}),
+])
+def test_settings_at_the_ends_of_their_ranges_give_the_default_answer(compiled, r, beta, settings):
+    from friction_sweep.methods import event
+
+    def solve(**knobs):
+        return event.compute_tile("base", np.array([r]), np.array([beta]), ("transmissibility", "regime"),
+                                  settings=knobs)
+
+    ref, got = solve(), solve(**settings)
+    assert got["regime"].item() == ref["regime"].item()
+    np.testing.assert_allclose(got["transmissibility"], ref["transmissibility"], rtol=1e-5)
+
+
+@pytest.mark.parametrize("r", [0.5, 2.0, 3.7])
+def test_no_friction_from_any_start_is_the_forced_orbit(compiled, r):
+    """beta = 0: nothing dissipates, so the steady state meant is the forced one, |X| = 1/|1 - r^2|,
+    whatever the start (a start with velocity used to keep its free vibration forever)."""
+    from friction_sweep.methods import event
+
+    out = event.compute_tile("base", np.array([r]), np.array([0.0]), ("transmissibility", "regime"),
+                             settings={"initial_displacement": 1.5, "initial_velocity": 2.0})
+    exact = 1.0 / abs(1.0 - r * r)
+    np.testing.assert_allclose(out["transmissibility"].item(), exact, rtol=1e-12)
+    np.testing.assert_allclose(out["peak_transmissibility"].item(), exact, rtol=1e-12)

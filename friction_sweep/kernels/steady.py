@@ -300,8 +300,9 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     if bk == 0.0 and bs == 0.0 and zeta == 0.0 and off_resonance:
         # Nothing dissipates: a transient from any start would never decay, and the orbit would be forced
         # plus free motion forever. The steady state meant is the forced one (the limit of vanishing
-        # damping): start on it, q = A/(1 - r^2) at the excitation's maximum, whatever the given start.
+        # damping): start on it, q = A/(1 - r^2), v = 0 at the excitation's maximum, whatever the given start.
         q = A / ((1.0 - r) * (1.0 + r))
+        v = 0.0
     mode = _mode_of(q, v, A, r, bs)
     hq[0], hv[0], hm[0] = q, v, mode
     work = 0

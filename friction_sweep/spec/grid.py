@@ -16,6 +16,9 @@ FREQUENCY_RATIO_NOTE = ("frequency ratios are computed from 0.01 to 100: below, 
 #: friction beyond this holds the mass still everywhere on the grid (joined moves only if beta < r^2)
 FORCE_RATIO_MAX = 1e6
 FORCE_RATIO_NOTE = "force ratios above 1e6 hold the mass still at every frequency ratio"
+#: a positive force ratio below this dissipates less per period than rounding resolves: the transient
+#: from rest never decays within any budget (wrong peaks, measured at 1e-16); 0 is the forced orbit
+FORCE_RATIO_MIN_POSITIVE = 1e-12
 SIGNIFICANT_DIGITS = 12
 LATTICE_RTOL = 1e-9
 

@@ -77,8 +77,8 @@ _STEADY = {
     "steady_tol": Setting("float", 1e-13, 1e-6, "the relative change per period below which the map has "
                           "settled: looser mislabels slow transients near the stick-slip limit, tighter than "
                           "rounding finds false period-2 orbits"),
-    "stop_tol": Setting("float", 1e-15, 1e-8, "a stop is |v| <= stop_tol x the state's size: looser misplaces "
-                        "stops, tighter than rounding never finds them"),
+    "stop_tol": Setting("float", 1e-15, 1e-10, "a stop is |v| <= stop_tol x the state's size: looser misplaces "
+                        "stops (r = 1 goes unsettled from 1e-9), tighter than rounding never finds them"),
     "max_periods": Setting("int", 1, 100_000, "forcing periods marched per point at most (cost grows with it)"),
     "max_orbit_period": Setting("int", 1, 1024, "longest period-k orbit looked for (each period's cost grows "
                                 "with it)"),
@@ -132,7 +132,15 @@ Positive = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0)]
 NonNegative = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0)]
 FrequencyRatio = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=g.FREQUENCY_RATIO_RANGE[0],
                                                   le=g.FREQUENCY_RATIO_RANGE[1])]
-ForceRatio = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0, le=g.FORCE_RATIO_MAX)]
+def _zero_or_resolved(beta: float) -> float:
+    if 0 < beta < g.FORCE_RATIO_MIN_POSITIVE:
+        raise _error("force_ratio_tiny", f"must be 0 or at least {g.FORCE_RATIO_MIN_POSITIVE:g} (got {show(beta)}): "
+                     "so little friction dissipates below rounding, and the motion from rest never settles")
+    return beta
+
+
+ForceRatio = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0, le=g.FORCE_RATIO_MAX),
+                       AfterValidator(_zero_or_resolved)]
 
 
 def show(v: Any) -> str:
@@ -380,9 +388,10 @@ class TimeHistory(_Model):
             if not r_lo <= r <= r_hi:
                 problems.append(_error("history_r", f"frequency ratio must be between {_number(r_lo)} and "
                                        f"{_number(r_hi)} (got {show(r)})", (i, 0)))
-            if not 0 <= beta <= g.FORCE_RATIO_MAX:
-                problems.append(_error("history_beta", f"force ratio must be between 0 and "
-                                       f"{_number(g.FORCE_RATIO_MAX)} (got {show(beta)})", (i, 1)))
+            if not 0 <= beta <= g.FORCE_RATIO_MAX or 0 < beta < g.FORCE_RATIO_MIN_POSITIVE:
+                problems.append(_error("history_beta", f"force ratio must be 0 or between "
+                                       f"{g.FORCE_RATIO_MIN_POSITIVE:g} and {_number(g.FORCE_RATIO_MAX)} "
+                                       f"(got {show(beta)})", (i, 1)))
         _raise_all("points", problems)
         return v
 

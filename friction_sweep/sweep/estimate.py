@@ -1,59 +1,89 @@
 """What a run will cost before it starts: wall time and memory, from a measured cost model.
 
-Per method, the wall time of a tile on one core is modelled as
+Seconds on one core, summed over the run's tiles (fixed blocks of frequency ratios, sweep.layout):
 
-    tile + sum over its frequency ratios r of [ frequency(r) + (force ratios) * point(r) ]
-    point(r) = point * max(1, (knee / r)^slope) * (settings factor)
+    every method    3 ms x max(1, 0.02/r) per frequency ratio (the theory's continuity limit S(r),
+                    which the simulations write beside their results)
+    theory, auto    per tile: 0.6 ms + 6e-11 n^3 (Gauss-Legendre nodes, n = 40 + pi (1 + r_min)/r_min);
+                    per point: 2 us + 0.03 us n, and for joined 0.45 us per peak sample
+                    (64 + 16 (1 + r)/r of them)
+    event, auto     per point: base/force 150 us x max(1, (0.12/r)^1.6), joined 60 us x max(1, (0.02/r)^1.5);
+                    x3 with static above kinetic friction and two starts (three solves)
+    rk4             per point: 1.2 us x steps_per_period
+    paper           per point: 5.7 us per right-hand side, up to max_evaluations, + 0.2 us a sample
 
-`frequency(r)` is work done once per r (the theory's continuity limit); `point(r)` grows at low r,
-where the motion stops ever more often per period. The constants are upper bounds of measurements
-on 2 cores (make bench; README "What a run costs"), so the estimate errs high. `worst` bounds what a
-point can cost when it uses its whole budget (max_periods periods), which no typical grid does.
+Measured on 2 cores, each column's mean over 151 force ratios, and checked on the paper plane
+(74,896 points, serial): the model gives 1.1x (theory base) to 3.1x (auto base) the measured time.
+Single points vary more than column means (at r < 0.1 a small force ratio can cost 3-5x its
+column's mean), so a grid of only such points can take longer than `seconds`; `worst` bounds a grid whose every point runs into its budget: work_budget
+events at 0.3 us, or max_periods periods at 21 us + 13 ns x max_orbit_period, whichever comes first.
 Numba-free: `fsweep validate` prints the estimate without loading any kernel.
 """
 
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass
 
 import numpy as np
 
-from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES
+from friction_sweep.sweep.layout import layout
 
 #: a grid is "huge" (run only with --yes) past either: the refusal says how much
 HUGE_SECONDS = 1800.0
 HUGE_BYTES = 4 * 2**30
 #: a run's process before its grid: Python with numba, xarray and h5py loaded (peak RSS of a 1-point run)
 BASE_BYTES = 300 * 2**20
+#: memory per grid point while a run holds its outputs and the cube's serialised copy
+POINT_BYTES = 1000
+#: loading the compiled kernels from numba's cache, once per run (the simulation methods)
+KERNEL_LOAD_SECONDS = 0.3
+
+_DEFAULTS = {"steps_per_period": 256, "max_periods": 2000, "max_orbit_period": 256, "work_budget": 5_000_000,
+             "periods": 200, "samples_per_period": 64, "max_evaluations": 20_000_000}
 
 
-@dataclass(frozen=True)
-class CostModel:
-    """Seconds on one core; see the module docstring. `period`: one forcing period of one point,
-    at most, for the worst-case bound; `point_bytes`: memory per grid point while a run holds it."""
-
-    tile: float
-    point: float
-    knee: float = 0.0
-    slope: float = 0.0
-    frequency: float = 0.0
-    frequency_knee: float = 0.0
-    frequency_slope: float = 0.0
-    period: float = 0.0
-    point_bytes: int = 1000
+def _frequency_seconds(r: np.ndarray) -> np.ndarray:
+    return 3e-3 * np.maximum(1.0, 0.02 / r)
 
 
-#: measured on 2 cores (see the module docstring), rounded up
-COSTS = {
-    "theory": CostModel(tile=2e-3, point=2e-5, frequency=2.5e-3, frequency_knee=0.05, frequency_slope=2.2,
-                        point_bytes=600),
-    "event": CostModel(tile=3e-3, point=2e-4, knee=0.1, slope=1.5, period=2e-5),
-    "auto": CostModel(tile=5e-3, point=2e-4, knee=0.1, slope=1.5, frequency=2.5e-3, frequency_knee=0.05,
-                      frequency_slope=2.2, period=2e-5),
-    "rk4": CostModel(tile=3e-3, point=2e-3, knee=0.1, slope=1.0, period=3e-5),
-    "paper": CostModel(tile=1e-2, point=5.0, knee=0.1, slope=1.0, period=0.05),
-}
+def _theory_seconds(r: np.ndarray, n_beta: int, joined: bool) -> float:
+    n = 40 + math.ceil((1.0 + r.min()) * math.pi / r.min())
+    per_point = 2e-6 + 3e-8 * n + (0.45e-6 * (64 + 16 * (1.0 + r) / r) if joined else 0.0)
+    return 6e-4 + 6e-11 * n**3 + float(np.sum(per_point * np.ones_like(r))) * n_beta
+
+
+def _event_point_seconds(r: np.ndarray, joined: bool) -> np.ndarray:
+    if joined:
+        return 60e-6 * np.maximum(1.0, (0.02 / r) ** 1.5)
+    return 150e-6 * np.maximum(1.0, (0.12 / r) ** 1.6)
+
+
+def _tile_seconds(method: str, r: np.ndarray, n_beta: int, joined: bool, solves: int, knobs: dict) -> float:
+    """Typical seconds for one tile of frequency ratios `r` by all `n_beta` force ratios."""
+    seconds = float(_frequency_seconds(r).sum())
+    if method in ("theory", "auto"):
+        seconds += _theory_seconds(r, n_beta, joined)
+    if method in ("event", "auto"):
+        seconds += float(_event_point_seconds(r, joined).sum()) * n_beta * solves
+    if method == "rk4":
+        seconds += 1.2e-6 * knobs["steps_per_period"] * r.size * n_beta * solves
+    if method == "paper":  # a smooth point; stick-slip runs into max_evaluations (`worst`)
+        seconds += (5.7e-6 * 2e4 + 0.2e-6 * knobs["periods"] * knobs["samples_per_period"]) * r.size * n_beta
+    return seconds
+
+
+def _worst_point_seconds(method: str, knobs: dict, solves: int) -> float:
+    """A point that runs into its budget."""
+    if method == "theory":
+        return 0.0
+    if method == "paper":
+        return 5.7e-6 * knobs["max_evaluations"] + 0.2e-6 * knobs["periods"] * knobs["samples_per_period"]
+    per_period = 21e-6 + 13e-9 * knobs["max_orbit_period"]
+    if method == "rk4":
+        per_period += 1.2e-6 * knobs["steps_per_period"]
+    return solves * min(0.3e-6 * knobs["work_budget"], knobs["max_periods"] * per_period)
 
 
 @dataclass(frozen=True)
@@ -73,53 +103,34 @@ class Estimate:
 
 def estimate(spec, *, jobs: int, executor: str) -> Estimate:
     """The cost of running `spec` with `jobs` workers on `executor`."""
-    model = COSTS[spec.method]
     r, n_beta = spec.frequency_ratio, spec.force_ratio.size
-    settings = spec.settings
-    factor = _settings_factor(spec.method, settings)
-    starts = 2 if _two_starts(spec) else 1
-    point = model.point * np.maximum(1.0, (model.knee / r) ** model.slope) * factor * starts
-    frequency = model.frequency * np.maximum(1.0, (model.frequency_knee / r) ** model.frequency_slope) \
-        if model.frequency else np.zeros_like(r)
-    sweep = spec.sweep is not None
-    n_tiles = -(-n_beta // TILE_FORCES) if sweep else -(-r.size // TILE_FREQUENCIES)
-    serial = float(n_tiles * model.tile + frequency.sum() * (n_tiles if sweep else 1) + n_beta * point.sum())
-    worst_point = _worst_point(spec.method, model, settings) * starts
-    worst = serial + r.size * n_beta * max(0.0, worst_point - float(point.max()))
-    workers = _workers(executor, jobs, n_tiles)
+    knobs = {**_DEFAULTS, **spec.settings}
+    joined = spec.scene.excitation == "joined"
+    solves = 3 if _two_starts(spec) else 1
+    sweep = spec.sweep.direction if spec.sweep is not None else None
+    parts = layout(r.size, n_beta, sweep)
+    if sweep:  # tiles of force ratios, each over every frequency ratio
+        serial = sum(_tile_seconds(spec.method, r, p.stop - p.start, joined, solves, knobs) for p in parts)
+    else:
+        serial = sum(_tile_seconds(spec.method, r[p], n_beta, joined, solves, knobs) for p in parts)
+    if spec.method != "theory":
+        serial += KERNEL_LOAD_SECONDS
     points = r.size * n_beta
     history = 0
     if spec.time_history is not None:
-        history = len(spec.time_history.points) * spec.time_history.samples_per_period * 8 * 4
-        serial += len(spec.time_history.points) * float(point.max()) * 4
+        n = len(spec.time_history.points)
+        history = n * spec.time_history.samples_per_period * 8 * 8  # eight float64 variables
+        serial += n * _worst_point_seconds(spec.method, knobs, solves)
+    worst = serial + points * _worst_point_seconds(spec.method, knobs, solves)
+    workers = _workers(executor, jobs, len(parts))
     return Estimate(points=points, seconds=serial / workers, worst=worst / workers,
-                    bytes=BASE_BYTES + points * model.point_bytes * starts + history, workers=workers)
+                    bytes=BASE_BYTES + points * POINT_BYTES * solves + history, workers=workers)
 
 
 def _two_starts(spec) -> bool:
     effects = spec.scene.effects.declared()
     return (effects.get("static_friction_ratio", 1.0) > 1.0 and spec.sweep is None
             and spec.settings.get("starts", 2) == 2 and spec.method in ("event", "rk4"))
-
-
-def _settings_factor(method: str, settings: dict) -> float:
-    """How the knobs that set the work per point scale the typical cost."""
-    if method == "rk4":
-        return settings.get("steps_per_period", 256) / 256
-    if method == "paper":
-        return settings.get("periods", 200) / 200 * max(1.0, settings.get("samples_per_period", 64) / 256)
-    return 1.0
-
-
-def _worst_point(method: str, model: CostModel, settings: dict) -> float:
-    """A point that marches its whole budget: max_periods periods (paper: its periods)."""
-    if method == "theory":
-        return 0.0
-    if method == "paper":
-        return model.period * settings.get("periods", 200)
-    periods = settings.get("max_periods", 2000)
-    per_period = model.period * (_settings_factor(method, settings) if method == "rk4" else 1.0)
-    return periods * per_period
 
 
 def _workers(executor: str, jobs: int, n_tiles: int) -> int:
