@@ -509,3 +509,24 @@ def test_no_friction_from_any_start_is_the_forced_orbit(compiled, r):
     exact = 1.0 / abs(1.0 - r * r)
     np.testing.assert_allclose(out["transmissibility"].item(), exact, rtol=1e-12)
     np.testing.assert_allclose(out["peak_transmissibility"].item(), exact, rtol=1e-12)
+
+
+def test_ctrl_c_under_dask_is_one_line(tmp_path):
+    """Ctrl-C reaches the whole process group; the Dask workers used to print a traceback each."""
+    import signal
+    import time
+
+    pytest.importorskip("distributed")
+    (tmp_path / "spec.yaml").write_text(EVENT.replace("num: 40", "step: 0.0005").replace("[0.1, 0.4]",
+                                                                                      "{start: 0, stop: 1, num: 41}"))
+    code = "import sys; from friction_sweep.cli import main; sys.exit(main(sys.argv[1:]))"
+    p = subprocess.Popen([sys.executable, "-c", code, "run", "spec.yaml", "-q", "--executor", "dask", "-j", "2"],
+                         cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=True)
+    deadline = time.monotonic() + 120
+    while not list((tmp_path / ".out.h5.partial").glob("tile-*.npz")) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    os.killpg(p.pid, signal.SIGINT)
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 130, err
+    assert len(err.splitlines()) == 1 and "finished tiles are kept" in err, err

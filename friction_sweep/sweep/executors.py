@@ -7,6 +7,8 @@ a tile is a pure function of its inputs, and assembly places it by index.
 from __future__ import annotations
 
 import logging
+import signal
+import threading
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, ThreadPoolExecutor, wait
 from typing import Callable, Iterable, Iterator
 
@@ -88,8 +90,15 @@ def run_dask(fn, work, jobs, scheduler: str | None = None, retries: int = 3) -> 
     for name in ("distributed", "tornado", "asyncio"):
         logging.getLogger(name).setLevel(quiet)
     if scheduler is None:
-        cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=quiet)
+        # Ctrl-C reaches the whole process group: the workers would each print a traceback. Started
+        # with SIGINT ignored (inherited), they leave it to this process, which closes the cluster.
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if _main_thread() else None
+        try:
+            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True, dashboard_address=None,
+                                   silence_logs=quiet)
+        finally:
+            if previous is not None:
+                signal.signal(signal.SIGINT, previous)
         client = Client(cluster)
     else:
         client = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S:g}s")
@@ -105,6 +114,10 @@ def run_dask(fn, work, jobs, scheduler: str | None = None, retries: int = 3) -> 
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+def _main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
 
 
 def execute(fn, work: list, executor: str, jobs: int, scheduler: str | None = None) -> Iterable[tuple[int, dict]]:
