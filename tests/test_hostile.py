@@ -530,3 +530,22 @@ def test_ctrl_c_under_dask_is_one_line(tmp_path):
     out, err = p.communicate(timeout=120)
     assert p.returncode == 130, err
     assert len(err.splitlines()) == 1 and "finished tiles are kept" in err, err
+
+
+@pytest.mark.parametrize("r, beta, static", [(0.5, 0.5, 1.0), (0.3, 0.11, 1.5), (0.8, 0.3, 1.5), (2.0, 0.6, 1.0)])
+def test_no_point_exceeds_its_work_budget_and_calls_itself_converged(compiled, r, beta, static):
+    """The measurement replays are part of the point's budget (they used to get the whole budget again)."""
+    from friction_sweep.kernels import steady
+
+    def solve(budget):
+        out = np.empty((1, steady.OUT_SIZE))
+        steady.solve_points(np.array([1.0]), np.array([r]), np.array([beta]), np.array([beta * static]),
+                            np.array([0.0]), np.array([0.0]), steady.settings_array(work_budget=budget), out)
+        return out[0]
+
+    full = solve(5_000_000)
+    needed = int(full[steady.OUT_WORK])
+    for budget in (needed, needed - 1, needed // 2):
+        got = solve(budget)
+        assert got[steady.OUT_WORK] <= budget or got[steady.OUT_STEADY] == steady.EVENT_BUDGET, budget
+    assert solve(needed)[steady.OUT_STEADY] == full[steady.OUT_STEADY]

@@ -471,8 +471,13 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     if not shot:
         reset_accumulator(acc)
         for _ in range(orbit):
-            q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, True, acc)
+            q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, True, acc)
             work += w
+            if st == BUDGET or work > budget:  # the measurement is part of the point's budget
+                out[OUT_STEADY] = EVENT_BUDGET
+                out[OUT_WORK] = work
+                out[OUT_REGIME] = UNSETTLED
+                return
     T = TWO_PI / r
     total = orbit * T
     stuck_fraction = acc[ACC_STUCK] / total
@@ -508,12 +513,18 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
 @jit
 def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, sq, sv):
     """Replay `periods` forcing periods from a state on the orbit, sampling q, v at the local
-    times ts (sorted, in [0, T)) of every period; sq, sv have shape (periods, ts.size)."""
+    times ts (sorted, in [0, T)) of every period; sq, sv have shape (periods, ts.size). Returns
+    BUDGET if the replay ran out of `budget` (the samples are then incomplete), else 0."""
     acc = np.empty(ACC_SIZE)
+    work = 0
     for k in range(periods):
         reset_accumulator(acc)
-        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, False, acc,
+        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget - work, False, acc,
                                            ts, sq[k], sv[k])
+        work += w
+        if st == BUDGET or work > budget:
+            return BUDGET
+    return 0
 
 
 @jit

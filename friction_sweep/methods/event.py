@@ -207,9 +207,11 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         ts = frac * T
         sq = np.empty((k, samples_per_period))
         sv = np.empty((k, samples_per_period))
-        steady.sample_orbit(raw[i, steady.OUT_Q], raw[i, steady.OUT_V], int(raw[i, steady.OUT_MODE]), A[i], r[i],
-                            bk[i], bs[i], zeta[i], c[i], sett[steady.SET_VTOL], int(sett[steady.SET_BUDGET]), k, ts,
-                            sq, sv)
+        status = steady.sample_orbit(raw[i, steady.OUT_Q], raw[i, steady.OUT_V], int(raw[i, steady.OUT_MODE]), A[i],
+                                     r[i], bk[i], bs[i], zeta[i], c[i], sett[steady.SET_VTOL],
+                                     int(sett[steady.SET_BUDGET]), k, ts, sq, sv)
+        if status != 0:  # the replay ran out of budget: incomplete samples are not shown
+            continue
         m = k * samples_per_period
         phase = r[i] * np.tile(ts, k)
         out["history_time"][i, :m] = (np.arange(m) / samples_per_period)
