@@ -32,7 +32,7 @@ test: $(STAMP)
 # measures, then rewrites the README's benchmark tables and the calibration that `accuracy:` uses
 bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
-	$(BIN)/fsweep bench --calibrate -o results/bench/workprecision.h5
+	$(BIN)/fsweep bench --calibrate --calibration friction_sweep/bench/calibration.json -o results/bench/workprecision.h5
 	$(BIN)/python benchmarks/readme_tables.py
 
 bench-quick: $(STAMP)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import shlex
 import signal
 import sys
@@ -53,6 +54,18 @@ def _output_path(spec_path: Path, spec, override: Path | None) -> Path:
 
 
 class _Group(click.Group):
+    #: commands whose module loads heavy libraries (pandas): imported only when asked for
+    lazy = {"validate-data": ("friction_sweep.validation", "validate_data")}
+
+    def list_commands(self, ctx):
+        return sorted([*super().list_commands(ctx), *self.lazy])
+
+    def get_command(self, ctx, name):
+        if name in self.lazy:
+            module, attr = self.lazy[name]
+            return getattr(importlib.import_module(module), attr)
+        return super().get_command(ctx, name)
+
     def invoke(self, ctx):
         try:
             return super().invoke(ctx)
@@ -485,8 +498,11 @@ def _shown(v) -> str:
 @click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
 @click.option("-o", "--output", type=click.Path(path_type=Path),
               default=Path("results/bench/workprecision.h5"), show_default=True, help="Dataset to write.")
-@click.option("--calibrate", is_flag=True, help="Also rewrite the calibration that `accuracy:` in specs uses.")
-def bench(quick: bool, output: Path, calibrate: bool):
+@click.option("--calibrate", is_flag=True, help="Also write the calibration that `accuracy:` in specs uses.")
+@click.option("--calibration", type=click.Path(path_type=Path), default=None,
+              help="Where --calibrate writes (default: the user's, ~/.local/share/friction_sweep/calibration.json, "
+                   "which `accuracy:` then reads in preference to the packaged one).")
+def bench(quick: bool, output: Path, calibrate: bool, calibration: Path | None):
     """Measure what accuracy costs in time: error and time per point of every method and setting."""
     from friction_sweep.bench import workprecision as wp
     from friction_sweep.storage.outputs import missing_figures_extra
@@ -494,25 +510,17 @@ def bench(quick: bool, output: Path, calibrate: bool):
     if calibrate and quick:
         _fail("--calibrate needs the full benchmark, not --quick")
     # every refusal before the benchmark's seconds to minutes of computing
-    problem = wp.refuse_outputs(output, calibrate) or missing_figures_extra()
+    problem = wp.refuse_outputs(output, calibrate, calibration) or missing_figures_extra()
     if problem:
         _fail(problem)
     _check_writable(output)
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
     table = wp.markdown(ds)
     try:
-        paths = wp.write(ds, output, calibrate)  # all or nothing
+        paths = wp.write(ds, output, calibrate, calibration)  # all or nothing
     except OSError as err:
         _fail(f"could not write the benchmark's results ({output}): {err.strerror or err}; "
               "no output was changed", EXIT_RUNTIME)
     click.echo(table)
     click.echo("wrote " + ", ".join(str(p) for p in paths))
 
-
-def _register_validate_data():
-    from friction_sweep.validation import validate_data
-
-    main.add_command(validate_data)
-
-
-_register_validate_data()

@@ -38,8 +38,9 @@ from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
 from friction_sweep.storage.outputs import file_kind
 
-#: where the data lie in a checkout: <repo>/../shared/data/...
-DEFAULT_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "experiment_phase_fixed_wall.csv"
+#: the rig's 36 measured phases, shipped with the package (source in the file's header); a copy of
+#: the project's shared/data/experiment_phase_fixed_wall.csv, kept equal by tests/test_validation.py
+DEFAULT_DATA = Path(__file__).with_name("data") / "experiment_phase_fixed_wall.csv"
 DEFAULT_OUTPUT_DIR = Path("results/validation")
 EXCITATION = "base"  # fixed wall, base motion
 
@@ -352,7 +353,7 @@ def validate_data(data: Path | None, output_dir: Path):
     # Every refusal comes before the predictions (seconds; more where numba compiles first), and
     # nothing is written until everything is computed.
     if data is None and not DEFAULT_DATA.exists():
-        _fail(f"no measured data at {DEFAULT_DATA} (the default, next to the repository): "
+        _fail(f"no measured data at {DEFAULT_DATA} (the default, shipped with the package): "
               "pass --data FILE")
     data_path = data if data is not None else DEFAULT_DATA
     try:

@@ -53,7 +53,7 @@ def test_accuracy_picks_the_cheapest_setting_that_meets_it():
 
 
 def test_shipped_calibration_covers_the_methods():
-    table = json.loads(wp.CALIBRATION.read_text())
+    table = json.loads(wp.PACKAGED_CALIBRATION.read_text())
     worst = {m: [row["worst_error"] for row in table[m] if row["worst_error"] is not None] for m in ("event", "rk4")}
     assert min(worst["event"]) < 1e-10 and max(worst["event"]) > 1e-6
     # rk4's worst case is many stops at low r, where the stops, not the step, limit it

@@ -1,7 +1,7 @@
 """Validation against the measured phase lags of the fixed-wall rig (friction_sweep.validation).
 
-Tests that need the real data file (shared/data, next to the repository) skip where it is absent;
-the parsing and command tests also run on an excerpt written here.
+The real data file ships with the package (friction_sweep/data); the parsing and command tests
+also run on an excerpt written here.
 """
 
 import math

@@ -10,6 +10,7 @@ transmissibility over the region's points (a point a setting fails on counts as 
 from __future__ import annotations
 
 import json
+import os
 import time
 from pathlib import Path
 
@@ -202,32 +203,46 @@ def draw(ds: xr.Dataset):
     return fig
 
 
-CALIBRATION = Path(__file__).with_name("calibration.json")
+#: the calibration shipped with the package (package data; `make bench` regenerates it in a checkout)
+PACKAGED_CALIBRATION = Path(__file__).with_name("calibration.json")
 FIGURE_DPI = 110
 
 
-def output_paths(output, calibrate: bool = False) -> list[Path]:
+def user_calibration() -> Path:
+    """Where `fsweep bench --calibrate` writes by default, and where `accuracy:` looks first: the
+    user's data folder ($XDG_DATA_HOME, else ~/.local/share), never the installed package."""
+    base = os.environ.get("XDG_DATA_HOME") or Path.home() / ".local" / "share"
+    return Path(base) / "friction_sweep" / "calibration.json"
+
+
+def calibration_path() -> Path:
+    """The calibration `accuracy:` reads: the user's re-calibration where one exists, else the packaged."""
+    user = user_calibration()
+    return user if user.is_file() else PACKAGED_CALIBRATION
+
+
+def output_paths(output, calibrate: bool = False, calibration: Path | None = None) -> list[Path]:
     """What `fsweep bench -o OUTPUT` writes: the dataset, its figure and table beside it, and with
-    --calibrate the calibration that `accuracy:` in specs reads."""
+    --calibrate the calibration that `accuracy:` in specs reads (`calibration`, default the user's)."""
     output = Path(output)
     paths = [output, output.with_suffix(".png"), output.with_suffix(".md")]
-    return paths + [CALIBRATION] if calibrate else paths
+    return paths + [calibration or user_calibration()] if calibrate else paths
 
 
-def refuse_outputs(output, calibrate: bool = False) -> str | None:
+def refuse_outputs(output, calibrate: bool = False, calibration: Path | None = None) -> str | None:
     """Why the benchmark must not write where `output` says (None if it may), asked before the
     minutes of computing: a path that is a link, folder, FIFO or device, or a dataset named so that
     its own figure or table would replace it (`-o x.png`)."""
     from friction_sweep.storage.outputs import refuse_special_output
 
-    paths = output_paths(output, calibrate)
+    paths = output_paths(output, calibrate, calibration)
     if len(set(paths[:3])) < 3:
         return (f"{output}: the figure and the table are written beside the dataset with the suffixes .png "
                 "and .md, so the dataset cannot have either: name it .h5")
     return next((reason for reason in map(refuse_special_output, paths) if reason), None)
 
 
-def write(ds: xr.Dataset, output, calibrate: bool = False) -> list[Path]:
+def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | None = None) -> list[Path]:
     """Write the dataset, figure, table (and calibration) of `output_paths`, all or nothing:
     everything is rendered first, then written (storage.outputs.write_all), so a failure (a full
     disk) changes none of them. Returns the paths written."""
@@ -235,7 +250,7 @@ def write(ds: xr.Dataset, output, calibrate: bool = False) -> list[Path]:
 
     from friction_sweep.storage import atomic, cube, outputs
 
-    paths = output_paths(output, calibrate)
+    paths = output_paths(output, calibrate, calibration)
     table = markdown(ds) + "\n"
     calibration = json.dumps(calibration_table(ds), indent=1) + "\n" if calibrate else ""
     fig = draw(ds)
@@ -272,7 +287,7 @@ def choose(method: str, accuracy: float, table: dict | None = None) -> tuple[dic
     """The cheapest calibrated setting of `method` whose worst measured error meets `accuracy`.
 
     Returns (settings, the calibration row). Raises LookupError when none does."""
-    table = table if table is not None else json.loads(CALIBRATION.read_text())
+    table = table if table is not None else json.loads(calibration_path().read_text())
     rows = [row for row in table.get(method, []) if row["worst_error"] is not None
             and row["worst_error"] <= accuracy]
     if not rows:
