@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import os
 import shlex
 import signal
 import sys
@@ -45,17 +46,38 @@ def _load(path: Path):
         _fail(f"invalid spec\n{err}")
 
 
-def _output_path(spec_path: Path, spec, override: Path | None) -> Path:
-    if override is not None:
-        return override
-    if spec.output is not None:
-        return Path(spec.output)
+def _output_path(spec_path: Path, spec, override: str | None) -> Path:
+    """Where the result goes; exit 2 for a name that cannot be a file (checked as written: a Path
+    would drop the trailing slash of `out/`)."""
+    from friction_sweep.storage.outputs import refuse_special_output
+
+    raw = override if override is not None else spec.output if spec.output is not None else None
+    if raw is not None:
+        reason = refuse_special_output(str(raw))
+        if reason is not None:
+            _fail(f"output: {reason}")
+        return Path(raw)
     return Path("results") / f"{spec_path.stem}.h5"
 
 
 class _Group(click.Group):
     #: commands whose module loads heavy libraries (pandas): imported only when asked for
     lazy = {"validate-data": ("friction_sweep.validation", "validate_data")}
+
+    def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
+        """As click's, but a usage error is one line like every other refusal (exit 2)."""
+        if not standalone_mode:
+            return super().main(args, prog_name, complete_var, standalone_mode, **extra)
+        try:
+            rv = super().main(args, prog_name, complete_var, False, **extra)
+        except click.exceptions.Abort:
+            click.echo("fsweep: interrupted", err=True)
+            sys.exit(EXIT_INTERRUPTED)
+        except click.ClickException as err:
+            where = f"fsweep {err.ctx.info_name}" if getattr(err, "ctx", None) and err.ctx.parent else "fsweep"
+            click.echo(f"fsweep: error: {' '.join(err.format_message().split())} (see {where} --help)", err=True)
+            sys.exit(err.exit_code)
+        sys.exit(rv if isinstance(rv, int) else 0)
 
     def list_commands(self, ctx):
         return sorted([*super().list_commands(ctx), *self.lazy])
@@ -85,13 +107,13 @@ def main():
 
 @main.command()
 @click.argument("spec", type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), help="Result file to check "
+@click.option("-o", "--output", type=click.Path(), help="Result file to check "
               "(overrides the spec's `output`).")
-def validate(spec: Path, output: Path | None):
+def validate(spec: Path, output: str | None):
     """Check SPEC, and where its result would go, without computing or writing anything."""
     s = _load(spec)
     out = _output_path(spec, s, output)
-    _refuse_output(out)
+    _refuse_output(out, spec)
     _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_ratio.size
     click.echo(
@@ -125,7 +147,7 @@ def settings_(method: str | None):
 
 @main.command()
 @click.argument("spec", type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), help="Result file (overrides the spec's `output`).")
+@click.option("-o", "--output", type=click.Path(), help="Result file (overrides the spec's `output`).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing result (atomically).")
 @click.option("-j", "--jobs", type=click.IntRange(min=1, max=1024), default=1, show_default=True, help="Workers.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
@@ -135,7 +157,7 @@ def settings_(method: str | None):
 @click.option("--scheduler", metavar="ADDRESS", help="A Dask scheduler to run on (implies --executor dask).")
 @click.option("--resume", is_flag=True, help="Continue an interrupted run from its finished tiles.")
 @click.option("-v", "--verbose", count=True, help="Log what happens (-vv: more).")
-def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool, yes: bool, executor: str,
+def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool, yes: bool, executor: str,
         scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
@@ -154,7 +176,7 @@ def run(spec: Path, output: Path | None, overwrite: bool, jobs: int, quiet: bool
     out = _output_path(spec, s, output)
     if resume and overwrite:
         _fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
-    _refuse_output(out)
+    _refuse_output(out, spec)
     if out.exists() and not overwrite and not resume:
         _fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
@@ -203,12 +225,19 @@ def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
     return settings, extra
 
 
-def _refuse_output(out: Path) -> None:
+def _refuse_output(out: Path, spec: Path) -> None:
+    """Exit 2 where the result could not be written, or would replace the spec or its own lock."""
     from friction_sweep.storage.outputs import refuse_special_output
 
     reason = refuse_special_output(out)
     if reason is not None:
         _fail(f"output: {reason}")
+    for own in (out, out.parent / f".{out.name}.lock"):  # the run replaces the one, removes the other
+        try:
+            if own.exists() and os.path.samefile(own, spec):
+                _fail(f"output: {own} is the spec {spec} itself; a run would destroy it")
+        except OSError:
+            pass
 
 
 def _check_dask(scheduler: str | None) -> None:
@@ -284,6 +313,13 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
         ),
     )
     ds.attrs.update(extra_attrs)
+    if done:  # tiles read back from disk: a tampered or damaged one must not reach the result
+        from friction_sweep.storage import audit
+
+        problems = audit.audit(ds)
+        if problems:
+            _fail(f"the finished tiles in {store.dir} hold values no run writes ({problems[0]}); nothing was "
+                  f"written: clear them with {store.clear_command} and run again", EXIT_RUNTIME)
     try:
         cube.write_atomic(ds, out, overwrite=overwrite or resume)
     except FileExistsError:
@@ -404,16 +440,17 @@ class _progress:
 
 
 @main.command()
-@click.argument("result", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("result", type=click.Path(path_type=Path))
 def info(result: Path):
     """Describe a result cube: dims, method, provenance, regime counts; exit 2 if it holds values
     no run writes (outside a variable's valid range, or codes outside its flags)."""
     from friction_sweep.storage import audit, cube
 
+    _refuse_special_input(result)
     try:
         ds = cube.open_cube(result)
     except Exception as err:  # any reader failure means: not a cube we can read
-        _fail(f"{result} is not a readable result cube: {err}")
+        _fail(f"{result} is not a readable result cube: {' '.join(str(err).split())}")
     a = ds.attrs
     if "friction_sweep_version" not in a:
         _fail(f"{result} is not a friction_sweep result cube (no provenance attributes)")
@@ -446,21 +483,27 @@ def info(result: Path):
 
 
 @main.command()
-@click.argument("result", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("result", type=click.Path(path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print the findings as JSON.")
 def check(result: Path, as_json: bool):
     """Audit a result cube with whole-plane consistency rules (exit 1 when any rule fails)."""
     import json
 
     from friction_sweep import consistency
-    from friction_sweep.storage import cube
+    from friction_sweep.storage import audit, cube
 
+    _refuse_special_input(result)
     try:
         ds = cube.open_cube(result)
     except Exception as err:  # any reader failure means: not a cube we can read
         _fail(f"{result} is not a readable result cube: {' '.join(str(err).split())}")
     if "friction_sweep_version" not in ds.attrs:
         _fail(f"{result} is not a friction_sweep result cube (no provenance attributes)")
+    problems = audit.audit(ds)
+    if problems:  # rules on values no run writes would say nothing true
+        for p in problems[:-1]:
+            click.echo(f"fsweep: error: {result}: {p}", err=True)
+        _fail(f"{result}: {problems[-1]}")
     try:
         findings = consistency.check(ds)
     except consistency.CubeError as err:
@@ -474,6 +517,17 @@ def check(result: Path, as_json: bool):
         verdict = "FAILED" if n["failed"] else "ok"
         click.echo(f"{result}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
     sys.exit(EXIT_FINDINGS if consistency.failed(findings) else 0)
+
+
+def _refuse_special_input(path: Path) -> None:
+    """Exit 2 unless `path` is a regular file (reading a FIFO would wait forever)."""
+    import stat
+
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            _fail(f"{path} is not a regular file")
+    except OSError as err:
+        _fail(f"{path}: {err.strerror or err}")
 
 
 def _finding_line(f) -> str:
@@ -496,24 +550,25 @@ def _shown(v) -> str:
 
 @main.command()
 @click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
-@click.option("-o", "--output", type=click.Path(path_type=Path),
+@click.option("-o", "--output", type=click.Path(),
               default=Path("results/bench/workprecision.h5"), show_default=True, help="Dataset to write.")
 @click.option("--calibrate", is_flag=True, help="Also write the calibration that `accuracy:` in specs uses.")
 @click.option("--calibration", type=click.Path(path_type=Path), default=None,
               help="Where --calibrate writes (default: the user's, ~/.local/share/friction_sweep/calibration.json, "
                    "which `accuracy:` then reads in preference to the packaged one).")
-def bench(quick: bool, output: Path, calibrate: bool, calibration: Path | None):
+def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None):
     """Measure what accuracy costs in time: error and time per point of every method and setting."""
     from friction_sweep.bench import workprecision as wp
-    from friction_sweep.storage.outputs import missing_figures_extra
+    from friction_sweep.storage.outputs import missing_figures_extra, refuse_special_output
 
     if calibrate and quick:
         _fail("--calibrate needs the full benchmark, not --quick")
     # every refusal before the benchmark's seconds to minutes of computing
-    problem = wp.refuse_outputs(output, calibrate, calibration) or missing_figures_extra()
+    problem = (refuse_special_output(output) or wp.refuse_outputs(output, calibrate, calibration)
+               or missing_figures_extra())
     if problem:
         _fail(problem)
-    _check_writable(output)
+    _check_writable(Path(output))
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
     table = wp.markdown(ds)
     try:

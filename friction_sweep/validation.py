@@ -33,7 +33,12 @@ import numpy as np
 import pandas as pd
 
 from friction_sweep import regimes
-from friction_sweep.spec.grid import FORCE_RATIO_MAX, FREQUENCY_RATIO_NOTE, FREQUENCY_RATIO_RANGE
+from friction_sweep.spec.grid import (
+    FORCE_RATIO_MAX,
+    FORCE_RATIO_MIN_POSITIVE,
+    FREQUENCY_RATIO_NOTE,
+    FREQUENCY_RATIO_RANGE,
+)
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
 from friction_sweep.storage.outputs import file_kind
@@ -52,6 +57,8 @@ DEFINITION_NAMES = {"phase": "first-harmonic phase", "peak_phase": "peak (betwee
 OUTPUT_FILES = ("table.csv", "table.md", "phase_measured_vs_predicted.png")
 #: the rig's file is 3 KB; a file past this is not measured data, and would take hours to predict
 MAX_DATA_BYTES = 16 * 2**20
+#: rows a data file may hold: a rig's sweep has tens to hundreds; each costs a simulation
+MAX_ROWS = 2000
 FIGURE_DPI = 150
 EXIT_BAD_INPUT = 2  # as the fsweep CLI
 EXIT_RUNTIME = 1
@@ -93,6 +100,8 @@ def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFram
         rows.append((number, fields))
     if not rows:
         raise DataError(f"{path}: no data rows")
+    if len(rows) > MAX_ROWS:  # each row is simulated (up to ~0.5 s at the lowest frequency ratios)
+        raise DataError(f"{path}:{rows[MAX_ROWS][0]}: more than {MAX_ROWS} data rows")
     columns = {name: [fields[i].strip() for _, fields in rows] for i, name in enumerate(header)}
     table = pd.DataFrame(columns)
     for column in header:
@@ -159,8 +168,9 @@ def _required_number(path: Path, number: int, column: str, value: str) -> float:
     if column == "frequency_ratio" and not r_lo <= x <= r_hi:
         raise DataError(f"{path}:{number}: frequency_ratio must be between {r_lo:g} and {r_hi:g} (got {value}): "
                         f"{FREQUENCY_RATIO_NOTE}")
-    if column == "force_ratio" and not 0 <= x <= FORCE_RATIO_MAX:
-        raise DataError(f"{path}:{number}: force_ratio must be between 0 and {FORCE_RATIO_MAX:g} (got {value})")
+    if column == "force_ratio" and not (0 <= x <= FORCE_RATIO_MAX and (x == 0 or x >= FORCE_RATIO_MIN_POSITIVE)):
+        raise DataError(f"{path}:{number}: force_ratio must be 0 or between {FORCE_RATIO_MIN_POSITIVE:g} and "
+                        f"{FORCE_RATIO_MAX:g} (got {value})")
     return x
 
 

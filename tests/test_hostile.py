@@ -147,6 +147,30 @@ def _other_sweep(d: Path) -> None:
 EVENT_LONG = EVENT.replace("num: 40", "num: 100")
 
 
+def _lock_to_victim(d: Path) -> None:
+    (d / "victim.txt").write_text("precious")
+    (d / ".out.h5.lock").symlink_to("victim.txt")
+
+
+def _tile_folder(d: Path) -> None:
+    _interrupted(d, EVENT_LONG)
+    (d / ".out.h5.partial" / "tile-00003.npz").mkdir()
+
+
+def _same_text(path: Path, text: str) -> None:
+    assert path.read_text() == text, f"{path} was changed"
+
+
+def _tamper(d: Path, value, name: str = "transmissibility") -> None:
+    """A finished tile of the right shape whose `name` holds `value` everywhere (not computed)."""
+    _interrupted(d, EVENT_LONG)
+    tile = d / ".out.h5.partial" / "tile-00000.npz"
+    with np.load(tile) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays[name] = np.full(arrays[name].shape, value)
+    np.savez(tile, **arrays)
+
+
 @dataclass
 class Case:
     id: str
@@ -269,6 +293,44 @@ CASES = [
          check=_resumed_cube_is_complete),
     Case("checkpoint of another sweep", spec=None, setup=_other_sweep,
          words=("different sweep", "rm -r"), absent=("out.h5", ".out.h5.lock"), exist=(".out.h5.partial",)),
+    # ---- found by an independent hostile review after the first fixes
+    Case("lock is a symlink to a victim", setup=_lock_to_victim, words=("symbolic link, which fsweep never writes",),
+         absent=("out.h5", ".out.h5.partial"), check=lambda d: _same_text(d / "victim.txt", "precious")),
+    Case("lock is a FIFO", setup=lambda d: os.mkfifo(d / ".out.h5.lock"), words=("is not a regular file",),
+         absent=("out.h5", ".out.h5.partial")),
+    Case("output is the spec", args=("run", "{spec}", "-o", "{spec}", "--overwrite", "-q"),
+         words=("is the spec", "destroy"), absent=(".out.h5.partial",), check=lambda d: _same_text(d / "spec.yaml", GOOD)),
+    Case("spec is its own lock", spec=None, args=("run", "{d}/.out.h5.lock", "-o", "{d}/out.h5", "-q"),
+         setup=lambda d: (d / ".out.h5.lock").write_text(GOOD), words=("is the spec",), absent=("out.h5",),
+         check=lambda d: _same_text(d / ".out.h5.lock", GOOD)),
+    Case("NUL in the spec's output", GOOD.replace("output: out.h5", 'output: "out\\0.h5"'),
+         words=("control characters",)),
+    Case("newline in -o", args=("run", "{spec}", "-o", "out\n.h5", "-q"), words=("control character",)),
+    Case("-o ending in a slash", args=("run", "{spec}", "-o", "newdir/", "-q"), words=("names a folder",),
+         absent=("newdir", "out.h5")),
+    Case("spec output ending in a slash", GOOD.replace("output: out.h5", "output: newdir/"),
+         words=("names a folder",), absent=("newdir",)),
+    Case("spec is a FIFO", spec=None, args=("validate", "{d}/f.yaml"), setup=lambda d: os.mkfifo(d / "f.yaml"),
+         words=("not a regular file",), absent=()),
+    Case("spec is /dev/zero", spec=None, args=("validate", "/dev/zero"), words=("not a regular file",), absent=()),
+    Case("a 300 kB spec", GOOD + "# " + "x" * 300_000 + "\n", words=("a spec is at most",)),
+    Case("info on a FIFO", args=("info", "{d}/c.h5"), setup=lambda d: os.mkfifo(d / "c.h5"),
+         words=("not a regular file",), absent=()),
+    Case("a megabyte method name", GOOD.replace("method: theory", "method: " + "m" * 1_000_000),
+         words=("a spec is at most",)),
+    Case("a long method name", GOOD.replace("method: theory", "method: " + "m" * 5000), words=("...",)),
+    Case("static friction 1.7e308", EVENT.replace("{excitation: base}",
+                                                  "{excitation: base, effects: {static_friction_ratio: 1.7e308}}"),
+         words=("static_friction_ratio", "<= 100")),
+    Case("usage error", args=("run", "{spec}", "-j", "0"), words=("fsweep: error: Invalid value for '-j'",)),
+    Case("a folder named like a tile", spec=None, args=("run", "{spec}", "--resume", "-q"),
+         setup=_tile_folder, exit=0,
+         words=("tile-00003.npz was damaged",), exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock")),
+    Case("a tile of strings", spec=None, args=("run", "{spec}", "--resume", "-q"), setup=lambda d: _tamper(d, "abc"),
+         exit=0, exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"), check=_resumed_cube_is_complete),
+    Case("a tile of regime 1e300", spec=None, args=("run", "{spec}", "--resume", "-q"),
+         setup=lambda d: _tamper(d, 1e300, name="regime"), exit=0, exist=("out.h5",),
+         absent=(".out.h5.partial", ".out.h5.lock"), check=_resumed_cube_is_complete),
     # ---- Dask that cannot run
     Case("scheduler on a closed port", args=("run", "{spec}", "--scheduler", "tcp://127.0.0.1:9", "-q"),
          words=("cannot reach the Dask scheduler", "refused")),
@@ -549,3 +611,25 @@ def test_no_point_exceeds_its_work_budget_and_calls_itself_converged(compiled, r
         got = solve(budget)
         assert got[steady.OUT_WORK] <= budget or got[steady.OUT_STEADY] == steady.EVENT_BUDGET, budget
     assert solve(needed)[steady.OUT_STEADY] == full[steady.OUT_STEADY]
+
+
+def test_a_port_that_accepts_and_stays_silent_is_no_scheduler(tmp_path, monkeypatch):
+    """Dask's client would wait on it forever: the check waits for the scheduler's greeting instead."""
+    import socket
+    import threading
+
+    from friction_sweep.sweep import executors
+
+    monkeypatch.setattr(executors, "CONNECT_TIMEOUT_S", 0.5)
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(1)
+    accepted = []
+    threading.Thread(target=lambda: accepted.append(server.accept()), daemon=True).start()
+    (tmp_path / "spec.yaml").write_text(GOOD)
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    monkeypatch.chdir(tmp_path)
+    res = CliRunner().invoke(main, ["run", "spec.yaml", "--scheduler", address, "-q"])
+    server.close()
+    assert res.exit_code == 2 and "cannot reach the Dask scheduler" in res.output and "no answer" in res.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]

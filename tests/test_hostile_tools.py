@@ -97,7 +97,7 @@ BAD_FILES = {
     "negative_frequency": (GOOD.encode() + b"0.1,-1.5,12\n", ":4: frequency_ratio must be between 0.01 and 100 (got -1.5)"),
     "zero_frequency": (GOOD.encode() + b"0.1,0,12\n", ":4: frequency_ratio must be between 0.01 and 100 (got 0)"),
     "tiny_frequency": (GOOD.encode() + b"0.1,1e-6,12\n", ":4: frequency_ratio must be between 0.01 and 100 (got 1e-6)"),
-    "negative_force": (GOOD.encode() + b"-0.1,1.5,12\n", ":4: force_ratio must be between 0 and 1e+06 (got -0.1)"),
+    "negative_force": (GOOD.encode() + b"-0.1,1.5,12\n", ":4: force_ratio must be 0 or between 1e-12 and 1e+06 (got -0.1)"),
 }
 
 

@@ -236,7 +236,9 @@ def refuse_outputs(output, calibrate: bool = False, calibration: Path | None = N
     from friction_sweep.storage.outputs import refuse_special_output
 
     paths = output_paths(output, calibrate, calibration)
-    if len(set(paths[:3])) < 3:
+    if len(set(paths)) < len(paths):
+        if calibrate and paths[3] in paths[:3]:
+            return f"--calibration {paths[3]}: the benchmark's own dataset, figure or table goes there"
         return (f"{output}: the figure and the table are written beside the dataset with the suffixes .png "
                 "and .md, so the dataset cannot have either: name it .h5")
     return next((reason for reason in map(refuse_special_output, paths) if reason), None)

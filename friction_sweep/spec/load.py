@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import re
+import stat
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -20,8 +21,10 @@ Position = tuple[int, int]
 #: a spec is a few dozen values; these bounds keep a small hostile file from costing time or memory:
 #: values repeated through YAML aliases (an "alias bomb" of a few hundred bytes expands to 10^9) ...
 MAX_ALIAS_VALUES = 10_000
-#: ... and nesting (a spec nests 4 deep; deep nesting exhausts the parser's recursion)
+#: ... and nesting (a spec nests 4 deep; deep nesting exhausts the parser's recursion) ...
 MAX_DEPTH = 32
+#: ... and size (parsing takes about 20 s a megabyte; 1000 time-history points take 20 kB)
+MAX_SPEC_BYTES = 256 * 1024
 
 
 @dataclass
@@ -53,11 +56,20 @@ class Document:
 
 
 def read_text(path: str | os.PathLike[str]) -> str:
-    """The file's text, or SpecError if it cannot be read as UTF-8."""
+    """The file's text, or SpecError if it cannot be read as UTF-8 (or is not a regular file of at
+    most MAX_SPEC_BYTES: a FIFO would wait forever, /dev/zero would fill the memory)."""
     source = os.fspath(path)
     try:
+        st = os.stat(source)
+        if stat.S_ISDIR(st.st_mode):
+            raise IsADirectoryError
+        if not stat.S_ISREG(st.st_mode):
+            raise SpecError.single(source, "is not a regular file (a FIFO, a device?): give a spec file")
+        if st.st_size > MAX_SPEC_BYTES:
+            raise SpecError.single(source, f"is {st.st_size} bytes; a spec is at most {MAX_SPEC_BYTES} (long "
+                                   "grids are written {start, stop, num} or {start, stop, step})")
         with open(source, encoding="utf-8") as fh:
-            return fh.read()
+            return fh.read(MAX_SPEC_BYTES + 1)
     except FileNotFoundError:
         raise SpecError.single(source, "file not found") from None
     except IsADirectoryError:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
 import numpy as np
@@ -121,8 +120,8 @@ METHOD_SETTINGS: dict[str, dict[str, Setting]] = {
     },
 }
 
-#: stored time-history samples per variable at most (80 MB of float64 each)
-MAX_HISTORY_SAMPLES = 10_000_000
+#: stored time-history samples per variable at most (16 MB of float64 each, 8 variables)
+MAX_HISTORY_SAMPLES = 2_000_000
 
 # Union tags appear in pydantic's error locations; the angle brackets keep them apart from YAML keys.
 AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})
@@ -333,7 +332,8 @@ class Effects(_Model):
     """Physical effects beyond the plain model; absent means off (bit-identical to the plain model)."""
 
     viscous_damping: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0, lt=1)] | None = None
-    static_friction_ratio: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=1)] | None = None
+    # measured ratios are 1-2; beyond 100 the stick band swallows every excitation the grid allows
+    static_friction_ratio: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=1, le=100)] | None = None
 
     def declared(self) -> dict[str, float]:
         """The effects the spec names, as a plain dict."""
@@ -418,7 +418,7 @@ class Spec(_Model):
     method: str = "theory"
     outputs: tuple[OutputName, ...] = DEFAULT_OUTPUTS
     time_history: TimeHistory | None = None
-    output: Path | None = None
+    output: str | None = None
     settings: dict[str, Any] = Field(default_factory=dict)
     accuracy: Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0, lt=1)] | None = None
     sweep: Sweep | None = None
@@ -431,7 +431,7 @@ class Spec(_Model):
         if not isinstance(v, str):
             raise _error("method_type", f"must be a method name (got {show(v)})")
         if v not in METHODS_AVAILABLE:
-            raise _error("unknown_method", f"unknown method {v!r} (available: {', '.join(METHODS_AVAILABLE)})")
+            raise _error("unknown_method", f"unknown method {show(v)} (available: {', '.join(METHODS_AVAILABLE)})")
         return v
 
     @field_validator("outputs", mode="before")
@@ -455,6 +455,10 @@ class Spec(_Model):
     def _output_path(cls, v: Any) -> Any:
         if v is not None and (not isinstance(v, str) or not v.strip()):
             raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
+        if isinstance(v, str) and any(ord(ch) < 32 for ch in v):
+            raise _error("output_path", f"must not hold control characters such as NUL or newline (got {show(v)})")
+        if isinstance(v, str) and v.endswith("/"):
+            raise _error("output_path", f"names a folder: name the file to write (got {show(v)})")
         return v
 
     @field_validator("settings")

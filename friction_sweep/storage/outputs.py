@@ -36,6 +36,11 @@ def refuse_special_output(path: str | os.PathLike[str]) -> str | None:
     replaces links), anything else that exists there (directory, FIFO, socket, device), and a path
     one of whose parents exists as something other than a folder.
     """
+    text = os.fspath(path)
+    if any(ord(ch) < 32 for ch in text):
+        return f"{text!r} holds a control character (a NUL, a newline): name a file"
+    if text.endswith(os.sep) or not text:
+        return f"{text!r} names a folder: name the file to write"
     path = Path(path)
     try:
         st = os.lstat(path)
@@ -69,9 +74,21 @@ def _refuse_parent(path: Path) -> str | None:
         except OSError as err:
             return f"cannot check the folder {parent}: {err.strerror or err}"
         if stat.S_ISDIR(st.st_mode):
-            return None
+            return _refuse_unwritable(parent)
         what = "a file" if stat.S_ISREG(st.st_mode) else file_kind(st.st_mode)
         return f"parent {parent} is {what}, not a folder"
+    return None
+
+
+def _refuse_unwritable(folder: Path) -> str | None:
+    """Why nothing can be written in `folder` (checked without writing: `validate` writes nothing)."""
+    try:
+        if os.statvfs(folder).f_flag & os.ST_RDONLY:
+            return f"{folder} is on a read-only file system"
+    except OSError:
+        pass
+    if not os.access(folder, os.W_OK | os.X_OK):
+        return f"{folder} is not writable"
     return None
 
 

@@ -10,12 +10,14 @@ when the process ends, however it ends; a run that ends normally also removes th
 
 from __future__ import annotations
 
+import errno
 import fcntl
 import hashlib
 import json
 import os
 import shlex
 import shutil
+import stat
 from pathlib import Path
 
 import numpy as np
@@ -59,9 +61,22 @@ class Lock:
     def __enter__(self):
         while True:
             try:
-                fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o644)
+                # never through a link (a link to another file would have it truncated), never
+                # waiting on a FIFO
+                fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK, 0o644)
+                kind = os.fstat(fd).st_mode
+                if not stat.S_ISREG(kind):
+                    os.close(fd)
+                    raise IsADirectoryError(errno.EINVAL, "not a regular file")
             except OSError as err:
-                what = "is a folder, not a lock file" if self.path.is_dir() else f"cannot be opened ({err.strerror})"
+                if self.path.is_symlink():
+                    what = "is a symbolic link, which fsweep never writes through"
+                elif self.path.is_dir():
+                    what = "is a folder, not a lock file"
+                elif os.path.lexists(self.path) and not self.path.is_file():
+                    what = "is not a regular file"
+                else:
+                    what = f"cannot be opened ({err.strerror})"
                 raise Busy(f"{self.path}, where fsweep locks {self.out}, {what}: remove it if no run is "
                            f"writing {self.out}") from None
             try:
@@ -80,8 +95,11 @@ class Lock:
                 break
             os.close(fd)
         self.fd = fd
-        os.ftruncate(fd, 0)
-        os.write(fd, str(os.getpid()).encode())
+        try:  # who holds it, for a person looking; the flock is what counts, so a full disk is no matter
+            os.ftruncate(fd, 0)
+            os.write(fd, str(os.getpid()).encode())
+        except OSError:
+            pass
         return self
 
     def __exit__(self, *exc):
@@ -141,7 +159,7 @@ class Checkpoint:
                         if not 0 <= index < self.n_tiles or not tile:
                             raise ValueError("not a tile of this sweep")
                     except Exception:  # any damage (truncated, not a zip, bad index): compute it again
-                        path.unlink(missing_ok=True)
+                        _discard(path)
                         dropped.append(path.name)
                         continue
                     done[index] = tile
@@ -162,6 +180,14 @@ class Checkpoint:
 
     def remove(self) -> None:
         shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def _discard(path: Path) -> None:
+    """Remove a damaged entry of the checkpoint, whatever it is (a file, a link, a folder)."""
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        path.unlink(missing_ok=True)
 
 
 def _why(err: BaseException) -> str:

@@ -5,7 +5,7 @@ Seconds on one core, summed over the run's tiles (fixed blocks of frequency rati
     every method    3 ms x max(1, 0.02/r) per frequency ratio (the theory's continuity limit S(r),
                     which the simulations write beside their results)
     theory, auto    per tile: 0.6 ms + 6e-11 n^3 (Gauss-Legendre nodes, n = 40 + pi (1 + r_min)/r_min);
-                    per point: 2 us + 0.03 us n, and for joined 0.45 us per peak sample
+                    per point: 2 us + 0.03 us n, and for joined 1 us per peak sample
                     (64 + 16 (1 + r)/r of them)
     event, auto     per point: base/force 150 us x max(1, (0.12/r)^1.6), joined 60 us x max(1, (0.02/r)^1.5);
                     x3 with static above kinetic friction and two starts (three solves)
@@ -50,7 +50,7 @@ def _frequency_seconds(r: np.ndarray) -> np.ndarray:
 
 def _theory_seconds(r: np.ndarray, n_beta: int, joined: bool) -> float:
     n = 40 + math.ceil((1.0 + r.min()) * math.pi / r.min())
-    per_point = 2e-6 + 3e-8 * n + (0.45e-6 * (64 + 16 * (1.0 + r) / r) if joined else 0.0)
+    per_point = 2e-6 + 3e-8 * n + (1e-6 * (64 + 16 * (1.0 + r) / r) if joined else 0.0)
     return 6e-4 + 6e-11 * n**3 + float(np.sum(per_point * np.ones_like(r))) * n_beta
 
 

@@ -69,10 +69,15 @@ def check_dask(scheduler: str | None) -> None:
         raise DaskUnavailable(f"--scheduler: {scheduler!r} is not a scheduler address (expected "
                               "tcp://HOST:PORT, as the scheduler prints it)")
     try:
-        socket.create_connection((host, port), timeout=CONNECT_TIMEOUT_S).close()
+        with socket.create_connection((host, port), timeout=CONNECT_TIMEOUT_S) as conn:
+            # a scheduler greets every connection at once (its handshake); a port that accepts and
+            # stays silent would leave Dask's client waiting forever
+            greeting = conn.recv(1)
     except OSError as err:
         why = err.strerror or ("no answer" if isinstance(err, TimeoutError) else str(err) or type(err).__name__)
         raise DaskUnavailable(f"--scheduler: cannot reach the Dask scheduler at {scheduler}: {why}") from None
+    if not greeting:
+        raise DaskUnavailable(f"--scheduler: {scheduler} closed the connection at once: not a Dask scheduler")
 
 
 def run_dask(fn, work, jobs, scheduler: str | None = None, retries: int = 3) -> Iterator[tuple[int, dict]]:

@@ -14,6 +14,7 @@ from typing import Callable
 import numpy as np
 
 from friction_sweep import methods
+from friction_sweep.storage.schema import VARIABLES
 from friction_sweep.sweep.executors import execute
 from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES, layout, tiles
 
@@ -103,4 +104,9 @@ def _fits(tile: dict, part: slice, n_r: int, n_beta: int, sweep: str | None) -> 
     n = part.stop - part.start
     grid = (n, n_r) if sweep else (n_beta, n)
     line = (n_r,) if sweep else (n,)
-    return all(np.shape(v) in (grid, line) for v in tile.values())
+    def kind_fits(name: str, values) -> bool:
+        var = VARIABLES.get(name)
+        kind = np.asarray(values).dtype.kind
+        return var is not None and kind in ("iu" if np.issubdtype(var.dtype, np.integer) else "fiu")
+
+    return all(np.shape(v) in (grid, line) and kind_fits(k, v) for k, v in tile.items())
