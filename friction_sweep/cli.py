@@ -22,6 +22,7 @@ EXIT_BAD_INPUT = 2
 EXIT_RUNTIME = 1
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143  # 128 + SIGTERM, as a shell reports a process it ended
+EXIT_FINDINGS = 1  # fsweep check: a rule failed
 
 
 class _Terminated(KeyboardInterrupt):
@@ -30,8 +31,6 @@ class _Terminated(KeyboardInterrupt):
 
 def _on_sigterm(signum, frame):
     raise _Terminated
-EXIT_FINDINGS = 1  # fsweep check: a rule failed
-
 
 
 def _fail(message: str, code: int = EXIT_BAD_INPUT):
@@ -51,13 +50,13 @@ def _output_path(spec_path: Path, spec, override: str | None) -> Path:
     would drop the trailing slash of `out/`)."""
     from friction_sweep.storage.outputs import refuse_special_output
 
-    raw = override if override is not None else spec.output if spec.output is not None else None
-    if raw is not None:
-        reason = refuse_special_output(str(raw))
-        if reason is not None:
-            _fail(f"output: {reason}")
-        return Path(raw)
-    return Path("results") / f"{spec_path.stem}.h5"
+    raw = override if override is not None else spec.output
+    if raw is None:
+        raw = str(Path("results") / f"{spec_path.stem}.h5")
+    reason = refuse_special_output(raw)
+    if reason is not None:
+        _fail(f"output: {reason}")
+    return Path(raw)
 
 
 class _Group(click.Group):
@@ -113,7 +112,7 @@ def validate(spec: Path, output: str | None):
     """Check SPEC, and where its result would go, without computing or writing anything."""
     s = _load(spec)
     out = _output_path(spec, s, output)
-    _refuse_output(out, spec)
+    _refuse_destroying_spec(out, spec)
     _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_ratio.size
     click.echo(
@@ -176,7 +175,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     out = _output_path(spec, s, output)
     if resume and overwrite:
         _fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
-    _refuse_output(out, spec)
+    _refuse_destroying_spec(out, spec)
     if out.exists() and not overwrite and not resume:
         _fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
@@ -225,13 +224,8 @@ def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
     return settings, extra
 
 
-def _refuse_output(out: Path, spec: Path) -> None:
-    """Exit 2 where the result could not be written, or would replace the spec or its own lock."""
-    from friction_sweep.storage.outputs import refuse_special_output
-
-    reason = refuse_special_output(out)
-    if reason is not None:
-        _fail(f"output: {reason}")
+def _refuse_destroying_spec(out: Path, spec: Path) -> None:
+    """Exit 2 where the run would replace the spec (as its output) or remove it (as its lock)."""
     for own in (out, out.parent / f".{out.name}.lock"):  # the run replaces the one, removes the other
         try:
             if own.exists() and os.path.samefile(own, spec):
@@ -260,10 +254,10 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
     if store.exists() and store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir():
         store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
     if store.exists() and not resume:
-        if store.belongs():
-            _fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
-                  f"continue it, or clear them with: {store.clear_command}")
-        store.start(resume=False)  # raises Mismatch naming the command that clears it
+        if not store.belongs():
+            raise checkpoint.Mismatch(store.foreign())
+        _fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
+              f"continue it, or clear them with: {store.clear_command}")
     if resume and out.exists() and not store.exists():
         _fail(f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
               f"instead of --resume)")
@@ -444,16 +438,10 @@ class _progress:
 def info(result: Path):
     """Describe a result cube: dims, method, provenance, regime counts; exit 2 if it holds values
     no run writes (outside a variable's valid range, or codes outside its flags)."""
-    from friction_sweep.storage import audit, cube
+    from friction_sweep.storage import audit
 
-    _refuse_special_input(result)
-    try:
-        ds = cube.open_cube(result)
-    except Exception as err:  # any reader failure means: not a cube we can read
-        _fail(f"{result} is not a readable result cube: {' '.join(str(err).split())}")
+    ds = _open_result(result)
     a = ds.attrs
-    if "friction_sweep_version" not in a:
-        _fail(f"{result} is not a friction_sweep result cube (no provenance attributes)")
     problems = audit.audit(ds)
     click.echo(f"{result}")
     click.echo("  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()))
@@ -476,10 +464,7 @@ def info(result: Path):
             finite = np.isfinite(v)
             if finite.any():
                 click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} ({finite.sum()} finite of {v.size})")
-    if problems:  # the summary above is shown, but not trusted
-        for p in problems[:-1]:
-            click.echo(f"fsweep: error: {result}: {p}", err=True)
-        _fail(f"{result}: {problems[-1]}")
+    _fail_on_problems(result, problems)  # the summary above is shown, but not trusted
 
 
 @main.command()
@@ -490,20 +475,10 @@ def check(result: Path, as_json: bool):
     import json
 
     from friction_sweep import consistency
-    from friction_sweep.storage import audit, cube
+    from friction_sweep.storage import audit
 
-    _refuse_special_input(result)
-    try:
-        ds = cube.open_cube(result)
-    except Exception as err:  # any reader failure means: not a cube we can read
-        _fail(f"{result} is not a readable result cube: {' '.join(str(err).split())}")
-    if "friction_sweep_version" not in ds.attrs:
-        _fail(f"{result} is not a friction_sweep result cube (no provenance attributes)")
-    problems = audit.audit(ds)
-    if problems:  # rules on values no run writes would say nothing true
-        for p in problems[:-1]:
-            click.echo(f"fsweep: error: {result}: {p}", err=True)
-        _fail(f"{result}: {problems[-1]}")
+    ds = _open_result(result)
+    _fail_on_problems(result, audit.audit(ds))  # rules on values no run writes would say nothing true
     try:
         findings = consistency.check(ds)
     except consistency.CubeError as err:
@@ -519,15 +494,33 @@ def check(result: Path, as_json: bool):
     sys.exit(EXIT_FINDINGS if consistency.failed(findings) else 0)
 
 
-def _refuse_special_input(path: Path) -> None:
-    """Exit 2 unless `path` is a regular file (reading a FIFO would wait forever)."""
+def _open_result(path: Path):
+    """The cube at `path`, or exit 2: not a regular file (reading a FIFO would wait forever), not
+    readable, or not a friction_sweep cube."""
     import stat
+
+    from friction_sweep.storage import cube
 
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
             _fail(f"{path} is not a regular file")
     except OSError as err:
         _fail(f"{path}: {err.strerror or err}")
+    try:
+        ds = cube.open_cube(path)
+    except Exception as err:  # any reader failure means: not a cube we can read
+        _fail(f"{path} is not a readable result cube: {' '.join(str(err).split())}")
+    if "friction_sweep_version" not in ds.attrs:
+        _fail(f"{path} is not a friction_sweep result cube (no provenance attributes)")
+    return ds
+
+
+def _fail_on_problems(path: Path, problems: list) -> None:
+    """Exit 2 naming every audit problem of the cube at `path`, one line each (nothing if none)."""
+    if problems:
+        for p in problems[:-1]:
+            click.echo(f"fsweep: error: {path}: {p}", err=True)
+        _fail(f"{path}: {problems[-1]}")
 
 
 def _finding_line(f) -> str:

@@ -33,12 +33,7 @@ import numpy as np
 import pandas as pd
 
 from friction_sweep import regimes
-from friction_sweep.spec.grid import (
-    FORCE_RATIO_MAX,
-    FORCE_RATIO_MIN_POSITIVE,
-    FREQUENCY_RATIO_NOTE,
-    FREQUENCY_RATIO_RANGE,
-)
+from friction_sweep.spec import grid
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
 from friction_sweep.storage.outputs import file_kind
@@ -78,7 +73,7 @@ def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFram
     parses as a number becomes float64. Raises DataError, its message `FILE[:LINE]: reason`, on a
     file that cannot be read or is not UTF-8 CSV text, missing or repeated columns, a row with the
     wrong number of fields, non-numeric or non-finite values in the required columns, frequency
-    ratios outside [0.01, 100] or force ratios outside [0, 1e6] (the spec's ranges), or no data rows.
+    ratios or force ratios outside the spec's ranges (spec.grid), more than MAX_ROWS rows, or no data rows.
     """
     path = Path(path) if path is not None else DEFAULT_DATA
     header, header_line, rows = None, 0, []
@@ -164,13 +159,11 @@ def _required_number(path: Path, number: int, column: str, value: str) -> float:
         x = math.nan
     if not math.isfinite(x):
         raise DataError(f"{path}:{number}: {column} must be a finite number (got {value!r})")
-    r_lo, r_hi = FREQUENCY_RATIO_RANGE
-    if column == "frequency_ratio" and not r_lo <= x <= r_hi:
-        raise DataError(f"{path}:{number}: frequency_ratio must be between {r_lo:g} and {r_hi:g} (got {value}): "
-                        f"{FREQUENCY_RATIO_NOTE}")
-    if column == "force_ratio" and not (0 <= x <= FORCE_RATIO_MAX and (x == 0 or x >= FORCE_RATIO_MIN_POSITIVE)):
-        raise DataError(f"{path}:{number}: force_ratio must be 0 or between {FORCE_RATIO_MIN_POSITIVE:g} and "
-                        f"{FORCE_RATIO_MAX:g} (got {value})")
+    if column == "frequency_ratio" and not grid.frequency_ratio_ok(x):
+        raise DataError(f"{path}:{number}: frequency_ratio must be {grid.FREQUENCY_RATIO_SPAN} (got {value}): "
+                        f"{grid.FREQUENCY_RATIO_NOTE}")
+    if column == "force_ratio" and not grid.force_ratio_ok(x):
+        raise DataError(f"{path}:{number}: force_ratio must be {grid.FORCE_RATIO_SPAN} (got {value})")
     return x
 
 

@@ -19,6 +19,17 @@ FORCE_RATIO_NOTE = "force ratios above 1e6 hold the mass still at every frequenc
 #: a positive force ratio below this dissipates less per period than rounding resolves: the transient
 #: from rest never decays within any budget (wrong peaks, measured at 1e-16); 0 is the forced orbit
 FORCE_RATIO_MIN_POSITIVE = 1e-12
+#: the bounds in words, for messages about values outside them
+FREQUENCY_RATIO_SPAN = f"between {FREQUENCY_RATIO_RANGE[0]:g} and {FREQUENCY_RATIO_RANGE[1]:g}"
+FORCE_RATIO_SPAN = f"0 or between {FORCE_RATIO_MIN_POSITIVE:g} and {FORCE_RATIO_MAX:g}"
+
+
+def frequency_ratio_ok(r: float) -> bool:
+    return FREQUENCY_RATIO_RANGE[0] <= r <= FREQUENCY_RATIO_RANGE[1]
+
+
+def force_ratio_ok(beta: float) -> bool:
+    return beta == 0 or FORCE_RATIO_MIN_POSITIVE <= beta <= FORCE_RATIO_MAX
 SIGNIFICANT_DIGITS = 12
 LATTICE_RTOL = 1e-9
 

@@ -98,7 +98,7 @@ def parse_yaml(text: str, source: str) -> Document:
         raise SpecError.single(source, f"invalid YAML: nested deeper than the parser can follow "
                                f"(a spec nests at most {MAX_DEPTH} levels)") from None
     doc = Document(data=None, source=source)
-    doc.data = _plain(tree, (), doc, set(), set(), False)
+    doc.data = _plain(tree, (), doc, set(), False)
     return doc
 
 
@@ -178,11 +178,11 @@ def _find_key_node(node: Any, at: tuple[int, int]) -> tuple[KeyPath, int] | None
     return None
 
 
-def _plain(node: Any, path: KeyPath, doc: Document, active: set[int], done: set[int], repeated: bool) -> Any:
+def _plain(node: Any, path: KeyPath, doc: Document, done: set[int], repeated: bool) -> Any:
     """Round-trip tree -> dict/list/str/int/float/bool/None, recording positions.
 
-    `active`: collections being converted (a repeat is a recursive alias); `done`: collections
-    converted before (a repeat is an alias, whose values count against MAX_ALIAS_VALUES).
+    `done`: collections converted before (met again, they are an alias, whose values count against
+    MAX_ALIAS_VALUES). Recursive aliases were refused before (`_refuse_recursion`).
     """
     if repeated:
         doc.alias_values += 1
@@ -190,16 +190,12 @@ def _plain(node: Any, path: KeyPath, doc: Document, active: set[int], done: set[
             raise SpecError.single(doc.source, f"YAML aliases repeat more than {MAX_ALIAS_VALUES} values "
                                    f"(a spec needs a few dozen)", key=format_key(path))
     if isinstance(node, (dict, list)):
-        if id(node) in active:
-            raise SpecError.single(doc.source, "recursive YAML alias: this value contains itself",
-                                   key=format_key(path))
         if len(path) >= MAX_DEPTH:
             raise SpecError.single(doc.source, f"nested deeper than {MAX_DEPTH} levels (a spec nests 4)",
                                    key=format_key(path[:MAX_DEPTH]))
         repeated = repeated or id(node) in done
         done.add(id(node))
     if isinstance(node, dict):
-        active.add(id(node))
         doc.at_key.add(path)
         lc = getattr(getattr(node, "lc", None), "data", None) or {}
         out: dict[str, Any] = {}
@@ -215,11 +211,9 @@ def _plain(node: Any, path: KeyPath, doc: Document, active: set[int], done: set[
                 raise SpecError.single(
                     doc.source, f"duplicate key '{name}'", key=format_key(sub), line=line, column=col
                 )
-            out[name] = _plain(v, sub, doc, active, done, repeated)
-        active.discard(id(node))
+            out[name] = _plain(v, sub, doc, done, repeated)
         return out
     if isinstance(node, list):
-        active.add(id(node))
         doc.at_key.add(path)
         lc = getattr(getattr(node, "lc", None), "data", None) or {}
         items = []
@@ -228,8 +222,7 @@ def _plain(node: Any, path: KeyPath, doc: Document, active: set[int], done: set[
             pos = lc.get(i)
             if pos is not None:
                 doc.value_pos[sub] = (pos[0] + 1, pos[1] + 1)
-            items.append(_plain(v, sub, doc, active, done, repeated))
-        active.discard(id(node))
+            items.append(_plain(v, sub, doc, done, repeated))
         return items
     if node is None:
         doc.at_key.add(path)

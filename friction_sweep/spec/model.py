@@ -131,6 +131,8 @@ Positive = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0)]
 NonNegative = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0)]
 FrequencyRatio = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=g.FREQUENCY_RATIO_RANGE[0],
                                                   le=g.FREQUENCY_RATIO_RANGE[1])]
+
+
 def _zero_or_resolved(beta: float) -> float:
     if 0 < beta < g.FORCE_RATIO_MIN_POSITIVE:
         raise _error("force_ratio_tiny", f"must be 0 or at least {g.FORCE_RATIO_MIN_POSITIVE:g} (got {show(beta)}): "
@@ -383,14 +385,13 @@ class TimeHistory(_Model):
     @field_validator("points")
     @classmethod
     def _on_the_grid_range(cls, v):
-        (r_lo, r_hi), problems = g.FREQUENCY_RATIO_RANGE, []
+        problems = []
         for i, (r, beta) in enumerate(v):
-            if not r_lo <= r <= r_hi:
-                problems.append(_error("history_r", f"frequency ratio must be between {_number(r_lo)} and "
-                                       f"{_number(r_hi)} (got {show(r)})", (i, 0)))
-            if not 0 <= beta <= g.FORCE_RATIO_MAX or 0 < beta < g.FORCE_RATIO_MIN_POSITIVE:
-                problems.append(_error("history_beta", f"force ratio must be 0 or between "
-                                       f"{g.FORCE_RATIO_MIN_POSITIVE:g} and {_number(g.FORCE_RATIO_MAX)} "
+            if not g.frequency_ratio_ok(r):
+                problems.append(_error("history_r", f"frequency ratio must be {g.FREQUENCY_RATIO_SPAN} "
+                                       f"(got {show(r)})", (i, 0)))
+            if not g.force_ratio_ok(beta):
+                problems.append(_error("history_beta", f"force ratio must be {g.FORCE_RATIO_SPAN} "
                                        f"(got {show(beta)})", (i, 1)))
         _raise_all("points", problems)
         return v

@@ -53,7 +53,7 @@ def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = Tru
         else:
             os.link(tmp, path)
             tmp.unlink()
-        _fsync_folder(path.parent)
+        fsync_folder(path.parent)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -78,9 +78,16 @@ def save_figure(fig, path: str | os.PathLike[str], **savefig_kwargs) -> Path:
         plt.close(fig)
 
 
-def _fsync_folder(folder: Path) -> None:
-    fd = os.open(folder, os.O_RDONLY)
+def fsync_folder(folder: Path) -> None:
+    """Make renames in `folder` durable. Best effort: the file is in place by then, and not every
+    file system lets a folder be synced, so a failure here must not report the write as failed."""
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
     try:
         os.fsync(fd)
+    except OSError:
+        pass
     finally:
         os.close(fd)

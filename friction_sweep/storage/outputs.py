@@ -15,6 +15,8 @@ import stat
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from friction_sweep.storage import atomic
+
 #: what a non-regular file is, by its st_mode type, in refusals
 _KINDS = (
     (stat.S_ISDIR, "a directory"),
@@ -141,19 +143,5 @@ def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], o
                 os.unlink(tmp)
         raise
     for folder in {target.parent for _, target in staged}:
-        _fsync_folder(folder)
+        atomic.fsync_folder(folder)
     return [target for _, target in staged]
-
-
-def _fsync_folder(folder: Path) -> None:
-    """Make the renames durable (best effort: not every platform or file system allows it)."""
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)

@@ -141,6 +141,11 @@ class Checkpoint:
             raise Mismatch(f"{self.dir}/manifest.json cannot be read ({_why(err)}), so its tiles cannot be "
                            f"trusted; clear them with: {self.clear_command}") from None
 
+    def foreign(self) -> str:
+        """What to say of a checkpoint that `belongs()` to another sweep."""
+        return (f"{self.dir} holds {self.finished()} finished tiles of a different sweep (spec, method, settings "
+                f"or version changed); clear them with: {self.clear_command}")
+
     def start(self, resume: bool) -> tuple[dict[int, dict], list[str]]:
         """Open for writing; with resume, return the finished tiles, and the names of damaged tiles
         that were dropped (to be computed again)."""
@@ -148,8 +153,7 @@ class Checkpoint:
         dropped: list[str] = []
         if self.exists():
             if not self.belongs():
-                raise Mismatch(f"{self.dir} holds {self.finished()} finished tiles of a different sweep (spec, "
-                               f"method, settings or version changed); clear them with: {self.clear_command}")
+                raise Mismatch(self.foreign())
             if resume:
                 for path in sorted(self.dir.glob("tile-*.npz")):
                     try:

@@ -15,8 +15,9 @@ Seconds on one core, summed over the run's tiles (fixed blocks of frequency rati
 Measured on 2 cores, each column's mean over 151 force ratios, and checked on the paper plane
 (74,896 points, serial): the model gives 1.1x (theory base) to 3.1x (auto base) the measured time.
 Single points vary more than column means (at r < 0.1 a small force ratio can cost 3-5x its
-column's mean), so a grid of only such points can take longer than `seconds`; `worst` bounds a grid whose every point runs into its budget: work_budget
-events at 0.3 us, or max_periods periods at 21 us + 13 ns x max_orbit_period, whichever comes first.
+column's mean), so a grid of only such points can take longer than `seconds`. `worst` bounds a grid
+whose every point runs into its budget: work_budget events at 0.3 us, or max_periods periods at
+21 us + 13 ns x max_orbit_period, whichever comes first.
 Numba-free: `fsweep validate` prints the estimate without loading any kernel.
 """
 
@@ -51,7 +52,7 @@ def _frequency_seconds(r: np.ndarray) -> np.ndarray:
 def _theory_seconds(r: np.ndarray, n_beta: int, joined: bool) -> float:
     n = 40 + math.ceil((1.0 + r.min()) * math.pi / r.min())
     per_point = 2e-6 + 3e-8 * n + (1e-6 * (64 + 16 * (1.0 + r) / r) if joined else 0.0)
-    return 6e-4 + 6e-11 * n**3 + float(np.sum(per_point * np.ones_like(r))) * n_beta
+    return 6e-4 + 6e-11 * n**3 + float(np.sum(np.broadcast_to(per_point, r.shape))) * n_beta
 
 
 def _event_point_seconds(r: np.ndarray, joined: bool) -> np.ndarray:

@@ -99,14 +99,16 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
 
 
 def _fits(tile: dict, part: slice, n_r: int, n_beta: int, sweep: str | None) -> bool:
-    """Whether a tile read back from a checkpoint has the shape of its place in the grid (a damaged
-    or foreign one is computed again)."""
+    """Whether a tile read back from a checkpoint has the shape of its place in the grid and holds
+    known variables of their kind of number (a damaged or foreign one is computed again)."""
     n = part.stop - part.start
     grid = (n, n_r) if sweep else (n_beta, n)
     line = (n_r,) if sweep else (n,)
-    def kind_fits(name: str, values) -> bool:
-        var = VARIABLES.get(name)
-        kind = np.asarray(values).dtype.kind
-        return var is not None and kind in ("iu" if np.issubdtype(var.dtype, np.integer) else "fiu")
+    return all(np.shape(v) in (grid, line) and _kind_fits(k, v) for k, v in tile.items())
 
-    return all(np.shape(v) in (grid, line) and kind_fits(k, v) for k, v in tile.items())
+
+def _kind_fits(name: str, values) -> bool:
+    """A schema variable, of integers where the schema stores codes, of real numbers otherwise."""
+    var = VARIABLES.get(name)
+    kind = np.asarray(values).dtype.kind
+    return var is not None and kind in ("iu" if np.issubdtype(var.dtype, np.integer) else "fiu")
