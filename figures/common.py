@@ -24,7 +24,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
-from friction_sweep import regimes  # noqa: E402
+from friction_sweep.codes import Regime  # noqa: E402
 from friction_sweep.storage.atomic import save_figure  # noqa: E402
 
 # --- labels ---------------------------------------------------------------------------------------------
@@ -120,17 +120,17 @@ def plot_family(ax, ds: xr.Dataset, var: str, *, excitation: str | None = None, 
 
 #: colours of the regime shading: the paper's dark grey (stuck), light grey (stick-slip), white
 REGIME_COLORS = {
-    int(regimes.STUCK): "0.55",
-    int(regimes.STICK_SLIP): "0.85",
-    int(regimes.UNBOUNDED): "tab:red",
-    int(regimes.UNSETTLED): "tab:orange",
+    int(Regime.STUCK): "0.55",
+    int(Regime.STICK_SLIP): "0.85",
+    int(Regime.UNBOUNDED): "tab:red",
+    int(Regime.UNSETTLED): "tab:orange",
 }
 REGIME_NAMES = {
-    int(regimes.STUCK): "stuck",
-    int(regimes.STICK_SLIP): "stick-slip",
-    int(regimes.CONTINUOUS): "continuous",
-    int(regimes.UNBOUNDED): "unbounded",
-    int(regimes.UNSETTLED): "unsettled",
+    int(Regime.STUCK): "stuck",
+    int(Regime.STICK_SLIP): "stick-slip",
+    int(Regime.CONTINUOUS): "continuous",
+    int(Regime.UNBOUNDED): "unbounded",
+    int(Regime.UNSETTLED): "unsettled",
 }
 
 
@@ -151,7 +151,7 @@ def regime_runs(r, codes):
     return runs
 
 
-def shade_regimes(ax, r, codes, alpha: float = 0.6, skip=(int(regimes.CONTINUOUS),)):
+def shade_regimes(ax, r, codes, alpha: float = 0.6, skip=(int(Regime.CONTINUOUS),)):
     """Shade the r-axis by regime: stuck dark grey, stick-slip light grey, continuous white."""
     seen = []
     for code, lo, hi in regime_runs(r, codes):

@@ -15,7 +15,7 @@ import common as C  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.colors import BoundaryNorm, ListedColormap  # noqa: E402
 
-from friction_sweep import regimes  # noqa: E402
+from friction_sweep.codes import Regime  # noqa: E402
 
 #: regime code -> face colour (white where the motion is continuous)
 MAP_COLORS = ["0.55", "0.85", "white", "tab:red", "tab:orange"]
@@ -38,7 +38,7 @@ def main(argv=None):
     ax.plot(r, ds["continuous_limit"].values, "--", color="k", lw=1.5,
             label=r"$F_\mu/F_k = r^2\beta^*(r)$ (continuous below, Eq. 40)")
     present = sorted(set(np.unique(code)))
-    handles = C.regime_handles([c for c in present if c != int(regimes.CONTINUOUS)], alpha=1.0)
+    handles = C.regime_handles([c for c in present if c != int(Regime.CONTINUOUS)], alpha=1.0)
     from matplotlib.patches import Patch
 
     handles.insert(2 if len(handles) >= 2 else len(handles),

@@ -16,7 +16,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common as C  # noqa: E402
 import numpy as np  # noqa: E402
 
-from friction_sweep import regimes  # noqa: E402
+from friction_sweep.codes import Regime  # noqa: E402
 
 BEATING = {"r": 0.95, "beta": 0.05, "periods": 40}
 
@@ -24,9 +24,9 @@ BEATING = {"r": 0.95, "beta": 0.05, "periods": 40}
 def describe(r, beta, regime, stops):
     """Panel title from what the simulation found at the point."""
     where = rf"$r = {r:g}$, " + C.ratio_label("base", beta)
-    if regime == regimes.CONTINUOUS:
+    if regime == Regime.CONTINUOUS:
         return "continuous motion, " + where
-    if regime == regimes.STICK_SLIP:
+    if regime == Regime.STICK_SLIP:
         if r == 1.0:
             return "finite resonance (stick-slip at resonance), " + where
         if np.isfinite(stops) and stops == 2:
@@ -52,7 +52,7 @@ def shade_stuck(ax, t, v, scale):
     first = True
     for code, lo, hi in C.regime_runs(t, stuck.astype(int)):
         if code == 1 and hi > lo:
-            ax.axvspan(lo, hi, color=C.REGIME_COLORS[int(regimes.STICK_SLIP)], alpha=0.8, lw=0, zorder=0,
+            ax.axvspan(lo, hi, color=C.REGIME_COLORS[int(Regime.STICK_SLIP)], alpha=0.8, lw=0, zorder=0,
                        label="mass at rest" if first else None)
             first = False
 

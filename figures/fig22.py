@@ -14,7 +14,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common as C  # noqa: E402
 import numpy as np  # noqa: E402
 
-from friction_sweep import regimes  # noqa: E402
+from friction_sweep.codes import Regime  # noqa: E402
 
 
 def main(argv=None):
@@ -37,7 +37,7 @@ def main(argv=None):
         first = True
         for code, lo, hi in C.regime_runs(t, stuck):
             if code == 1 and hi > lo:
-                ax.axvspan(lo, hi, color=C.REGIME_COLORS[int(regimes.STICK_SLIP)], alpha=0.8, lw=0, zorder=0,
+                ax.axvspan(lo, hi, color=C.REGIME_COLORS[int(Regime.STICK_SLIP)], alpha=0.8, lw=0, zorder=0,
                            label="mass stuck to the wall" if first else None)
                 first = False
     top.plot(t, z, color="tab:purple", lw=1.4, label="relative displacement $z/Y = (x - y)/Y$")

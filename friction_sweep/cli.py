@@ -15,7 +15,7 @@ import click
 import numpy as np
 
 import friction_sweep
-from friction_sweep import regimes
+from friction_sweep import codes
 from friction_sweep.spec import SpecError, load_spec
 
 EXIT_BAD_INPUT = 2
@@ -392,8 +392,8 @@ def _echo_regimes(ds) -> None:
         click.echo("  regimes from a moving start: " + _regime_summary(ds["regime_moving"].values))
 
 
-def _regime_summary(codes) -> str:
-    return ", ".join(f"{name} {n}" for name, n in regimes.counts(codes).items())
+def _regime_summary(values) -> str:
+    return ", ".join(f"{name} {n}" for name, n in codes.counts(values).items())
 
 
 class _progress:

@@ -25,7 +25,8 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 import xarray as xr
 
-from friction_sweep import regimes, ties
+from friction_sweep import codes, ties
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.storage import schema
 from friction_sweep.theory import den_hartog as dh
 
@@ -174,8 +175,7 @@ def _missing(rule, cube, *names):
 
 
 def _name(code) -> str:
-    code = int(code)
-    return regimes.NAMES[code] if 0 <= code < len(regimes.NAMES) else f"code {code}"
+    return codes.name_of(Regime, code)
 
 
 def transmissibility_bound(cube: _Cube) -> np.ndarray:
@@ -222,14 +222,14 @@ def check_resonance(cube: _Cube) -> Finding:
     def found(j, i):
         return _name(reg[j, i])
 
-    tally.add(at & still & (reg != regimes.STUCK), found, lambda j, i: "stuck (never moves)")
-    tally.add(at & ~still & small & (reg != regimes.UNBOUNDED), found, lambda j, i: "unbounded (b <= pi/4)")
+    tally.add(at & still & (reg != Regime.STUCK), found, lambda j, i: "stuck (never moves)")
+    tally.add(at & ~still & small & (reg != Regime.UNBOUNDED), found, lambda j, i: "unbounded (b <= pi/4)")
     big = at & ~still & ~small
-    tally.add(big & (reg == regimes.UNBOUNDED), found, lambda j, i: "finite (b > pi/4)")
+    tally.add(big & (reg == Regime.UNBOUNDED), found, lambda j, i: "finite (b > pi/4)")
     if T is not None:
         bound = transmissibility_bound(cube)
         with np.errstate(invalid="ignore"):
-            over = big & (reg != regimes.UNBOUNDED) & np.isfinite(T) & (T > (1.0 + BOUND_RTOL) * bound)
+            over = big & (reg != Regime.UNBOUNDED) & np.isfinite(T) & (T > (1.0 + BOUND_RTOL) * bound)
         tally.add(over, lambda j, i: float(T[j, i]), lambda j, i: f"<= {bound[j, i]:.6g}")
     return tally.finding(cube, rule, np.count_nonzero(at))
 
@@ -306,7 +306,7 @@ def check_theory(cube: _Cube, chunk: int = THEORY_CHUNK) -> Finding:
         sel = ((b_c <= THEORY_MARGIN * bstar[None, :])
                & (np.abs(r - 1.0) >= THEORY_MIN_DETUNING)[None, :]
                & (ties.subharmonic_order(r) == 0)[None, :]
-               & (reg_c != regimes.UNSETTLED))
+               & (reg_c != Regime.UNSETTLED))
         T_ref, reg_ref = ref["transmissibility"], ref["regime"]
         fin, fin_ref = np.isfinite(T_c), np.isfinite(T_ref)
         with np.errstate(invalid="ignore"):
@@ -340,12 +340,10 @@ def check_unsettled(cube: _Cube) -> Finding:
     def found(j, i):
         if why is None:
             return "unsettled"
-        code = int(why[j, i])
-        name = regimes.STEADY_NAMES[code] if 0 <= code < len(regimes.STEADY_NAMES) else f"code {code}"
-        return f"unsettled ({name})"
+        return f"unsettled ({codes.name_of(SteadyState, why[j, i])})"
 
     tally = _Tally()
-    tally.add(reg == regimes.UNSETTLED, found, lambda j, i: "a settled regime")
+    tally.add(reg == Regime.UNSETTLED, found, lambda j, i: "a settled regime")
     return tally.finding(cube, rule, reg.size)
 
 
@@ -354,12 +352,10 @@ def check_family(cube: _Cube) -> Finding:
     stick-free orbits at r = 1/(2n) without damping, where the first harmonic belongs to the family
     and no single orbit is privileged. Counted so that a user knows which numbers are of that kind."""
     rule = "family"
-    if "family" not in regimes.STEADY_NAMES:
-        return Finding(rule, SKIPPED, note="this version has no family state")
     why = cube.get("steady_state")
     if why is None:
         return Finding(rule, SKIPPED, note="no steady_state")
-    mask = why == regimes.STEADY_NAMES.index("family")
+    mask = why == SteadyState.FAMILY
     n = int(np.count_nonzero(mask))
     tally = _Tally()
     tally.add(mask, lambda j, i: "family", lambda j, i: "information")

@@ -32,7 +32,8 @@ import click
 import numpy as np
 import pandas as pd
 
-from friction_sweep import regimes
+from friction_sweep import codes
+from friction_sweep.codes import Regime
 from friction_sweep.spec import grid
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
@@ -182,7 +183,7 @@ def predict_point(method: str, r: float, beta: float) -> dict:
 
     out = methods.get(method).compute_tile(EXCITATION, np.array([r]), np.array([beta]), ("phase", "regime"))
     return {
-        "regime": regimes.NAMES[int(out["regime"][0, 0])],
+        "regime": codes.name_of(Regime, out["regime"][0, 0]),
         "phase": float(out["phase"][0, 0]),
         "peak_phase": float(out["peak_phase"][0, 0]),
     }

@@ -22,13 +22,15 @@ import math
 
 import numpy as np
 
+from friction_sweep.codes import SteadyState
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.segments import (
     FORCE_TIE, TWO_PI, find_stop, sin_over, slip_state, stick_exit, stuck_for_good,
 )
 
+#: status of a period's advance: done, or out of work budget (the steady-state code it leads to)
 OK = 0
-BUDGET = 2  # same code as regimes.EVENT_BUDGET
+BUDGET = SteadyState.EVENT_BUDGET
 
 #: A stick shorter than this fraction of the forcing period is a grazing contact, not a stop: at the
 #: continuous limit the exact stick lasts zero time and rounding leaves ~1e-12 of a period, while a

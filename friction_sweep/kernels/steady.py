@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels.event import (
     ACC_IC, ACC_IS, ACC_JAC, ACC_JOK, ACC_QHI, ACC_QLO, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX,
     ACC_XMIN, BUDGET,
@@ -22,9 +23,6 @@ from friction_sweep.kernels.rk4 import advance_period_rk4
 from friction_sweep.kernels.segments import TWO_PI, stuck_for_good
 from friction_sweep.ties import RESONANCE_FRICTION_LIMIT, TIE_RTOL
 
-# status codes: the values of friction_sweep.regimes (kept literal so kernels import no Python objects)
-CONVERGED, PERIOD_CAP, EVENT_BUDGET, NONFINITE, GROWING, FAMILY, APERIODIC = 0, 1, 2, 3, 4, 6, 7
-STUCK, STICK_SLIP, CONTINUOUS, UNBOUNDED, UNSETTLED = 0, 1, 2, 3, 4
 
 # output slots of solve_point
 (OUT_TRANS, OUT_PEAK, OUT_PHASE, OUT_PEAK_PHASE, OUT_STOPS, OUT_STUCK, OUT_REGIME, OUT_PERIODS,
@@ -306,7 +304,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     mode = _mode_of(q, v, A, r, bs)
     hq[0], hv[0], hm[0] = q, v, mode
     work = 0
-    status = PERIOD_CAP
+    status = SteadyState.PERIOD_CAP
     orbit = 0
     shot = False
     n = 0
@@ -327,7 +325,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
                 and abs(q1 - qf) + abs(v1) <= tol * scale + map_error * max(scale, A)):
             q, v, mode = qf, 0.0, mf
             orbit = 1
-            status = FAMILY
+            status = SteadyState.FAMILY
             shot = True  # measured already
             n = 1
     # shoot at the first stop-free period from shoot_after on, and again shoot_every periods after a miss
@@ -339,22 +337,22 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     yq = yv = delta = log_growth = 0.0
     ym = 0
     tracked = 0
-    while n < max_periods and status == PERIOD_CAP:
+    while n < max_periods and status == SteadyState.PERIOD_CAP:
         n += 1
         q, v, mode, st, w = _period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, acc)
         work += w
         if st == BUDGET or work > budget:
-            status = EVENT_BUDGET
+            status = SteadyState.EVENT_BUDGET
             break
         if not (math.isfinite(q) and math.isfinite(v)):
-            status = NONFINITE
+            status = SteadyState.NONFINITE
             break
         rho = math.hypot(q, v)
         rho_hist[n % 64] = rho
         # the orbit's size, not the state at the section, which may sit near (0, 0)
         size = max(rho, acc[ACC_QMAX])
         if rho > 1e12 * max(A, 1.0):
-            status = GROWING
+            status = SteadyState.GROWING
             break
         # Once shooting has had its chance, a state that moves by no more than the map's own rounding
         # (relative to the forcing: a motion far smaller than A just below the no-motion threshold
@@ -370,7 +368,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
                 orbit = k
                 break
         if orbit > 0:
-            status = CONVERGED
+            status = SteadyState.CONVERGED
             break
         i = n % (kmax + 1)
         hq[i], hv[i], hm[i] = q, v, mode
@@ -408,7 +406,7 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
                 q, v = qs, vs
                 mode = _mode_of(q, v, A, r, bs)
                 orbit = 1
-                status = CONVERGED
+                status = SteadyState.CONVERGED
                 shot = True
                 break
         # Steady linear growth (resonance with friction below pi/4): 48 rising periods at a rate that
@@ -427,9 +425,9 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
                 d_old = rho_hist[(n - 32) % 64] - rho_hist[(n - 47) % 64]
                 d_new = rho_hist[n % 64] - rho_hist[(n - 15) % 64]
                 if d_new >= 0.9 * d_old:
-                    status = GROWING
+                    status = SteadyState.GROWING
                     break
-    if status == PERIOD_CAP and n >= 2:
+    if status == SteadyState.PERIOD_CAP and n >= 2:
         # Out of periods: a period-k orbit that the march approaches too slowly (static friction locks
         # onto long periods) is solved for directly, from the lag at which the march repeats best.
         best = math.inf
@@ -446,25 +444,25 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
                 q, v = qs, vs
                 mode = _mode_of(q, v, A, r, bs)
                 orbit = lag
-                status = CONVERGED
+                status = SteadyState.CONVERGED
                 shot = True
     # only static friction above kinetic can keep a motion from settling: with bs == bk the friction
     # law is monotone and the period map does not expand distances (README, "Where the physics gets
     # hard"), so there a motion that has not repeated is a transient the budget cut short
-    if (status == PERIOD_CAP and bs > bk and tracked > LYAPUNOV_PERIODS // 2
+    if (status == SteadyState.PERIOD_CAP and bs > bk and tracked > LYAPUNOV_PERIODS // 2
             and log_growth > -(tracked - 1) / kmax):
-        status = APERIODIC
+        status = SteadyState.APERIODIC
         orbit = APERIODIC_WINDOW
     out[OUT_PERIODS] = n
-    out[OUT_STEADY] = status
+    out[OUT_STEADY] = status.value  # a float slot: numba casts no IntEnum to float
     out[OUT_WORK] = work
     # where the march ends (on the orbit, or where it gave up): a seed for another solve
     out[OUT_Q], out[OUT_V], out[OUT_MODE] = q, v, mode
-    if status == GROWING:
-        out[OUT_REGIME] = UNBOUNDED
+    if status == SteadyState.GROWING:
+        out[OUT_REGIME] = Regime.UNBOUNDED.value
         return
-    if status != CONVERGED and status != FAMILY and status != APERIODIC:
-        out[OUT_REGIME] = UNSETTLED
+    if status != SteadyState.CONVERGED and status != SteadyState.FAMILY and status != SteadyState.APERIODIC:
+        out[OUT_REGIME] = Regime.UNSETTLED.value
         return
     # measure over the k periods of the orbit (the state on the orbit, kept above, starts replays); a
     # shooting solve measured its confirming period already
@@ -474,9 +472,9 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
             q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, True, acc)
             work += w
             if st == BUDGET or work > budget:  # the measurement is part of the point's budget
-                out[OUT_STEADY] = EVENT_BUDGET
+                out[OUT_STEADY] = SteadyState.EVENT_BUDGET.value
                 out[OUT_WORK] = work
-                out[OUT_REGIME] = UNSETTLED
+                out[OUT_REGIME] = Regime.UNSETTLED.value
                 return
     T = TWO_PI / r
     total = orbit * T
@@ -503,11 +501,11 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
     out[OUT_ORBIT] = orbit
     out[OUT_WORK] = work
     if all_stuck:
-        out[OUT_REGIME] = STUCK
+        out[OUT_REGIME] = Regime.STUCK.value
     elif acc[ACC_STOPS] > 0.0:
-        out[OUT_REGIME] = STICK_SLIP
+        out[OUT_REGIME] = Regime.STICK_SLIP.value
     else:
-        out[OUT_REGIME] = CONTINUOUS
+        out[OUT_REGIME] = Regime.CONTINUOUS.value
 
 
 @jit
@@ -554,7 +552,7 @@ def solve_sweep(A, r, bk, bs, zeta, c, settings, out):
     for i in range(r.size):
         solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
         regime = out[i, OUT_REGIME]
-        if regime == UNBOUNDED or regime == UNSETTLED:
+        if regime == Regime.UNBOUNDED or regime == Regime.UNSETTLED:
             own[SET_Q0] = settings[SET_Q0]
             own[SET_V0] = settings[SET_V0]
         else:

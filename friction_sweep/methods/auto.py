@@ -11,18 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep import regimes, ties
+from friction_sweep import ties
+from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.methods import event, theory
 
 NAME = "auto"
 EXCITATIONS = ("force", "base", "joined")
 EFFECTS: tuple[str, ...] = ()  # the theory models none; a scene with effects should use `event`
 SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "starts"}, "theory_margin": 0.02}
-
-#: flag values of `method_used`
-USED = ("theory", "event")
-THEORY_USED, EVENT_USED = np.int8(0), np.int8(1)
-
 
 time_histories = event.time_histories
 
@@ -36,7 +32,7 @@ def theory_mask(th, r, beta, margin):
     forecast and its continuous limit in the scene's convention, so beta*(r) is computed once)."""
     R, B = np.meshgrid(r, beta)
     limit = th["continuous_limit"][None, :]
-    return (th["regime"] == regimes.CONTINUOUS) & (B < (1.0 - margin) * limit) & ~ties.at_resonance(R)
+    return (th["regime"] == Regime.CONTINUOUS) & (B < (1.0 - margin) * limit) & ~ties.at_resonance(R)
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
@@ -51,7 +47,7 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     names = variables_for(excitation, outputs)
     shape = use_theory.shape
     out = {name: np.full(shape, np.nan) for name in names}
-    out["method_used"] = np.where(use_theory, THEORY_USED, EVENT_USED).astype(np.int8)
+    out["method_used"] = np.where(use_theory, MethodUsed.THEORY, MethodUsed.EVENT).astype(np.int8)
 
     for name in names:
         if name in th:
@@ -60,7 +56,7 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
         out["stuck_fraction"][use_theory] = 0.0
         out["periods"][use_theory] = 0.0
         out["orbit_period"][use_theory] = 1.0
-        out["steady_state"] = np.where(use_theory, regimes.NOT_SIMULATED, regimes.CONVERGED).astype(np.int8)
+        out["steady_state"] = np.where(use_theory, SteadyState.NOT_SIMULATED, SteadyState.CONVERGED).astype(np.int8)
 
     if np.any(~use_theory):
         R, B = np.meshgrid(r, beta)

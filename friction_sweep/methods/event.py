@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep import regimes
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import steady
 from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
@@ -114,14 +114,14 @@ def count_states(first, second):
     codes = []
     for raw in (first, second):
         codes.append(raw[:, steady.OUT_REGIME])
-    answered = [c != regimes.UNSETTLED for c in codes]
+    answered = [c != Regime.UNSETTLED for c in codes]
     t1, t2 = first[:, steady.OUT_TRANS], second[:, steady.OUT_TRANS]
     s1, s2 = first[:, steady.OUT_STEADY], second[:, steady.OUT_STEADY]
     same_kind = codes[0] == codes[1]
     moving_alike = (same_kind & (first[:, steady.OUT_STOPS] == second[:, steady.OUT_STOPS])
                     & (np.abs(t1 - t2) <= SAME_STATE_RTOL * np.maximum(np.abs(t1), np.abs(t2))))
-    same = same_kind & ((codes[0] == regimes.STUCK) | (codes[0] == regimes.UNBOUNDED)
-                        | ((s1 == regimes.APERIODIC) & (s2 == regimes.APERIODIC)) | moving_alike)
+    same = same_kind & ((codes[0] == Regime.STUCK) | (codes[0] == Regime.UNBOUNDED)
+                        | ((s1 == SteadyState.APERIODIC) & (s2 == SteadyState.APERIODIC)) | moving_alike)
     n = answered[0].astype(np.int8) + answered[1].astype(np.int8)
     return (n - (answered[0] & answered[1] & same)).astype(np.int8)
 

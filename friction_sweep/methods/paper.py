@@ -55,7 +55,7 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from friction_sweep import regimes
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.methods import theory
 from friction_sweep.theory.phase import wrap_lag_degrees
 
@@ -144,7 +144,7 @@ def _window(settings):
 def _failed(code, periods_done) -> dict:
     out = {name: math.nan for name in _NUMERIC}
     out.update(stops_per_period=math.nan, stuck_fraction=math.nan, periods=float(periods_done),
-               regime=int(regimes.UNSETTLED), steady_state=int(code))
+               regime=int(Regime.UNSETTLED), steady_state=int(code))
     return out
 
 
@@ -191,11 +191,11 @@ def solve_point(excitation: str, r: float, beta: float, settings=None, **overrid
             sol = solve_ivp(rhs, (0.0, periods * period), (0.0, 0.0), method="RK45", t_eval=t_eval,
                             rtol=s["rtol"], atol=s["atol"])
     except _BudgetExhausted as stop:
-        return _failed(regimes.EVENT_BUDGET, stop.t / period)
+        return _failed(SteadyState.EVENT_BUDGET, stop.t / period)
     except (ArithmeticError, ValueError, RuntimeError):
-        return _failed(regimes.NONFINITE, calls[1] / period)
+        return _failed(SteadyState.NONFINITE, calls[1] / period)
     if sol.status < 0 or sol.y.shape[1] != n_total or not np.all(np.isfinite(sol.y)):
-        return _failed(regimes.NONFINITE, calls[1] / period)
+        return _failed(SteadyState.NONFINITE, calls[1] / period)
 
     keep = slice(n_transient * spp, n_total)
     q, v = sol.y[0, keep], sol.y[1, keep]
@@ -219,23 +219,23 @@ def solve_point(excitation: str, r: float, beta: float, settings=None, **overrid
     out["stuck_fraction"] = float(np.mean(stuck))
     out["stops_per_period"] = _count_stops(stuck) / n_keep
     out["periods"] = float(periods)
-    out["steady_state"] = int(regimes.PERIOD_CAP)
+    out["steady_state"] = int(SteadyState.PERIOD_CAP)
 
     first_peak = float(np.max(np.abs(x[:spp])))
     last_peak = float(np.max(np.abs(last)))
     if float(np.max(np.abs(q))) <= s["stuck_displacement_per_atol"] * s["atol"]:
-        out["regime"] = int(regimes.STUCK)
+        out["regime"] = int(Regime.STUCK)
         out["stuck_fraction"], out["stops_per_period"] = 1.0, 0.0  # the velocity is chatter only
         if not joined:
             out["phase"] = out["peak_phase"] = math.nan
     elif last_peak > GROWTH_RATIO * first_peak and last_peak > GROWTH_MIN_PEAK:
-        out["regime"] = int(regimes.UNBOUNDED)
+        out["regime"] = int(Regime.UNBOUNDED)
         for name in _NUMERIC:
             out[name] = math.nan
     elif out["stops_per_period"] >= 0.5:
-        out["regime"] = int(regimes.STICK_SLIP)
+        out["regime"] = int(Regime.STICK_SLIP)
     else:
-        out["regime"] = int(regimes.CONTINUOUS)
+        out["regime"] = int(Regime.CONTINUOUS)
     return out
 
 

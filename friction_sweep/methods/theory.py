@@ -26,7 +26,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep import regimes, ties
+from friction_sweep import ties
+from friction_sweep.codes import Regime
 from friction_sweep.theory import den_hartog as dh
 from friction_sweep.theory import joined
 from friction_sweep.theory.phase import wrap_lag_degrees
@@ -71,10 +72,10 @@ def forecast_regime(excitation, r, beta, beta_star):
     stuck = ties.never_moves(r * r if excitation == "joined" else 1.0, beta)
     at_resonance = ties.at_resonance(r)
     continuous = ((b == 0.0) | (b <= beta_star)) & ~at_resonance
-    code = np.full(r.shape, regimes.STICK_SLIP, dtype=np.int8)
-    code[continuous] = regimes.CONTINUOUS
-    code[at_resonance & (b <= dh.RESONANCE_FRICTION_LIMIT * (1.0 + ties.TIE_RTOL))] = regimes.UNBOUNDED
-    code[stuck] = regimes.STUCK
+    code = np.full(r.shape, Regime.STICK_SLIP, dtype=np.int8)
+    code[continuous] = Regime.CONTINUOUS
+    code[at_resonance & (b <= dh.RESONANCE_FRICTION_LIMIT * (1.0 + ties.TIE_RTOL))] = Regime.UNBOUNDED
+    code[stuck] = Regime.STUCK
     return code
 
 
@@ -106,10 +107,10 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     if "regime" in names:
         out["regime"] = code
         out["stops_per_period"] = np.where(
-            (code == regimes.CONTINUOUS) | (code == regimes.STUCK), 0.0, np.nan
+            (code == Regime.CONTINUOUS) | (code == Regime.STUCK), 0.0, np.nan
         )
-    _fill_stuck(excitation, out, code == regimes.STUCK)
-    sel = code == regimes.CONTINUOUS
+    _fill_stuck(excitation, out, code == Regime.STUCK)
+    sel = code == Regime.CONTINUOUS
     if np.any(sel):
         _fill_continuous(excitation, out, R[sel], B[sel], sel)
     out["continuous_limit"] = _in_scene_convention(excitation, r, bstar)

@@ -10,7 +10,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from friction_sweep import regimes
+from friction_sweep import codes
+from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.theory.phase import PHASE_RANGE_DEG
 
 GRID_DIMS = ("force_ratio", "frequency_ratio")
@@ -125,7 +126,7 @@ VARIABLES = {
         np.int8,
         "motion regime of the steady state",
         "1",
-        {"flag_values": regimes.FLAG_VALUES, "flag_meanings": regimes.FLAG_MEANINGS},
+        codes.flags(Regime),
     ),
     "stops_per_period": Variable(
         GRID_DIMS,
@@ -151,7 +152,7 @@ VARIABLES = {
         np.int8,
         "why the steady-state search stopped",
         "1",
-        {"flag_values": regimes.STEADY_FLAG_VALUES, "flag_meanings": regimes.STEADY_FLAG_MEANINGS},
+        codes.flags(SteadyState),
     ),
     "orbit_period": Variable(
         GRID_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, k subharmonic)", "1",
@@ -162,7 +163,7 @@ VARIABLES = {
         np.int8,
         "method that produced the point (method auto)",
         "1",
-        {"flag_values": np.array([0, 1], dtype=np.int8), "flag_meanings": "theory event"},
+        codes.flags(MethodUsed),
     ),
     # time histories of selected points (outputs: time_history), on their own dims
     "history_frequency_ratio": Variable(("history",), np.float64, "frequency ratio of the time-history point", "1",
@@ -176,7 +177,7 @@ VARIABLES = {
         np.int8,
         "motion regime of the time-history point",
         "1",
-        {"flag_values": regimes.FLAG_VALUES, "flag_meanings": regimes.FLAG_MEANINGS},
+        codes.flags(Regime),
     ),
     "history_time": Variable(HISTORY_DIMS, np.float64, "time in forcing periods from a steady-state section", "1",
                              valid_range=NONNEGATIVE),
