@@ -110,7 +110,7 @@ def plot_family(ax, ds: xr.Dataset, var: str, *, excitation: str | None = None, 
     betas = ds["force_ratio"].values
     palette = palette or colors(len(betas))
     r = ds["frequency_ratio"].values
-    for beta, colour in zip(betas, palette):
+    for beta, colour in zip(betas, palette, strict=False):
         y = ds[var].sel(force_ratio=beta).values
         ax.plot(r, y, linestyle, color=colour, label=ratio_label(excitation, beta) if label else None, **kwargs)
     return palette
@@ -177,17 +177,17 @@ def continuous_boundary(excitation: str, r, limit, quantity: str):
     `continuous_limit`, r^2 beta*(r) for joined): the dotted boundary curves of Figs. 4, 5, 7, 10,
     14a. quantity: peak_transmissibility, peak_phase, relative_peak_amplitude, relative_peak_phase."""
     from friction_sweep.theory import den_hartog as dh
-    from friction_sweep.theory import joined
+    from friction_sweep.theory import joined, scenes
     from friction_sweep.theory.phase import wrap_lag_degrees
 
     r = np.asarray(r, dtype=float)
     limit = np.asarray(limit, dtype=float)
-    b = limit / (r * r) if excitation == "joined" else limit
+    b = scenes.friction_ratio(excitation, r, limit)
     with np.errstate(all="ignore"):
         x0 = dh.amplitude(r, b)
         phi = dh.phase(r, b)
         if quantity == "relative_peak_amplitude" and excitation == "joined":
-            return r * r * x0  # Eq. 35
+            return scenes.forcing_amplitude(excitation, r) * x0  # Eq. 35
         if quantity == "relative_peak_phase" and excitation == "joined":
             return wrap_lag_degrees(phi)
         if quantity == "peak_phase" and excitation != "joined":

@@ -13,6 +13,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common as C  # noqa: E402
 import numpy as np  # noqa: E402
 
+from friction_sweep.catalogue import effect_value  # noqa: E402
+
 
 def classical(r, zeta):
     """|X|/|Y| of the linear base-excited oscillator with the damper between mass and base."""
@@ -25,12 +27,12 @@ def main(argv=None):
     for path in paths:
         ds = C.open_cube(path)
         C.require(ds, path, "transmissibility")
-        zeta = float(C.effects_of(ds).get("viscous_damping", 0.0))
+        zeta = effect_value(C.effects_of(ds), "viscous_damping")
         cubes.append((zeta, ds))
     cubes.sort(key=lambda item: item[0])
     fig, axes = C.new_figure()
     ax = axes[0, 0]
-    for (zeta, ds), colour in zip(cubes, C.colors(len(cubes))):
+    for (zeta, ds), colour in zip(cubes, C.colors(len(cubes)), strict=True):
         r = ds["frequency_ratio"].values
         t = ds["transmissibility"].isel(force_ratio=0).values
         ax.plot(r, t, color=colour, label=rf"$\zeta = {zeta:g}$")

@@ -14,6 +14,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import common as C  # noqa: E402
 
+from friction_sweep.catalogue import effect_value  # noqa: E402
 from friction_sweep.methods.event import SAME_STATE_RTOL  # noqa: E402
 
 
@@ -36,7 +37,7 @@ def main(argv=None):
             label="from a moving start")
     ax.plot(r, t_up, "-", color="tab:blue", lw=1.2, label="sweep up")
     ax.plot(r, t_down, "--", color="tab:red", lw=1.2, label="sweep down")
-    mu = C.effects_of(up).get("static_friction_ratio", 1.0)
+    mu = effect_value(C.effects_of(up), "static_friction_ratio")
     ax.set(xlabel=C.R_LABEL, ylabel=C.TRANS_LABEL + " (first harmonic)", ylim=(0, 5),
            title=f"Hysteresis: joined, {C.ratio_label('joined', beta)}, static/kinetic {mu:g} "
                  f"(shaded: up and down differ)")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import json
 import os
 import shlex
 import signal
@@ -10,6 +11,7 @@ import sys
 import threading
 import time
 from pathlib import Path
+from typing import NoReturn
 
 import click
 import numpy as np
@@ -17,6 +19,7 @@ import numpy as np
 import friction_sweep
 from friction_sweep import codes
 from friction_sweep.spec import SpecError, load_spec
+from friction_sweep.sweep.executors import DEFAULT_EXECUTOR, EXECUTORS
 
 EXIT_BAD_INPUT = 2
 EXIT_RUNTIME = 1
@@ -33,7 +36,7 @@ def _on_sigterm(signum, frame):
     raise _Terminated
 
 
-def _fail(message: str, code: int = EXIT_BAD_INPUT):
+def _fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
     click.echo(f"fsweep: error: {message}", err=True)
     sys.exit(code)
 
@@ -130,18 +133,39 @@ def validate(spec: Path, output: str | None):
 @click.argument("method", required=False)
 def settings_(method: str | None):
     """List each method's settings: default, meaningful range (values outside are refused), and why."""
-    from friction_sweep import methods
-    from friction_sweep.spec import METHOD_SETTINGS
+    from friction_sweep.catalogue import METHODS
 
-    names = [method] if method else list(METHOD_SETTINGS)
-    if method is not None and method not in METHOD_SETTINGS:
-        _fail(f"unknown method {method!r} (available: {', '.join(METHOD_SETTINGS)})")
-    for name in names:
-        known = METHOD_SETTINGS[name]
-        click.echo(f"{name}:" + ("" if known else " no settings"))
-        defaults = methods.get(name).SETTINGS
-        for key, setting in known.items():
-            click.echo(f"  {key:<28} default {defaults.get(key)!s:<10} range {setting.describe():<22} {setting.why}")
+    if method is not None and method not in METHODS:
+        _fail(f"unknown method {method!r} (available: {', '.join(METHODS)})")
+    for record in [METHODS[method]] if method else METHODS.values():
+        click.echo(f"{record.name}:" + ("" if record.settings else " no settings"))
+        for key, setting in record.settings.items():
+            default = record.defaults[key]
+            click.echo(f"  {key:<28} default {default!s:<10} range {setting.describe():<22} {setting.why}")
+
+
+def _methods_table() -> None:
+    """What each method can do, from the catalogue: the table of `fsweep info --methods`."""
+    from friction_sweep.catalogue import EFFECTS, METHODS
+
+    def cell(names) -> str:
+        return ", ".join(names) or "-"
+
+    rows = [("method", "excitations", "effects", "outputs", "accuracy:", "sweep:", "settings")]
+    for m in METHODS.values():
+        accuracy = f"sets {cell(m.accuracy_knobs)}" if m.accuracy_knobs else "-"
+        rows.append((m.name, cell(m.excitations), cell(m.effects), cell(m.outputs), accuracy,
+                     "yes" if m.sweep else "-", str(len(m.settings))))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    for row in rows:
+        click.echo("  ".join(text.ljust(w) for text, w in zip(row, widths, strict=True)).rstrip())
+    click.echo("")
+    for m in METHODS.values():
+        click.echo(f"{m.name}: {m.summary}")
+    click.echo("")
+    for name, effect in EFFECTS.items():
+        click.echo(f"effect {name} {effect.describe()}: {effect.meaning}")
+    click.echo("settings of a method, their defaults and ranges: fsweep settings METHOD")
 
 
 @main.command()
@@ -151,7 +175,7 @@ def settings_(method: str | None):
 @click.option("-j", "--jobs", type=click.IntRange(min=1, max=1024), default=1, show_default=True, help="Workers.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("--yes", is_flag=True, help="Run even a huge grid (one estimated to take over 30 min or 4 GiB).")
-@click.option("--executor", type=click.Choice(["threads", "processes", "dask", "serial"]), default="threads",
+@click.option("--executor", type=click.Choice(EXECUTORS), default=DEFAULT_EXECUTOR,
               show_default=True, help="Where tiles run (dask: a LocalCluster of -j workers, or --scheduler).")
 @click.option("--scheduler", metavar="ADDRESS", help="A Dask scheduler to run on (implies --executor dask).")
 @click.option("--resume", is_flag=True, help="Continue an interrupted run from its finished tiles.")
@@ -160,7 +184,6 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
         scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
-    from friction_sweep import methods
     from friction_sweep.sweep import checkpoint
     from friction_sweep.sweep import estimate as cost_model
     from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES, layout
@@ -180,7 +203,6 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
         _fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
         _check_dask(scheduler)
-    method = methods.get(s.method)
     cost = cost_model.estimate(s, jobs=jobs, executor=executor)
     if (cost.seconds > cost_model.HUGE_SECONDS or cost.bytes > cost_model.HUGE_BYTES) and not yes:
         _fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
@@ -196,29 +218,23 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     store = checkpoint.Checkpoint(out, key, len(layout(r.size, beta.size, sweep)))
     try:
         with checkpoint.Lock(out):
-            _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, settings,
+            _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
                         extra)
     except (checkpoint.Busy, checkpoint.Mismatch) as err:
         _fail(str(err))
 
 
 def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
-    """The run's settings, with those that `accuracy:` chooses from the benchmark's calibration, and
-    the attributes that record the choice."""
-    settings, extra = dict(s.settings), {}
-    if s.accuracy is None:
-        return settings, extra
-    import json
-
-    from friction_sweep.bench.workprecision import choose
+    """The run's settings and the attributes that record what `accuracy:` chose (exit 2 if nothing can)."""
+    from friction_sweep.sweep.pipeline import run_settings
 
     try:
-        chosen, row = choose("event" if s.method == "auto" else s.method, s.accuracy)
+        settings, extra = run_settings(s)
     except LookupError as err:
         _fail(f"{spec}: accuracy: {err}")
-    settings.update(chosen)
-    extra = {"accuracy_requested": s.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
-    if not quiet:
+    if extra and not quiet:
+        row = json.loads(extra["accuracy_choice"])
+        chosen = {k: settings[k] for k in row["settings"] if k in settings}
         click.echo(f"accuracy {s.accuracy:g}: {s.method} with {chosen} (benchmark worst error "
                    f"{row['worst_error']:.1e}, {row['seconds_per_point'] * 1e3:.3g} ms per point)", err=True)
     return settings, extra
@@ -244,12 +260,11 @@ def _check_dask(scheduler: str | None) -> None:
         _fail(str(err))
 
 
-def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, scheduler, store, settings,
+def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
                 extra_attrs):
     """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up."""
-    from friction_sweep.storage import cube, provenance
-    from friction_sweep.sweep import checkpoint
-    from friction_sweep.sweep.runner import run_grid
+    from friction_sweep.storage import cube
+    from friction_sweep.sweep import checkpoint, pipeline
 
     if store.exists() and store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir():
         store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
@@ -271,15 +286,8 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
     start = time.perf_counter()
     try:
         with _progress(quiet, r.size * beta.size) as advance:
-            arrays = run_grid(s.method, s.scene.excitation, r, beta, s.outputs, effects=s.scene.effects.declared(),
-                              settings=settings, sweep=s.sweep.direction if s.sweep is not None else None,
-                              jobs=jobs, executor=executor, scheduler=scheduler, done=done,
-                              on_done=store.save, on_tile=advance)
-            if s.time_history is not None:
-                pts = np.asarray(s.time_history.points, dtype=float)
-                hist = method.time_histories(s.scene.excitation, pts, s.time_history.samples_per_period,
-                                             s.scene.effects.declared(), settings)
-                arrays.update(hist, history_frequency_ratio=pts[:, 0], history_force_ratio=pts[:, 1])
+            arrays = pipeline.compute(s, settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
+                                      on_done=store.save, on_tile=advance)
     except _Terminated:
         _stopped(store, "terminated", EXIT_TERMINATED)
     except KeyboardInterrupt:
@@ -291,22 +299,7 @@ def _run_locked(s, spec, out, overwrite, resume, method, jobs, quiet, executor, 
     elapsed = time.perf_counter() - start
 
     command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)])
-    ds = cube.build_dataset(
-        arrays,
-        frequency_ratio=r,
-        force_ratio=beta,
-        excitation=s.scene.excitation,
-        title=f"friction_sweep: {s.scene.excitation} excitation, method {s.method}",
-        history=provenance.history_line(command),
-        attrs=provenance.attributes(
-            spec_text=s.text,
-            spec_path=str(spec),
-            excitation=s.scene.excitation,
-            method=s.method,
-            settings=_recorded_settings(s, method, settings),
-        ),
-    )
-    ds.attrs.update(extra_attrs)
+    ds = pipeline.dataset(s, arrays, settings, command, extra_attrs)
     if done:  # tiles read back from disk: a tampered or damaged one must not reach the result
         from friction_sweep.storage import audit
 
@@ -350,14 +343,6 @@ def _logging(verbose: int) -> None:
     logging.getLogger("friction_sweep").setLevel(level)
 
 
-def _duration(seconds: float) -> str:
-    if seconds < 120:
-        return f"{seconds:.0f} s"
-    if seconds < 7200:
-        return f"{seconds / 60:.0f} min"
-    return f"{seconds / 3600:.1f} h"
-
-
 def _check_writable(out: Path) -> None:
     """Fail before computing, not after, if the result could not be written there."""
     import tempfile
@@ -368,15 +353,6 @@ def _check_writable(out: Path) -> None:
             pass
     except OSError as err:
         _fail(f"cannot write the output {out}: {err.strerror or err}")
-
-
-def _recorded_settings(s, method, settings) -> dict:
-    """The settings the numbers came from, for the cube's method_settings attribute."""
-    recorded = {**method.SETTINGS, **settings, "effects": s.scene.effects.declared()}
-    if s.sweep is not None:  # the sweep is the start: no second one
-        recorded.pop("starts", None)
-        recorded["sweep"] = s.sweep.direction
-    return recorded
 
 
 def _echo_regimes(ds) -> None:
@@ -434,10 +410,19 @@ class _progress:
 
 
 @main.command()
-@click.argument("result", type=click.Path(path_type=Path))
-def info(result: Path):
+@click.argument("result", type=click.Path(path_type=Path), required=False)
+@click.option("--methods", "show_methods", is_flag=True, help="Instead: what each method can do (no RESULT).")
+def info(result: Path | None, show_methods: bool):
     """Describe a result cube: dims, method, provenance, regime counts; exit 2 if it holds values
-    no run writes (outside a variable's valid range, or codes outside its flags)."""
+    no run writes (outside a variable's valid range, or codes outside its flags). With --methods,
+    tabulate the methods instead."""
+    if show_methods:
+        if result is not None:
+            _fail("give either RESULT or --methods, not both")
+        _methods_table()
+        return
+    if result is None:
+        _fail("give a RESULT to describe, or --methods")
     from friction_sweep.storage import audit
 
     ds = _open_result(result)
@@ -463,7 +448,8 @@ def info(result: Path):
             v = ds[name].values
             finite = np.isfinite(v)
             if finite.any():
-                click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} ({finite.sum()} finite of {v.size})")
+                click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} "
+                           f"({finite.sum()} finite of {v.size})")
     _fail_on_problems(result, problems)  # the summary above is shown, but not trusted
 
 

@@ -26,9 +26,11 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep import codes, ties
+from friction_sweep.catalogue import EFFECTS, effect_value
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.storage import schema
 from friction_sweep.theory import den_hartog as dh
+from friction_sweep.theory import scenes
 
 #: relative slack on the proven bound of rule `bound` (rounding of the measured first harmonic)
 BOUND_RTOL = 1e-6
@@ -44,7 +46,6 @@ THEORY_CHUNK = 32
 MAX_EXAMPLES = 5
 
 EXCITATIONS = ("force", "base", "joined")
-KNOWN_EFFECTS = {"viscous_damping": 0.0, "static_friction_ratio": 1.0}  # name -> value of the plain model
 DIMS = ("force_ratio", "frequency_ratio")
 
 OK, FAILED, SKIPPED, INFO = "ok", "failed", "skipped", "info"
@@ -119,19 +120,18 @@ def _read(ds: xr.Dataset) -> _Cube:
     if not isinstance(effects, dict):
         raise CubeError("method_settings: effects is not a JSON object")
     for name, value in effects.items():
-        if name in KNOWN_EFFECTS and (isinstance(value, bool) or not isinstance(value, (int, float))
+        if name in EFFECTS and (isinstance(value, bool) or not isinstance(value, (int, float))
                                       or not math.isfinite(value)):
             raise CubeError(f"method_settings: effect {name} is not a finite number: {value!r}")
-    zeta = float(effects.get("viscous_damping", 0.0))
-    mu = float(effects.get("static_friction_ratio", 1.0))
+    zeta = effect_value(effects, "viscous_damping")
+    mu = effect_value(effects, "static_friction_ratio")
     r = np.asarray(ds["frequency_ratio"].values, dtype=float)
     beta = np.asarray(ds["force_ratio"].values, dtype=float)
     R, B = np.meshgrid(r, beta)
-    joined = excitation == "joined"
-    A = R * R if joined else np.ones_like(R)
+    A, _ = scenes.kernel_forcing(excitation, R)
     return _Cube(excitation=excitation, method=str(ds.attrs.get("method", "")), effects=effects, zeta=zeta,
-                 mu=mu, unknown_effects=tuple(sorted(set(effects) - set(KNOWN_EFFECTS))), r=r, beta=beta, R=R,
-                 B=B, A=A, b=B / (R * R) if joined else B, bs=mu * B, ds=ds)
+                 mu=mu, unknown_effects=tuple(sorted(set(effects) - set(EFFECTS))), r=r, beta=beta, R=R,
+                 B=B, A=A, b=scenes.friction_ratio(excitation, R, B), bs=mu * B, ds=ds)
 
 
 def _value(v):
@@ -186,7 +186,7 @@ def transmissibility_bound(cube: _Cube) -> np.ndarray:
     with np.errstate(divide="ignore"):
         bound = (cube.A + (4.0 / np.pi) * np.maximum(cube.B, cube.bs)) / np.hypot((1.0 - R) * (1.0 + R),
                                                                                  2.0 * cube.zeta * R)
-    return bound + 1.0 if cube.excitation == "joined" else bound
+    return bound + scenes.response_offset(cube.excitation)  # |x| <= |q| + c
 
 
 def check_resonance(cube: _Cube) -> Finding:
@@ -314,9 +314,10 @@ def check_theory(cube: _Cube, chunk: int = THEORY_CHUNK) -> Finding:
         bad_T = far | (fin != fin_ref)
         bad_reg = reg_c != reg_ref
         tally = _Tally()
-        tally.add(sel & bad_reg, lambda j, i: _name(reg_c[j, i]), lambda j, i: _name(reg_ref[j, i]))
-        tally.add(sel & ~bad_reg & bad_T, lambda j, i: _value(T_c[j, i]),
-                  lambda j, i: _value(T_ref[j, i]))
+        # the lambdas run inside tally.add, with this column block's arrays (bound as defaults)
+        tally.add(sel & bad_reg, lambda j, i, a=reg_c: _name(a[j, i]), lambda j, i, a=reg_ref: _name(a[j, i]))
+        tally.add(sel & ~bad_reg & bad_T, lambda j, i, a=T_c: _value(a[j, i]),
+                  lambda j, i, a=T_ref: _value(a[j, i]))
         part = tally.finding(cube, rule, np.count_nonzero(sel), offset=start)
         checked += part.checked
         count += part.violations

@@ -1,24 +1,43 @@
-"""Registry of sweep methods. A method is one module declaring what it can do:
+"""Registry of sweep methods: one module per method, each implementing `Method` below.
 
-    NAME, EXCITATIONS, EFFECTS (the physical effects it models), SETTINGS (defaults, recorded in the cube),
-    variables_for(excitation, outputs) -> names,
-    compute_tile(excitation, r, beta, outputs, effects=None, settings=None) -> arrays,
-    and, for the simulation methods that can run a stepped-sine sweep (`sweep:` in a spec),
-    compute_sweep_tile(excitation, r, beta, outputs, effects=None, settings=None, direction="up")
-
-New methods (event, rk4, paper, auto) register here with the same interface.
+What a method can do (excitations, effects, settings with defaults and ranges, outputs, `accuracy:`,
+`sweep:`) is its record in friction_sweep.catalogue, which each module holds as CATALOGUE; the module
+holds only how it computes.
 """
 
 from __future__ import annotations
 
-from types import ModuleType
+from collections.abc import Mapping, Sequence
+from typing import Any, Protocol
 
+import numpy as np
+
+from friction_sweep import catalogue
 from friction_sweep.methods import auto, event, paper, rk4, theory
 
-REGISTRY: dict[str, ModuleType] = {m.NAME: m for m in (theory, event, rk4, paper, auto)}
+
+class Method(Protocol):
+    """What the sweep layer calls on a method module."""
+
+    CATALOGUE: catalogue.Method
+
+    def variables_for(self, excitation: str, outputs: Sequence[str]) -> tuple[str, ...]:
+        """Per-point variable names written for the requested output groups."""
+        ...
+
+    def compute_tile(self, excitation: str, r: Any, beta: Any, outputs: Sequence[str],
+                     effects: Mapping[str, float] | None = None,
+                     settings: Mapping[str, Any] | None = None) -> dict[str, np.ndarray]:
+        """Every variable of a (beta x r) tile, plus the theory's continuous limit per r."""
+        ...
 
 
-def get(name: str) -> ModuleType:
+#: methods that can run a stepped-sine sweep also have compute_sweep_tile(..., direction); those that
+#: write time histories have time_histories(excitation, points, samples_per_period, effects, settings)
+REGISTRY: dict[str, Method] = {m.CATALOGUE.name: m for m in (theory, event, rk4, paper, auto)}
+
+
+def get(name: str) -> Method:
     try:
         return REGISTRY[name]
     except KeyError:

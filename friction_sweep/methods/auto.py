@@ -11,14 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep import ties
+from friction_sweep import catalogue, ties
 from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.methods import event, theory
 
-NAME = "auto"
-EXCITATIONS = ("force", "base", "joined")
-EFFECTS: tuple[str, ...] = ()  # the theory models none; a scene with effects should use `event`
-SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "starts"}, "theory_margin": 0.02}
+CATALOGUE = catalogue.method("auto")  # no effects: the theory models none; a scene with them uses `event`
 
 time_histories = event.time_histories
 
@@ -39,7 +36,7 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     if effects:
         raise ValueError(f"method auto models no effects (got {sorted(effects)}); use event")
     settings = dict(settings or {})
-    margin = float(settings.pop("theory_margin", SETTINGS["theory_margin"]))
+    margin = float(settings.pop("theory_margin", CATALOGUE.defaults["theory_margin"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
     th = theory.compute_tile(excitation, r, beta, tuple(dict.fromkeys((*outputs, "regime"))))

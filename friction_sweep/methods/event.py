@@ -17,14 +17,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from friction_sweep import catalogue
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import steady
 from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
+from friction_sweep.theory import scenes
 
-NAME = "event"
-EXCITATIONS = ("force", "base", "joined")
-EFFECTS = ("viscous_damping", "static_friction_ratio")
+CATALOGUE = catalogue.method("event")
 
 VARIABLES = {
     "transmissibility": ("transmissibility", "peak_transmissibility"),
@@ -45,10 +45,6 @@ _SLOTS = {
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
 
-#: starts: 2 solves each point from rest and from a moving start where static exceeds kinetic
-#: friction (1: from rest only, at today's cost); it changes nothing where they are equal
-SETTINGS = {**{k: v for k, v in steady.DEFAULT_SETTINGS.items() if k not in ("kernel", "steps_per_period")},
-            "starts": 2}
 #: one state found from two starts: first-harmonic transmissibilities within this relative difference
 #: (each solve settles to steady_tol on the state; near-neutral orbits carry that error amplified)
 SAME_STATE_RTOL = 1e-5
@@ -63,17 +59,23 @@ def variables_for(excitation: str, outputs) -> tuple[str, ...]:
 
 def point_parameters(excitation: str, r, beta, effects=None):
     """Kernel parameters per point: forcing amplitude A, response offset c, kinetic and static
-    friction, damping ratio (DESIGN.md §1: joined is z'' + z + beta sgn z' = r^2 cos, x = z + cos)."""
+    friction, damping ratio (docs/equations.md §1: joined is z'' + z + beta sgn z' = r^2 cos, x = z + cos)."""
     effects = effects or {}
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
-    joined = excitation == "joined"
-    A = r * r if joined else np.ones_like(r)
-    c = np.full_like(r, 1.0 if joined else 0.0)
+    A, c = scenes.kernel_forcing(excitation, r)
     bk = beta.copy()
-    bs = beta * float(effects.get("static_friction_ratio", 1.0))
-    zeta = np.full_like(r, float(effects.get("viscous_damping", 0.0)))
+    bs = beta * catalogue.effect_value(effects, "static_friction_ratio")
+    zeta = np.full_like(r, catalogue.effect_value(effects, "viscous_damping"))
     return A, c, bk, bs, zeta
+
+
+def kernel_settings(settings: dict) -> np.ndarray:
+    """The steady-state kernel's settings: `settings` over the catalogue's defaults (the event kernel
+    ignores rk4's steps_per_period; `starts` is this module's business, not the kernel's)."""
+    values = {**CATALOGUE.defaults, **catalogue.method("rk4").defaults, **settings}
+    values.pop("starts")
+    return steady.settings_array(**values)
 
 
 def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
@@ -84,16 +86,16 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
     out = np.empty((r.size, steady.OUT_SIZE))
     if start is None:
-        steady.solve_points(A, r, bk, bs, zeta, c, steady.settings_array(**settings), out)
+        steady.solve_points(A, r, bk, bs, zeta, c, kernel_settings(settings), out)
     else:
         q0, v0 = (np.ascontiguousarray(s, dtype=float) for s in start)
-        steady.solve_points_from(A, r, bk, bs, zeta, c, steady.settings_array(**settings), q0, v0, out)
+        steady.solve_points_from(A, r, bk, bs, zeta, c, kernel_settings(settings), q0, v0, out)
     return out
 
 
 def two_starts(effects) -> bool:
     """Whether a point can hold two steady states: static friction above kinetic."""
-    return float((effects or {}).get("static_friction_ratio", 1.0)) > 1.0
+    return catalogue.effect_value(effects, "static_friction_ratio") > 1.0
 
 
 def solve_moving(excitation, r, beta, effects=None, **settings):
@@ -128,7 +130,7 @@ def count_states(first, second):
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
     settings = dict(settings or {})
-    starts = int(settings.pop("starts", SETTINGS["starts"]))
+    starts = int(settings.pop("starts", CATALOGUE.defaults["starts"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
     R, B = np.meshgrid(r, beta)
@@ -155,7 +157,7 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
     order = np.argsort(r, kind="stable")
     if direction == "down":
         order = order[::-1]
-    sett = steady.settings_array(**settings)
+    sett = kernel_settings(settings)
     raw = np.empty((beta.size, r.size, steady.OUT_SIZE))
     rs = np.ascontiguousarray(r[order])
     for j, b in enumerate(beta):
@@ -190,7 +192,7 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     r, beta = pts[:, 0], pts[:, 1]
     settings = {k: v for k, v in (settings or {}).items() if k != "starts"}
     raw = solve_flat(excitation, r, beta, effects, **settings)
-    sett = steady.settings_array(**settings)
+    sett = kernel_settings(settings)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
     orbit = np.where(np.isfinite(raw[:, steady.OUT_ORBIT]), raw[:, steady.OUT_ORBIT], 0).astype(int)
     n = samples_per_period * max(1, int(orbit.max(initial=1)))

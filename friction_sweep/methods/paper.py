@@ -6,7 +6,7 @@ mode, so while the mass should be stuck the velocity chatters around zero and th
 They sampled the solution at a fixed output step, dropped the transient and took the FFT of the
 response x and of the excitation y: transmissibility |X(r)| / |Y(r)| at the forcing frequency.
 
-This module does exactly that with SciPy, from rest (q = q' = 0 at tau = 0), DESIGN.md §1:
+This module does exactly that with SciPy, from rest (q = q' = 0 at tau = 0), docs/equations.md §1:
 
     force / base:  q'' + q + beta sgn(q') = cos(r tau),        x = q
     joined:        z'' + z + beta sgn(z') = r^2 cos(r tau),    x = z + cos(r tau)
@@ -55,28 +55,13 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from friction_sweep import catalogue
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.methods import theory
+from friction_sweep.theory import scenes
 from friction_sweep.theory.phase import wrap_lag_degrees
 
-NAME = "paper"
-EXCITATIONS = ("force", "base", "joined")
-EFFECTS: tuple[str, ...] = ()  # plain Coulomb friction only, as in the paper
-
-#: settings and their defaults (the paper's ode45 defaults); every key can be overridden per call
-DEFAULTS = {
-    "periods": 200,  # forcing periods simulated from rest
-    "samples_per_period": 64,  # fixed output step: T / samples_per_period
-    "transient_fraction": 0.5,  # floor(fraction * periods) whole periods discarded
-    "rtol": 1e-3,  # MATLAB ode45 default
-    "atol": 1e-6,  # MATLAB ode45 default
-    "stick_velocity": 1e-3,  # stuck sample: |relative velocity| <= this * max |relative velocity|
-    "stuck_displacement_per_atol": 1000.0,  # no motion: max |q| <= this * atol
-    "max_evaluations": 20_000_000,  # right-hand-side evaluations per point (None: unlimited)
-}
-
-#: recorded in the cube's provenance (JSON-serialisable): the defaults plus what the method is
-SETTINGS = dict(DEFAULTS)
+CATALOGUE = catalogue.method("paper")  # plain Coulomb friction only, as in the paper; defaults: ode45's
 
 #: growth test for UNBOUNDED: last/first retained period peak ratio, and the least peak
 GROWTH_RATIO = 1.1
@@ -106,8 +91,9 @@ def variables_for(excitation: str, outputs) -> tuple[str, ...]:
 
 
 def resolve_settings(settings=None, **overrides) -> dict:
-    """DEFAULTS updated with `settings` and keyword overrides, checked (ValueError/KeyError if bad)."""
-    values = dict(DEFAULTS)
+    """The catalogue's defaults updated with `settings` and keyword overrides, checked (ValueError/KeyError
+    if bad)."""
+    values: dict = CATALOGUE.defaults
     given = {**(settings or {}), **overrides}
     unknown = set(given) - set(values)
     if unknown:
@@ -165,14 +151,14 @@ def solve_point(excitation: str, r: float, beta: float, settings=None, **overrid
     stuck_fraction, periods, and ints (regimes codes) for regime and steady_state. Never raises for
     a bad point: failures are UNSETTLED with NaN numbers.
     """
-    if excitation not in EXCITATIONS:
-        raise ValueError(f"unknown excitation {excitation!r} (expected one of {EXCITATIONS})")
+    if excitation not in CATALOGUE.excitations:
+        raise ValueError(f"unknown excitation {excitation!r} (expected one of {CATALOGUE.excitations})")
     s = resolve_settings(settings, **overrides)
     r, beta = float(r), float(beta)
     spp, periods = s["samples_per_period"], s["periods"]
     n_transient, n_keep = _window(s)
     joined = excitation == "joined"
-    amp = r * r if joined else 1.0
+    amp = scenes.forcing_amplitude(excitation, r)
     period = 2.0 * math.pi / r
     budget = s["max_evaluations"]
     calls = [0, 0.0]  # evaluations, last time seen
@@ -247,8 +233,8 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None,
     """
     if effects:
         raise ValueError(f"method paper models no effects (got {sorted(effects)})")
-    if excitation not in EXCITATIONS:
-        raise ValueError(f"unknown excitation {excitation!r} (expected one of {EXCITATIONS})")
+    if excitation not in CATALOGUE.excitations:
+        raise ValueError(f"unknown excitation {excitation!r} (expected one of {CATALOGUE.excitations})")
     s = resolve_settings(settings, **overrides)
     r = np.atleast_1d(np.asarray(r, dtype=float))
     beta = np.atleast_1d(np.asarray(beta, dtype=float))

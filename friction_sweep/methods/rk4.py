@@ -5,15 +5,11 @@ is integrated by classical fixed-step Runge-Kutta (`steps_per_period`) with a re
 
 from __future__ import annotations
 
+from friction_sweep import catalogue
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event
 
-NAME = "rk4"
-EXCITATIONS = event.EXCITATIONS
-EFFECTS = event.EFFECTS
-SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "stop_tol"},
-            "steps_per_period": steady.DEFAULT_SETTINGS["steps_per_period"]}
-ORDER = 4
+CATALOGUE = catalogue.method("rk4")
 
 variables_for = event.variables_for
 

@@ -26,15 +26,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep import ties
+from friction_sweep import catalogue, ties
 from friction_sweep.codes import Regime
 from friction_sweep.theory import den_hartog as dh
-from friction_sweep.theory import joined
+from friction_sweep.theory import joined, scenes
 from friction_sweep.theory.phase import wrap_lag_degrees
 
-NAME = "theory"
-EXCITATIONS = ("force", "base", "joined")
-EFFECTS: tuple[str, ...] = ()
+CATALOGUE = catalogue.method("theory")
 
 #: what this method writes for each requested output group, per excitation
 VARIABLES = {
@@ -46,14 +44,6 @@ JOINED_EXTRA = {
     "transmissibility": ("relative_peak_amplitude",),
     "phase": ("relative_peak_phase", "peak_phase_xz"),
 }
-
-SETTINGS = {
-    "first_harmonic": "exact x0 cos(r t) term plus Gauss-Legendre projection of the friction part, "
-    "40 + ceil((1 + r) pi / r) nodes over a half period",
-    "continuity_sup_S": "dense samples (>= 2048, 256 per natural period) then golden-section refinement",
-    "joined_peak": "dense samples of |x| then bisection on d|x|/dtau",
-}
-
 
 def variables_for(excitation: str, outputs) -> tuple[str, ...]:
     """Per-point variable names this method writes for the requested output groups."""
@@ -68,8 +58,8 @@ def variables_for(excitation: str, outputs) -> tuple[str, ...]:
 def forecast_regime(excitation, r, beta, beta_star):
     """Regime forecast on broadcast arrays (see the module docstring for the rules and ties)."""
     r, beta, beta_star = np.broadcast_arrays(r, beta, beta_star)
-    b = beta / (r * r) if excitation == "joined" else beta
-    stuck = ties.never_moves(r * r if excitation == "joined" else 1.0, beta)
+    b = scenes.friction_ratio(excitation, r, beta)
+    stuck = ties.never_moves(scenes.forcing_amplitude(excitation, r), beta)
     at_resonance = ties.at_resonance(r)
     continuous = ((b == 0.0) | (b <= beta_star)) & ~at_resonance
     code = np.full(r.shape, Regime.STICK_SLIP, dtype=np.int8)
@@ -86,7 +76,7 @@ def continuous_limit(excitation, r):
 
 
 def _in_scene_convention(excitation, r, bstar):
-    return r * r * bstar if excitation == "joined" else bstar
+    return scenes.forcing_amplitude(excitation, r) * bstar
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
@@ -138,7 +128,7 @@ def _fill_stuck(excitation, out, sel):
 
 
 def _fill_continuous(excitation, out, r, beta, sel):
-    b = beta / (r * r) if excitation == "joined" else beta
+    b = scenes.friction_ratio(excitation, r, beta)
     x0 = dh.amplitude(r, b)
     phi = dh.phase(r, b)
     a1, b1 = dh.first_harmonic(r, b)
@@ -169,6 +159,6 @@ def _per_frequency(fun, r, *args):
     out = [np.empty(r.shape), np.empty(r.shape)]
     for value in np.unique(r):
         at = r == value
-        for o, part in zip(out, fun(r[at], *(a[at] for a in args))):
+        for o, part in zip(out, fun(r[at], *(a[at] for a in args)), strict=True):
             o[at] = part
     return out

@@ -1,19 +1,10 @@
-"""The sweep spec: a YAML file naming the scene, the (r, beta) grid, the method and the outputs."""
+"""The sweep spec: a YAML file naming the scene, the (r, beta) grid, the method and the outputs.
+
+What each method accepts (excitations, effects, settings, outputs) is friction_sweep.catalogue's.
+"""
 
 from .errors import SpecError, SpecProblem
-from .model import EFFECTS, EXCITATIONS, METHOD_EFFECTS, METHOD_SETTINGS, METHODS_AVAILABLE, OUTPUTS, Spec
+from .model import Spec
 from .parse import load_spec, parse_spec_text
 
-__all__ = [
-    "EFFECTS",
-    "METHOD_EFFECTS",
-    "METHOD_SETTINGS",
-    "EXCITATIONS",
-    "METHODS_AVAILABLE",
-    "OUTPUTS",
-    "Spec",
-    "SpecError",
-    "SpecProblem",
-    "load_spec",
-    "parse_spec_text",
-]
+__all__ = ["Spec", "SpecError", "SpecProblem", "load_spec", "parse_spec_text"]

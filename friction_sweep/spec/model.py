@@ -3,8 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Annotated, Any, Literal, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
 from pydantic import (
@@ -23,102 +22,33 @@ from pydantic import (
 )
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
+from friction_sweep.catalogue import (
+    DEFAULT_OUTPUTS,
+    EFFECTS,
+    EXCITATIONS,
+    METHODS,
+    OUTPUTS,
+    Bounded,
+    able,
+    number_text,
+)
+
 from . import grid as g
 
-EXCITATIONS = ("force", "base", "joined")
-METHODS_AVAILABLE = ("theory", "event", "rk4", "paper", "auto")
-OUTPUTS = ("transmissibility", "phase", "regime", "time_history")
-DEFAULT_OUTPUTS = ("transmissibility", "phase", "regime")
-EFFECTS: tuple[str, ...] = ("viscous_damping", "static_friction_ratio")
 
-#: methods whose settings `accuracy:` can choose from the benchmark's calibration, and the knobs it sets
-ACCURACY_METHODS = ("event", "rk4", "auto")
-ACCURACY_KNOBS = {"stop_tol", "steady_tol", "steps_per_period"}
-#: methods that can store steady-state time histories
-HISTORY_METHODS = ("event", "auto")
-#: methods that can run a stepped-sine sweep (each point started from its neighbour's orbit)
-SWEEP_METHODS = ("event", "rk4")
-#: which physical effects each method models (a spec asking for more is refused)
-METHOD_EFFECTS = {"theory": (), "event": EFFECTS, "rk4": EFFECTS, "paper": (), "auto": ()}
+def _bound_problem(kind: str, bounds: Bounded, value: Any) -> str | None:
+    """Why `value` is refused for a catalogued number (a setting or an effect), or None."""
+    integer = isinstance(value, int) and not isinstance(value, bool)
+    if isinstance(value, bool) or not (integer or (kind == "float" and isinstance(value, float))):
+        return f"must be {'an integer' if kind == 'int' else 'a number'} (got {show(value)})"
+    if not integer and not math.isfinite(value):
+        return f"must be a finite number (got {show(value)})"
+    if not bounds.contains(value):
+        high = f"{number_text(bounds.high)} ({number_text(bounds.high)} excluded)" if bounds.high_open else \
+            number_text(bounds.high)
+        return f"must be between {number_text(bounds.low)} and {high} (got {show(value)}): {bounds.why}"
+    return None
 
-
-@dataclass(frozen=True)
-class Setting:
-    """One accuracy or budget knob of a method (`settings:` in a spec) and its meaningful range.
-
-    Values outside [low, high] are refused: inside it every value gives a right answer or an honest
-    label (`unsettled`), at a cost the run's estimate covers; `why` says what the bounds protect.
-    """
-
-    kind: Literal["int", "float"]
-    low: float
-    high: float
-    why: str
-
-    def check(self, value: Any) -> str | None:
-        """Why `value` is refused, or None."""
-        integer = isinstance(value, int) and not isinstance(value, bool)
-        if isinstance(value, bool) or not (integer or (self.kind == "float" and isinstance(value, float))):
-            return f"must be {'an integer' if self.kind == 'int' else 'a number'} (got {show(value)})"
-        if not integer and not math.isfinite(value):
-            return f"must be a finite number (got {show(value)})"
-        if not self.low <= value <= self.high:
-            return f"must be between {_number(self.low)} and {_number(self.high)} (got {show(value)}): {self.why}"
-        return None
-
-    def describe(self) -> str:
-        return f"[{_number(self.low)}, {_number(self.high)}]"
-
-
-# Bounds measured on grids of 77 r x 30 beta against the defaults (closing note of issue 14): inside
-# them every value labels every point right or honestly (`unsettled`), at a cost the estimate bounds.
-_STEADY = {
-    "steady_tol": Setting("float", 1e-13, 1e-6, "the relative change per period below which the map has "
-                          "settled: looser mislabels slow transients near the stick-slip limit, tighter than "
-                          "rounding finds false period-2 orbits"),
-    "stop_tol": Setting("float", 1e-15, 1e-10, "a stop is |v| <= stop_tol x the state's size: looser misplaces "
-                        "stops (r = 1 goes unsettled from 1e-9), tighter than rounding never finds them"),
-    "max_periods": Setting("int", 1, 100_000, "forcing periods marched per point at most (cost grows with it)"),
-    "max_orbit_period": Setting("int", 1, 1024, "longest period-k orbit looked for (each period's cost grows "
-                                "with it)"),
-    "work_budget": Setting("int", 1, 10**8, "stop searches and events per point at most: 0.1-0.3 us each, so "
-                           "at most about 30 s a point"),
-    "shoot_after": Setting("int", 1, 1_000_000, "periods marched before the first shooting attempt"),
-    "shoot_every": Setting("int", 1, 1_000_000, "periods between shooting attempts"),
-    "initial_displacement": Setting("float", -2.0, 2.0, "start of the march, in the equation's length unit: "
-                                    "farther starts settle on wrong or no orbits within the budget"),
-    "initial_velocity": Setting("float", -2.0, 2.0, "start of the march, in the equation's velocity unit: "
-                                "farther starts settle on wrong or no orbits within the budget"),
-}
-#: each method's accuracy and budget knobs (`settings:` in a spec) and their meaningful ranges
-METHOD_SETTINGS: dict[str, dict[str, Setting]] = {
-    "theory": {},
-    "event": {**_STEADY, "starts": Setting("int", 1, 2, "1: from rest only; 2: also from a moving start")},
-    "auto": {**_STEADY, "theory_margin": Setting("float", 1e-6, 1.0, "relative distance from the theory's "
-                                                 "continuous limit inside which the simulation decides")},
-    "rk4": {**{k: v for k, v in _STEADY.items() if k != "stop_tol"},
-            "starts": Setting("int", 1, 2, "1: from rest only; 2: also from a moving start"),
-            "steps_per_period": Setting("int", 256, 100_000, "fixed RK4 steps per forcing period: fewer give "
-                                        "errors above 1e-4 (84 % at 16) and false resonances; cost grows with it")},
-    "paper": {
-        # a point holds periods x samples_per_period samples: at most 10^7 (80 MB) with these bounds
-        "periods": Setting("int", 20, 10_000, "forcing periods simulated from rest: fewer leave the transient "
-                           "in the measurement (cost grows with it)"),
-        "samples_per_period": Setting("int", 16, 1000, "output samples per forcing period: more count a "
-                                      "smooth point's samples as stops; memory grows with it"),
-        "transient_fraction": Setting("float", 0.0, 0.9, "share of the periods discarded as transient; at "
-                                      "least a tenth is kept to measure"),
-        "rtol": Setting("float", 1e-10, 1e-3, "ode45's relative tolerance: looser errs by tens of percent, "
-                        "tighter than 1e-10 costs hours a point"),
-        "atol": Setting("float", 1e-12, 1e-6, "ode45's absolute tolerance: looser labels moving points stuck"),
-        "stick_velocity": Setting("float", 1e-3, 0.1, "a sample is stuck when |v| <= this x max |v|: outside, "
-                                  "stick-slip reads as continuous"),
-        "stuck_displacement_per_atol": Setting("float", 100.0, 1000.0, "no motion: max |q| <= this x atol; "
-                                               "larger labels moving points stuck"),
-        "max_evaluations": Setting("int", 10_000, 10**8, "right-hand-side evaluations per point at most: 5.7 us "
-                                   "each, so at most about 10 min a point"),
-    },
-}
 
 #: stored time-history samples per variable at most (16 MB of float64 each, 8 variables)
 MAX_HISTORY_SAMPLES = 2_000_000
@@ -158,10 +88,6 @@ def show(v: Any) -> str:
     text = repr(v)
     return text if len(text) <= 60 else text[:57] + "..."
 
-
-def _number(x: float) -> str:
-    """A bound as a reader writes it: 1000000, 1e-06, 10000000000."""
-    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f"{x:g}"
 
 
 def _error(kind: str, message: str, at: tuple = ()) -> PydanticCustomError:
@@ -216,11 +142,13 @@ class _Range(_Model):
     def size(self) -> int:
         if self.num is not None:
             return self.num
+        assert self.step is not None  # _one_of_num_step
         return g.step_count(self.start, self.stop, self.step)[0]
 
     def values(self) -> np.ndarray:
         if self.num is not None:
             return g.linspace_values(self.start, self.stop, self.num)
+        assert self.step is not None  # _one_of_num_step
         return g.step_values(self.start, self.stop, self.step)
 
 
@@ -259,11 +187,9 @@ def _axis_kind(v: Any) -> str | None:
 
 def _axis(element: Any, range_model: type[_Range]) -> Any:
     return Annotated[
-        Union[
-            Annotated[element, Tag("<number>")],
-            Annotated[list[element], Field(min_length=1), AfterValidator(_increasing), Tag("<list>")],
-            Annotated[range_model, Tag("<range>")],
-        ],
+        Annotated[element, Tag("<number>")]
+        | Annotated[list[element], Field(min_length=1), AfterValidator(_increasing), Tag("<list>")]
+        | Annotated[range_model, Tag("<range>")],
         Discriminator(
             _axis_kind,
             custom_error_type="grid_axis",
@@ -273,8 +199,12 @@ def _axis(element: Any, range_model: type[_Range]) -> Any:
     ]
 
 
-FrequencyAxis = _axis(FrequencyRatio, FrequencyRange)
-ForceAxis = _axis(ForceRatio, ForceRange)
+if TYPE_CHECKING:  # what pydantic builds from _axis, as a type checker can read it
+    FrequencyAxis = float | list[float] | FrequencyRange
+    ForceAxis = float | list[float] | ForceRange
+else:
+    FrequencyAxis = _axis(FrequencyRatio, FrequencyRange)
+    ForceAxis = _axis(ForceRatio, ForceRange)
 
 
 def _axis_size(axis: float | list[float] | _Range) -> int:
@@ -330,21 +260,10 @@ class Grid(_Model):
         return self._read_only("force_ratio")
 
 
-class Effects(_Model):
-    """Physical effects beyond the plain model; absent means off (bit-identical to the plain model)."""
-
-    viscous_damping: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0, lt=1)] | None = None
-    # measured ratios are 1-2; beyond 100 the stick band swallows every excitation the grid allows
-    static_friction_ratio: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=1, le=100)] | None = None
-
-    def declared(self) -> dict[str, float]:
-        """The effects the spec names, as a plain dict."""
-        return {k: float(v) for k, v in self.model_dump().items() if v is not None}
-
-
 class Scene(_Model):
-    excitation: Literal["force", "base", "joined"]
-    effects: Effects = Field(default_factory=Effects)
+    excitation: str
+    #: the effects the spec names and their values (absent: off)
+    effects: dict[str, float] = Field(default_factory=dict)
 
     @field_validator("excitation", mode="before")
     @classmethod
@@ -358,21 +277,21 @@ class Scene(_Model):
 
     @field_validator("effects", mode="before")
     @classmethod
-    def _no_effects(cls, v: Any) -> Any:
+    def _known_effects(cls, v: Any) -> Any:
         if v is None:  # `effects:` left empty
             return {}
-        if isinstance(v, dict):
-            unknown = [k for k in v if k not in EFFECTS]
-            if unknown:
-                raise _error(
-                    "unknown_effect",
-                    f"unknown effect {show(unknown[0])} (known: {', '.join(EFFECTS)})",
-                    (unknown[0],),
-                )
-        return v
-
-
-OutputName = Literal["transmissibility", "phase", "regime", "time_history"]
+        if not isinstance(v, dict):
+            raise _error("effects_type", f"must be a mapping of effect names to values (got {show(v)})")
+        problems = []
+        for key, value in v.items():
+            effect = EFFECTS.get(key) if isinstance(key, str) else None
+            if effect is None:
+                problems.append(_error("unknown_effect", f"unknown effect {show(key)} (known: {', '.join(EFFECTS)})",
+                                       (key,)))
+            elif (reason := _bound_problem("float", effect, value)) is not None:
+                problems.append(_error("effect_range", reason, (key,)))
+        _raise_all("effects", problems)
+        return {k: float(x) for k, x in v.items()}
 
 
 class TimeHistory(_Model):
@@ -417,7 +336,7 @@ class Spec(_Model):
     scene: Scene
     grid: Grid
     method: str = "theory"
-    outputs: tuple[OutputName, ...] = DEFAULT_OUTPUTS
+    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
     time_history: TimeHistory | None = None
     output: str | None = None
     settings: dict[str, Any] = Field(default_factory=dict)
@@ -431,8 +350,8 @@ class Spec(_Model):
     def _method_available(cls, v: Any) -> Any:
         if not isinstance(v, str):
             raise _error("method_type", f"must be a method name (got {show(v)})")
-        if v not in METHODS_AVAILABLE:
-            raise _error("unknown_method", f"unknown method {show(v)} (available: {', '.join(METHODS_AVAILABLE)})")
+        if v not in METHODS:
+            raise _error("unknown_method", f"unknown method {show(v)} (available: {', '.join(METHODS)})")
         return v
 
     @field_validator("outputs", mode="before")
@@ -468,26 +387,32 @@ class Spec(_Model):
         method = info.data.get("method")
         if method is None:  # the method itself is wrong: reported there
             return settings
-        known = METHOD_SETTINGS[method]
+        known = METHODS[method].settings
         problems = []
         for key, value in settings.items():
             if key not in known:
                 allowed = ", ".join(known) or "none"
                 problems.append(_error("unknown_setting", f"unknown setting {show(key)} for method {method!r} "
                                        f"(allowed: {allowed})", ("settings", key)))
-            elif (reason := known[key].check(value)) is not None:
+            elif (reason := _bound_problem(known[key].kind, known[key], value)) is not None:
                 problems.append(_error("setting_range", reason, ("settings", key)))
         # field-level locations get the field name prepended by pydantic: give `at` relative to it
-        _raise_all("settings", [PydanticCustomError(e.type, e.message(), {"at": e.context["at"][1:]})
+        _raise_all("settings", [PydanticCustomError(e.type, e.message(), {"at": (e.context or {})["at"][1:]})
                                 for e in problems])
         return settings
 
     @model_validator(mode="after")
     def _consistent(self):
         """Every rule that ties fields together, all reported at once."""
-        _raise_all("Spec", [*self._history_problems(), *self._sweep_problems(), *self._accuracy_problems(),
-                            *self._effect_problems()])
+        _raise_all("Spec", [*self._output_problems(), *self._history_problems(), *self._sweep_problems(),
+                            *self._accuracy_problems(), *self._effect_problems()])
         return self
+
+    def _output_problems(self):
+        for name in self.outputs:
+            if name not in METHODS[self.method].outputs:
+                yield _error("output_method", f"method {self.method!r} cannot write output {name!r} "
+                             f"(methods that can: {', '.join(able(name))})", ("outputs",))
 
     def _history_problems(self):
         wanted = "time_history" in self.outputs
@@ -496,16 +421,13 @@ class Spec(_Model):
                          "...]}`", ("outputs",))
         if not wanted and self.time_history is not None:
             yield _error("history_unused", "time_history is given but not listed in outputs", ("time_history",))
-        if wanted and self.method not in HISTORY_METHODS:
-            yield _error("history_method", f"method {self.method!r} cannot store time histories "
-                         f"(methods that can: {', '.join(HISTORY_METHODS)})", ("outputs",))
 
     def _sweep_problems(self):
         if self.sweep is None:
             return
-        if self.method not in SWEEP_METHODS:
+        if not METHODS[self.method].sweep:
             yield _error("sweep_method", f"method {self.method!r} cannot run a swept sweep "
-                         f"(methods that can: {', '.join(SWEEP_METHODS)})", ("sweep",))
+                         f"(methods that can: {', '.join(able('sweep'))})", ("sweep",))
         if self.time_history is not None:
             yield _error("sweep_and_history", "a swept run's time histories would not follow the sweep: "
                          "store them from a run without sweep", ("sweep",))
@@ -516,20 +438,20 @@ class Spec(_Model):
     def _accuracy_problems(self):
         if self.accuracy is None:
             return
-        if self.method not in ACCURACY_METHODS:
+        chosen = METHODS[self.method].accuracy_knobs
+        if not chosen:
             yield _error("accuracy_method", f"method {self.method!r} has no calibrated settings "
-                         f"(accuracy works with: {', '.join(ACCURACY_METHODS)})", ("accuracy",))
-        knobs = sorted(set(self.settings) & ACCURACY_KNOBS)
+                         f"(accuracy works with: {', '.join(able('accuracy'))})", ("accuracy",))
+        knobs = sorted(set(self.settings) & set(chosen))
         if knobs:
             yield _error("accuracy_and_knobs", f"give either accuracy or the knobs it sets, not both "
                          f"(settings also has {', '.join(knobs)})", ("accuracy",))
 
     def _effect_problems(self):
-        for name in self.scene.effects.declared():
-            if name not in METHOD_EFFECTS[self.method]:
-                able = [m for m, effects in METHOD_EFFECTS.items() if name in effects]
+        for name in self.scene.effects:
+            if name not in METHODS[self.method].effects:
                 yield _error("effect_unsupported", f"method {self.method!r} does not model {name} "
-                             f"(methods that do: {', '.join(able)})", ("scene", "effects", name))
+                             f"(methods that do: {', '.join(able(name))})", ("scene", "effects", name))
 
     @property
     def frequency_ratio(self) -> np.ndarray:

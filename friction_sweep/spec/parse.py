@@ -3,20 +3,21 @@
 from __future__ import annotations
 
 import os
-from typing import Any
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
+from pydantic_core import ErrorDetails
+
+from friction_sweep.catalogue import number_text
 
 from .errors import SpecError, SpecProblem
 from .grid import FORCE_RATIO_NOTE, FREQUENCY_RATIO_NOTE
 from .load import Document, KeyPath, format_key, parse_yaml, read_text
-from .model import AXIS_TAGS, Effects, _number, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
+from .model import AXIS_TAGS, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
 
 # Which model a mapping at a given key path is validated by, to list the keys it allows.
-_MODELS = {
+_MODELS: dict[KeyPath, type[BaseModel]] = {
     (): Spec,
     ("scene",): Scene,
-    ("scene", "effects"): Effects,
     ("time_history",): TimeHistory,
     ("grid",): Grid,
     ("grid", "frequency_ratio"): FrequencyRange,
@@ -59,7 +60,7 @@ def _problems(exc: ValidationError, doc: Document) -> list[SpecProblem]:
     return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
 
 
-def _reason(err: dict[str, Any], path: KeyPath) -> str:
+def _reason(err: ErrorDetails, path: KeyPath) -> str:
     kind, value, ctx = err["type"], err.get("input"), err.get("ctx") or {}
     got = f" (got {show(value)})"
     if kind == "extra_forbidden":
@@ -89,7 +90,7 @@ def _reason(err: dict[str, Any], path: KeyPath) -> str:
         ("less_than_equal", "<=", "le"),
     ):
         if kind == kind_:
-            return f"must be {op} {_number(ctx[limit])}{got}{_range_note(path, limit)}"
+            return f"must be {op} {number_text(ctx[limit])}{got}{_range_note(path, limit)}"
     if kind == "too_short":
         return "must not be empty"
     if kind == "list_type":

@@ -169,7 +169,8 @@ class Checkpoint:
                     done[index] = tile
         try:
             self.dir.mkdir(parents=True, exist_ok=True)
-            atomic.write_bytes(self.dir / "manifest.json", json.dumps({"key": self.key, "tiles": self.n_tiles}).encode())
+            manifest = {"key": self.key, "tiles": self.n_tiles}
+            atomic.write_bytes(self.dir / "manifest.json", json.dumps(manifest).encode())
         except OSError as err:
             raise SaveFailed(f"could not start a checkpoint in {self.dir}: {_why(err)}") from None
         return done, dropped

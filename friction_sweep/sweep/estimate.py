@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from friction_sweep.catalogue import METHODS, effect_value
 from friction_sweep.sweep.layout import layout
 
 #: a grid is "huge" (run only with --yes) past either: the refusal says how much
@@ -41,8 +42,6 @@ POINT_BYTES = 1000
 #: loading the compiled kernels from numba's cache, once per run (the simulation methods)
 KERNEL_LOAD_SECONDS = 0.3
 
-_DEFAULTS = {"steps_per_period": 256, "max_periods": 2000, "max_orbit_period": 256, "work_budget": 5_000_000,
-             "periods": 200, "samples_per_period": 64, "max_evaluations": 20_000_000}
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
@@ -105,9 +104,9 @@ class Estimate:
 def estimate(spec, *, jobs: int, executor: str) -> Estimate:
     """The cost of running `spec` with `jobs` workers on `executor`."""
     r, n_beta = spec.frequency_ratio, spec.force_ratio.size
-    knobs = {**_DEFAULTS, **spec.settings}
+    knobs = {**METHODS[spec.method].defaults, **spec.settings}
     joined = spec.scene.excitation == "joined"
-    solves = 3 if _two_starts(spec) else 1
+    solves = 3 if _two_starts(spec, knobs) else 1
     sweep = spec.sweep.direction if spec.sweep is not None else None
     parts = layout(r.size, n_beta, sweep)
     if sweep:  # tiles of force ratios, each over every frequency ratio
@@ -128,10 +127,10 @@ def estimate(spec, *, jobs: int, executor: str) -> Estimate:
                     bytes=BASE_BYTES + points * POINT_BYTES * solves + history, workers=workers)
 
 
-def _two_starts(spec) -> bool:
-    effects = spec.scene.effects.declared()
-    return (effects.get("static_friction_ratio", 1.0) > 1.0 and spec.sweep is None
-            and spec.settings.get("starts", 2) == 2 and spec.method in ("event", "rk4"))
+def _two_starts(spec, knobs: dict) -> bool:
+    """Whether each point is solved from a moving start too (methods.event.two_starts)."""
+    return (effect_value(spec.scene.effects, "static_friction_ratio") > 1.0 and spec.sweep is None
+            and knobs.get("starts", 1) == 2)
 
 
 def _workers(executor: str, jobs: int, n_tiles: int) -> int:

@@ -9,24 +9,20 @@ ratios instead (all frequency ratios each, in sweep order).
 from __future__ import annotations
 
 import logging
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
 from friction_sweep import methods
+from friction_sweep.catalogue import GRID_OUTPUTS
 from friction_sweep.storage.schema import VARIABLES
-from friction_sweep.sweep.executors import execute
+from friction_sweep.sweep.executors import DEFAULT_EXECUTOR, execute
 from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES, layout, tiles
 
 log = logging.getLogger("friction_sweep")
 
 __all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_grid", "tiles"]
 
-GRID_OUTPUTS = ("transmissibility", "phase", "regime")
-
-#: chosen by measurement on 2 cores (README, make bench): threads share one compiled kernel and skip
-#: process start-up; the kernels release the GIL
-DEFAULT_EXECUTOR = "threads"
 
 
 def compute_tile(args):

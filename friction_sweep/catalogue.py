@@ -1,0 +1,221 @@
+"""What each method can do, in one place: the spec validates against it, the CLI builds its help and
+`fsweep info --methods` / `fsweep settings` from it, and the methods read their defaults here.
+
+Numba-free and import-light (the spec layer and `fsweep validate` read it without loading a kernel).
+Adding an effect or a setting touches this catalogue, the kernel that models it and its tests.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Literal
+
+#: the three scenes of the paper (docs/equations.md §1): a force on the mass; base motion against a fixed
+#: rubbing wall; base and wall moving together
+EXCITATIONS = ("force", "base", "joined")
+
+#: output groups a spec can ask for; the per-point variables each writes are the methods' business
+GRID_OUTPUTS = ("transmissibility", "phase", "regime")  # per grid point
+OUTPUTS = (*GRID_OUTPUTS, "time_history")  # time histories: of chosen points, on their own dims
+DEFAULT_OUTPUTS = GRID_OUTPUTS
+
+
+def number_text(x: float) -> str:
+    """A number as a reader writes it: 1000000, 1e-06, 10000000000."""
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else f"{x:g}"
+
+
+@dataclass(frozen=True)
+class Bounded:
+    """A number's meaningful range [low, high] (or [low, high) where `high_open`), and why."""
+
+    low: float
+    high: float
+    why: str
+    high_open: bool = False
+
+    def contains(self, value: float) -> bool:
+        return self.low <= value and (value < self.high if self.high_open else value <= self.high)
+
+    def describe(self) -> str:
+        return f"[{number_text(self.low)}, {number_text(self.high)}{')' if self.high_open else ']'}"
+
+
+@dataclass(frozen=True)
+class Setting(Bounded):
+    """One accuracy or budget knob of a method (`settings:` in a spec): its default and meaningful range.
+
+    Values outside the range are refused: inside it every value gives a right answer or an honest label
+    (`unsettled`), at a cost the run's estimate covers; `why` says what the bounds protect.
+    """
+
+    kind: Literal["int", "float"] = "float"
+    default: float = 0.0
+
+
+@dataclass(frozen=True)
+class Effect(Bounded):
+    """A physical effect beyond plain Coulomb friction (`scene: effects:`); absent means `off`, the value
+    of the plain model, and a run without it is bit-identical to the plain model."""
+
+    meaning: str = ""
+    off: float = 0.0
+
+
+EFFECTS: Mapping[str, Effect] = MappingProxyType({
+    "viscous_damping": Effect(0.0, 1.0, "the damping ratio zeta of the term 2 zeta q' (underdamped)", high_open=True,
+                              meaning="viscous damping ratio zeta", off=0.0),
+    "static_friction_ratio": Effect(1.0, 100.0, "measured ratios are 1-2; beyond 100 the stick band swallows "
+                                    "every excitation the grid allows",
+                                    meaning="static over kinetic friction force (a stuck mass breaks loose above "
+                                    "the static force)", off=1.0),
+})
+
+
+def effect_value(effects: Mapping[str, float] | None, name: str) -> float:
+    """An effect's value in a scene: as given, else the plain model's (`off`)."""
+    return float((effects or {}).get(name, EFFECTS[name].off))
+
+
+@dataclass(frozen=True)
+class Method:
+    """A numba-free record of one sweep method (its implementation: friction_sweep.methods.<name>)."""
+
+    name: str
+    summary: str
+    settings: Mapping[str, Setting]
+    excitations: tuple[str, ...] = EXCITATIONS
+    effects: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
+    #: settings that `accuracy:` chooses from the benchmark's calibration, and whose calibration it reads
+    accuracy_knobs: tuple[str, ...] = ()
+    calibrated_as: str | None = None
+    #: whether it can run a stepped-sine sweep (`sweep:`), each point started from its neighbour's orbit
+    sweep: bool = False
+    #: how it computes what has no knob, recorded with the cube's settings
+    algorithm: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def defaults(self) -> dict[str, float | int]:
+        return {k: int(s.default) if s.kind == "int" else s.default for k, s in self.settings.items()}
+
+    @property
+    def time_history(self) -> bool:
+        return "time_history" in self.outputs
+
+
+def _int(default: int, low: float, high: float, why: str) -> Setting:
+    return Setting(low, high, why, kind="int", default=default)
+
+
+def _float(default: float, low: float, high: float, why: str) -> Setting:
+    return Setting(low, high, why, kind="float", default=default)
+
+
+# Bounds measured on grids of 77 r x 30 beta against the defaults (closing note of issue 14): inside
+# them every value labels every point right or honestly (`unsettled`), at a cost the estimate bounds.
+_STEADY = {
+    "steady_tol": _float(1e-10, 1e-13, 1e-6, "the relative change per period below which the map has settled "
+                         "(|P^k(x) - x| <= steady_tol |x|): looser mislabels slow transients near the stick-slip "
+                         "limit, tighter than rounding finds false period-2 orbits"),
+    "stop_tol": _float(1e-12, 1e-15, 1e-10, "a stop is |v| <= stop_tol x the state's size: looser misplaces stops "
+                       "(r = 1 goes unsettled from 1e-9), tighter than rounding never finds them"),
+    "max_periods": _int(2000, 1, 100_000, "forcing periods marched per point at most (cost grows with it)"),
+    "max_orbit_period": _int(256, 1, 1024, "longest period-k orbit looked for (static friction locks onto k up to "
+                             "~250; each period's cost grows with it)"),
+    "work_budget": _int(5_000_000, 1, 10**8, "stop searches and events per point at most: 0.1-0.3 us each, so at "
+                        "most about 30 s a point"),
+    "shoot_after": _int(1, 1, 1_000_000, "periods marched before the first shooting attempt (1: measured "
+                        "fastest, make bench)"),
+    "shoot_every": _int(48, 1, 1_000_000, "periods between shooting attempts"),
+    "initial_displacement": _float(0.0, -2.0, 2.0, "start of the march at forcing phase 0, in the equation's "
+                                   "length unit: farther starts settle on wrong or no orbits within the budget"),
+    "initial_velocity": _float(0.0, -2.0, 2.0, "start of the march, in the equation's velocity unit: farther "
+                               "starts settle on wrong or no orbits within the budget"),
+}
+_STARTS = _int(2, 1, 2, "1: from rest only; 2: also from a moving start where static exceeds kinetic friction")
+_SIMULATED = ("viscous_damping", "static_friction_ratio")
+
+
+def _without(settings: dict[str, Setting], *names: str) -> dict[str, Setting]:
+    return {k: v for k, v in settings.items() if k not in names}
+
+
+_METHODS = (
+    Method(
+        "theory", "Den Hartog's closed form: exact where the motion is continuous, a forecast of the regime "
+        "elsewhere", settings={},
+        algorithm={
+            "first_harmonic": "exact x0 cos(r t) term plus Gauss-Legendre projection of the friction part, "
+            "40 + ceil((1 + r) pi / r) nodes over a half period",
+            "continuity_sup_S": "dense samples (>= 2048, 256 per natural period) then golden-section refinement",
+            "joined_peak": "dense samples of |x| then bisection on d|x|/dtau",
+        },
+    ),
+    Method(
+        "event", "exact stick-slip: closed-form segments between events, steady state by march and shooting",
+        settings={**_STEADY, "starts": _STARTS}, effects=_SIMULATED, outputs=OUTPUTS,
+        accuracy_knobs=("stop_tol", "steady_tol"), calibrated_as="event", sweep=True,
+    ),
+    Method(
+        "rk4", "fixed-step classical Runge-Kutta with a real stick mode: the baseline that shows what the closed "
+        "forms buy", effects=_SIMULATED, accuracy_knobs=("steps_per_period",), calibrated_as="rk4",
+        sweep=True,
+        settings={**_without(_STEADY, "stop_tol"), "starts": _STARTS,
+                  "steps_per_period": _int(256, 256, 100_000, "fixed RK4 steps per forcing period: fewer give "
+                                           "errors above 1e-4 (84 % at 16) and false resonances; cost grows with "
+                                           "it")},
+    ),
+    Method(
+        "paper", "the paper's own procedure: ode45 from rest with a sgn friction law, stops counted from "
+        "samples (reproduces its figures, errors included)",
+        settings={
+            # a point holds periods x samples_per_period samples: at most 10^7 (80 MB) with these bounds
+            "periods": _int(200, 20, 10_000, "forcing periods simulated from rest: fewer leave the transient in "
+                            "the measurement (cost grows with it)"),
+            "samples_per_period": _int(64, 16, 1000, "output samples per forcing period: more count a smooth "
+                                       "point's samples as stops; memory grows with it"),
+            "transient_fraction": _float(0.5, 0.0, 0.9, "share of the periods discarded as transient; at least a "
+                                         "tenth is kept to measure"),
+            "rtol": _float(1e-3, 1e-10, 1e-3, "ode45's relative tolerance (default: MATLAB's): looser errs by tens "
+                           "of percent, tighter than 1e-10 costs hours a point"),
+            "atol": _float(1e-6, 1e-12, 1e-6, "ode45's absolute tolerance (default: MATLAB's): looser labels "
+                           "moving points stuck"),
+            "stick_velocity": _float(1e-3, 1e-3, 0.1, "a sample is stuck when |v| <= this x max |v|: outside, "
+                                     "stick-slip reads as continuous"),
+            "stuck_displacement_per_atol": _float(1000.0, 100.0, 1000.0, "no motion: max |q| <= this x atol; "
+                                                  "larger labels moving points stuck"),
+            "max_evaluations": _int(20_000_000, 10_000, 10**8, "right-hand-side evaluations per point at most: "
+                                    "5.7 us each, so at most about 10 min a point"),
+        },
+    ),
+    Method(
+        "auto", "the theory where the mass provably slides without stops, the event simulation everywhere else "
+        "(method_used says which)", outputs=OUTPUTS, accuracy_knobs=("stop_tol", "steady_tol"),
+        calibrated_as="event",
+        settings={**_STEADY, "theory_margin": _float(0.02, 1e-6, 1.0, "relative distance from the theory's "
+                                                     "continuous limit inside which the simulation decides")},
+    ),
+)
+
+METHODS: Mapping[str, Method] = MappingProxyType({m.name: m for m in _METHODS})
+
+
+def method(name: str) -> Method:
+    try:
+        return METHODS[name]
+    except KeyError:
+        raise KeyError(f"unknown method {name!r} (available: {', '.join(METHODS)})") from None
+
+
+def able(capability: str) -> tuple[str, ...]:
+    """Methods with a capability: an effect or output name, 'sweep' or 'accuracy'."""
+    def has(m: Method) -> bool:
+        if capability == "sweep":
+            return m.sweep
+        if capability == "accuracy":
+            return bool(m.accuracy_knobs)
+        return capability in m.effects or capability in m.outputs
+    return tuple(m.name for m in _METHODS if has(m))

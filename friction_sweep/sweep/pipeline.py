@@ -1,0 +1,94 @@
+"""From a validated spec to a labelled xarray Dataset: the run's settings (what `accuracy:` chooses),
+the grid's tiles, the time histories, and the provenance that a cube records.
+
+`run_spec` is the Python API; `fsweep run` calls the same pieces around its checkpoint and lock.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from friction_sweep import catalogue
+from friction_sweep.spec import Spec
+from friction_sweep.sweep.executors import DEFAULT_EXECUTOR
+
+
+def run_settings(spec: Spec, table: dict | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The run's settings (the spec's, with the knobs `accuracy:` chooses from the benchmark's
+    calibration) and the cube attributes that record that choice. LookupError where the calibration
+    has no setting that meets the accuracy asked for."""
+    settings = dict(spec.settings)
+    if spec.accuracy is None:
+        return settings, {}
+    from friction_sweep.bench.workprecision import choose  # reads the calibration file
+
+    record = catalogue.method(spec.method)
+    chosen, row = choose(record.calibrated_as or record.name, spec.accuracy, table)
+    settings.update(chosen)
+    return settings, {"accuracy_requested": spec.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
+
+
+def compute(spec: Spec, settings: dict[str, Any], *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,
+            scheduler: str | None = None, done: dict | None = None,
+            on_done: Callable[[int, dict], None] | None = None,
+            on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
+    """Every variable the spec asks for: the grid's (sweep.runner.run_grid, whose done/on_done/on_tile
+    serve a checkpoint and a progress bar) and the time histories of its chosen points."""
+    from friction_sweep import methods
+    from friction_sweep.sweep.runner import run_grid
+
+    arrays = run_grid(spec.method, spec.scene.excitation, spec.frequency_ratio, spec.force_ratio, spec.outputs,
+                      effects=spec.scene.effects, settings=settings,
+                      sweep=spec.sweep.direction if spec.sweep is not None else None,
+                      jobs=jobs, executor=executor, scheduler=scheduler, done=done, on_done=on_done, on_tile=on_tile)
+    if spec.time_history is not None:
+        points = np.asarray(spec.time_history.points, dtype=float)
+        method: Any = methods.get(spec.method)  # the catalogue vouches that it writes time histories
+        arrays.update(method.time_histories(spec.scene.excitation, points, spec.time_history.samples_per_period,
+                                            spec.scene.effects, settings),
+                      history_frequency_ratio=points[:, 0], history_force_ratio=points[:, 1])
+    return arrays
+
+
+def recorded_settings(spec: Spec, settings: dict[str, Any]) -> dict[str, Any]:
+    """The settings the numbers came from, for the cube's method_settings attribute: the method's
+    algorithm and defaults, the run's settings over them, and the effects."""
+    record = catalogue.method(spec.method)
+    recorded = {**record.algorithm, **record.defaults, **settings, "effects": dict(spec.scene.effects)}
+    if spec.sweep is not None:  # the sweep is the start: no second one
+        recorded.pop("starts", None)
+        recorded["sweep"] = spec.sweep.direction
+    return recorded
+
+
+def dataset(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
+            extra_attrs: dict[str, Any] | None = None) -> xr.Dataset:
+    """The labelled cube of a run's arrays, with its provenance (`command` opens its history)."""
+    from friction_sweep.storage import cube, provenance
+
+    ds = cube.build_dataset(
+        arrays,
+        frequency_ratio=spec.frequency_ratio,
+        force_ratio=spec.force_ratio,
+        excitation=spec.scene.excitation,
+        title=f"friction_sweep: {spec.scene.excitation} excitation, method {spec.method}",
+        history=provenance.history_line(command),
+        attrs=provenance.attributes(spec_text=spec.text, spec_path=spec.source_path, excitation=spec.scene.excitation,
+                                    method=spec.method, settings=recorded_settings(spec, settings)),
+    )
+    ds.attrs.update(extra_attrs or {})
+    return ds
+
+
+def run_spec(spec: Spec, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR, scheduler: str | None = None,
+             on_tile: Callable[[int], None] | None = None) -> xr.Dataset:
+    """Run a validated spec (friction_sweep.spec.load_spec) and return its cube, as `fsweep run` writes
+    it, without writing anything."""
+    settings, extra = run_settings(spec)
+    arrays = compute(spec, settings, jobs=jobs, executor=executor, scheduler=scheduler, on_tile=on_tile)
+    return dataset(spec, arrays, settings, f"run_spec({spec.source_path!r})", extra)
