@@ -16,7 +16,7 @@ RESOLVABLE), so the simulation reports `unbounded` there too.
                           to every stick: a stick at q whose band holds A + |q| never ends.
     resonance             |r - 1| <= TIE_RTOL counts as r = 1 (no damping: unbounded for b <= pi/4).
     resonance friction    at r = 1, b <= (pi/4) (1 + TIE_RTOL) is unbounded (Eqs. 14-15).
-    subharmonic family    |2 n r - 1| <= TIE_RTOL counts as r = 1/(2n) (DESIGN.md §6).
+    subharmonic family    |2 n r - 1| <= TIE_RTOL counts as r = 1/(2n) (docs/equations.md §6).
 
 The continuous limit beta*(r) keeps its own band: a stick shorter than 1e-10 of a period is a grazing
 contact (kernels/event.py GRAZING_STICK), so within ~1e-10 of beta* rounding of the simulation decides.

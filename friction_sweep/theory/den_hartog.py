@@ -1,6 +1,6 @@
 """Den Hartog's closed-form steady state for continuous (non-stop) motion.
 
-Dimensionless problem (DESIGN.md §1): q'' + q + b sgn(q') = cos(r tau + phi), lengths in units of
+Dimensionless problem (docs/equations.md §1): q'' + q + b sgn(q') = cos(r tau + phi), lengths in units of
 the force amplitude over k, b = friction force / force amplitude. Everything here is a function of
 (r, b) only and works elementwise on broadcastable numpy arrays.
 
@@ -59,7 +59,7 @@ def regularised_damping_function(r):
 
 
 def _g(r, tau):
-    """g(tau) = sin((1 - r) tau / 2) / (1 - r), -> tau / 2 as r -> 1 (DESIGN.md §3)."""
+    """g(tau) = sin((1 - r) tau / 2) / (1 - r), -> tau / 2 as r -> 1 (docs/equations.md §3)."""
     return 0.5 * tau * np.sinc((1.0 - r) * tau / (2.0 * PI))
 
 
@@ -121,7 +121,7 @@ def s_function(r, samples_per_natural_period=256, min_samples=2048):
         lo = np.array([tau[max(k - 1, 0)]])
         hi = np.array([tau[min(k + 1, n - 1)]])
         with np.errstate(divide="ignore", invalid="ignore"):
-            _, best = _golden_max(lambda t: _s_ratio(ri, uc, t), lo, hi)
+            _, best = _golden_max(lambda t, ri=ri, uc=uc: _s_ratio(ri, uc, t), lo, hi)
         out[i] = max(1.0, float(best[0]), float(vals[k]))
     return out
 
@@ -172,7 +172,7 @@ def phase(r, b):
 def waveform(r, b, tau):
     """Displacement over the half period 0 <= tau <= pi/r, from the maximum at tau = 0.
 
-    q(tau) = -b cos tau + r V sin(phi) sin tau + V cos(r tau + phi) + b      (DESIGN.md §2)
+    q(tau) = -b cos tau + r V sin(phi) sin tau + V cos(r tau + phi) + b      (docs/equations.md §2)
            = x0 cos(r tau) + b [(1 - cos tau) + Uc (sin tau - 2 cos((1 + r) tau / 2) g(tau))]
 
     using V sin phi = -b U, V cos phi = x0 and sin(r t) - r sin t = (1 - r) sin t
