@@ -10,6 +10,9 @@ STAMP  := $(VENV)/.installed-stamp
 help:
 	@echo "make demo   set up, then run configs/demo.yaml and summarise the cube"
 	@echo "make test   set up, then run the whole test suite"
+	@echo "make lint   ruff and mypy, as CI runs them (and .pre-commit-config.yaml)"
+	@echo "make test-fast   only the tests not marked slow (under a minute)"
+	@echo "make coverage    line coverage of friction_sweep, kernels run as Python (not part of make test)"
 	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
 	@echo "make bench  set up, then measure speed and scaling (results/bench/scale.md)"
 	@echo "make figures / figures-quick / validate   the paper's figures; the rig's measured phases"
@@ -19,7 +22,7 @@ $(STAMP): pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
 	  { echo "friction_sweep needs Python >= 3.11: run make PYTHON=/path/to/python3.11"; exit 1; }
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,figures]'
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,figures,lint]'
 	touch $@
 
 demo: $(STAMP)
@@ -28,6 +31,22 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+.PHONY: test-fast coverage lint
+
+lint: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/mypy
+
+# the tests not marked slow: under a minute with numba's cache warm
+test-fast: $(STAMP)
+	$(BIN)/python -m pytest -q -m "not slow"
+
+# line coverage of the package, kernels included: numba's JIT off so that coverage sees the kernels run
+# as Python (slow, hence -m "not slow"; tests too slow without the JIT are marked nojit_slow); not part of test
+coverage: $(STAMP)
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -m "not slow and not nojit_slow" \
+	  --cov=friction_sweep --cov-report=term-missing
 
 # measures, then rewrites the README's benchmark tables and the calibration that `accuracy:` uses
 bench: $(STAMP)

@@ -3,7 +3,8 @@
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-TABLES = {"bench-scale": ROOT / "results/bench/scale.md", "bench-workprecision": ROOT / "results/bench/workprecision.md"}
+TABLES = {"bench-scale": ROOT / "results/bench/scale.md",
+          "bench-workprecision": ROOT / "results/bench/workprecision.md"}
 
 
 def main():

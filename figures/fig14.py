@@ -53,7 +53,7 @@ def main(argv=None):
     C.plot_family(ax, b, VAR, palette=palette_b)
     rb = b["frequency_ratio"].values
     first = True
-    for lo, hi in zip(betas_b[:-1], betas_b[1:]):
+    for lo, hi in zip(betas_b[:-1], betas_b[1:], strict=True):
         for rc, yc in crossings(rb, b[VAR].sel(force_ratio=lo).values, b[VAR].sel(force_ratio=hi).values):
             ax.plot(rc, yc, "o", color="tab:red", ms=4, label="crossing of adjacent curves" if first else None)
             first = False

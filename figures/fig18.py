@@ -41,7 +41,7 @@ def main(argv=None):
     rs = sim["frequency_ratio"].values
     rt = theory["frequency_ratio"].values
     shaded = set()
-    for k, (beta, ax) in enumerate(zip(betas, axes.ravel())):
+    for k, (beta, ax) in enumerate(zip(betas, axes.ravel(), strict=False)):
         s = sim.sel(force_ratio=beta)
         t = theory.sel(force_ratio=beta, method="nearest")
         shaded.update(C.shade_regimes(ax, rs, s["regime"].values))

@@ -67,7 +67,7 @@ def main(argv=None):
     order = steady_panels[:3] + ["beating"] + steady_panels[3:]
     fig, axes = C.new_figure(len(order), 1, size=(7.0, 2.0 * len(order) + 0.8))
     legend = {}
-    for k, (item, ax) in enumerate(zip(order, axes.ravel())):
+    for k, (item, ax) in enumerate(zip(order, axes.ravel(), strict=False)):
         label = f"({chr(ord('a') + k)}) "
         if item == "beating":
             t, x, y, q, v = C.transient_from_rest("base", BEATING["r"], BEATING["beta"], BEATING["periods"])
@@ -90,7 +90,7 @@ def main(argv=None):
             ax.set_title(label + describe(r, beta, regime, stops_at(ds, r, beta)))
             ax.set_xlim(0, 2)
         ax.set_ylabel(r"displacement / $Y$")
-        for handle, text in zip(*ax.get_legend_handles_labels()):
+        for handle, text in zip(*ax.get_legend_handles_labels(), strict=True):
             legend.setdefault(text, handle)
     axes.ravel()[-1].set_xlabel(r"time $t\,\omega/2\pi$ (forcing periods)")
     fig.legend(list(legend.values()), list(legend.keys()), loc="outside lower center", ncols=len(legend))

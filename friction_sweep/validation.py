@@ -94,7 +94,7 @@ def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFram
             raise DataError(f"{path}:{number}: {len(fields)} fields, but the header (line {header_line}) "
                             f"has {len(header)}")
         rows.append((number, fields))
-    if not rows:
+    if not rows or header is None:  # a header comes before any row
         raise DataError(f"{path}: no data rows")
     if len(rows) > MAX_ROWS:  # each row is simulated (up to ~0.5 s at the lowest frequency ratios)
         raise DataError(f"{path}:{rows[MAX_ROWS][0]}: more than {MAX_ROWS} data rows")
@@ -103,7 +103,7 @@ def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFram
     for column in header:
         if column in REQUIRED:
             table[column] = [_required_number(path, number, column, value)
-                             for (number, _), value in zip(rows, columns[column])]
+                             for (number, _), value in zip(rows, columns[column], strict=True)]
             continue
         converted = pd.to_numeric(table[column], errors="coerce")
         if converted.notna().all():
@@ -194,7 +194,7 @@ def predict(table: pd.DataFrame) -> pd.DataFrame:
     (predicted - measured, degrees; NaN where a method gives no phase, e.g. theory off its range)."""
     out = table.copy()
     for method in METHODS:
-        points = zip(table["frequency_ratio"], table["force_ratio"])
+        points = zip(table["frequency_ratio"], table["force_ratio"], strict=True)
         preds = [predict_point(method, float(r), float(b)) for r, b in points]
         out[f"{method}_regime"] = [p["regime"] for p in preds]
         for definition in DEFINITIONS:
@@ -301,9 +301,9 @@ def figure(table: pd.DataFrame):
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.8), constrained_layout=True)
     lo = min(-5.0, float(np.nanmin(table["phase_deg"])) - 5)
     hi = max(185.0, float(np.nanmax(table["phase_deg"])) + 5)
-    for ax, definition in zip(axes, DEFINITIONS):
+    for ax, definition in zip(axes, DEFINITIONS, strict=False):
         ax.plot([lo, hi], [lo, hi], color="0.4", lw=1, label="predicted = measured")
-        for k, (beta, colour) in enumerate(zip(betas, colours)):
+        for k, (beta, colour) in enumerate(zip(betas, colours, strict=False)):
             sel = table["force_ratio"] == beta
             ax.plot(table.loc[sel, "phase_deg"], table.loc[sel, f"theory_{definition}_deg"], markers[k % len(markers)],
                     color=colour, ms=7, label=rf"theory, $F_\mu/F_k = {beta:g}$")

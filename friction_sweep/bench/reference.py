@@ -42,7 +42,7 @@ def simulate(A, r, bk, bs, periods, c=0.0, rtol=1e-12, atol=1e-13, w2=1.0):
         else:
             sig = mode
 
-            def rhs(tt, y):
+            def rhs(tt, y, sig=sig):  # bound now: the piece's direction
                 return [y[1], A * np.cos(r * tt) - w2 * y[0] - sig * bk]
 
             def stop(tt, y):
@@ -77,7 +77,7 @@ def measure(A, r, bk, bs, periods, c=0.0, w2=1.0):
 
     ic = is_ = 0.0
     peak = 0.0
-    for kind, a, b, data in pieces:
+    for _kind, a, b, _data in pieces:
         a, b = max(a, t0), min(b, t_end)
         if b <= a:
             continue

@@ -26,7 +26,7 @@ REGIONS = {
     "two_stops": {"base": [(0.7, 0.8), (1.5, 0.7), (3.0, 0.6)], "joined": [(0.95, 0.8), (1.2, 1.1), (2.0, 2.5)]},
     "many_stops": {"base": [(0.1, 0.3), (0.05, 0.3)], "joined": [(0.15, 0.01), (0.1, 0.005)]},
 }
-SETTINGS = {
+SETTINGS: dict[str, list[dict[str, float]]] = {
     # both knobs together, then each alone against a tight other: which one limits the accuracy
     "event": [{"stop_tol": a, "steady_tol": b} for a, b in ((1e-4, 1e-3), (1e-6, 1e-5), (1e-8, 1e-7), (1e-10, 1e-9),
                                                             (1e-12, 1e-10), (1e-12, 1e-5), (1e-6, 1e-10))],
@@ -254,7 +254,7 @@ def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | N
 
     paths = output_paths(output, calibrate, calibration)
     table = markdown(ds) + "\n"
-    calibration = json.dumps(calibration_table(ds), indent=1) + "\n" if calibrate else ""
+    calibration_text = json.dumps(calibration_table(ds), indent=1) + "\n" if calibrate else ""
     fig = draw(ds)
     writers = [
         (paths[0], lambda tmp: cube.write_atomic(ds, tmp, overwrite=True)),
@@ -262,7 +262,7 @@ def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | N
         (paths[2], lambda tmp: atomic.write_text(tmp, table)),
     ]
     if calibrate:
-        writers.append((paths[3], lambda tmp: atomic.write_text(tmp, calibration)))
+        writers.append((paths[3], lambda tmp: atomic.write_text(tmp, calibration_text)))
     try:
         return outputs.write_all(writers)
     finally:

@@ -64,14 +64,15 @@ def audit(ds: xr.Dataset) -> list[Problem]:
     for name in schema.COORDS:
         if name not in ds.variables:
             problems.append(Problem(name, "is missing: every result cube has this coordinate"))
-    for name, var in ds.variables.items():
+    for key, var in ds.variables.items():
+        name = str(key)
         spec = schema.COORDS.get(name) if name in ds.coords else schema.VARIABLES.get(name)
         if spec is None:
             where = "coordinate" if name in ds.coords else "variable"
             problems.append(Problem(name, f"is not a {where} of the result cube schema"))
             continue
         if tuple(var.dims) != tuple(spec.dims):
-            problems.append(Problem(name, f"has dims ({', '.join(var.dims)}); the schema says "
+            problems.append(Problem(name, f"has dims ({', '.join(map(str, var.dims))}); the schema says "
                                           f"({', '.join(spec.dims)})"))
         if np.dtype(var.dtype) != np.dtype(spec.dtype):
             problems.append(Problem(name, f"is stored as {np.dtype(var.dtype)}; the schema says "
@@ -132,7 +133,7 @@ def _problem(ds, name, var, values, pos, n, what, is_coord) -> Problem:
     pos = tuple(int(i) for i in pos)
     where = []
     if not is_coord:
-        for dim, i in zip(var.dims, pos):
+        for dim, i in zip(var.dims, pos, strict=True):
             if dim in ds.coords and ds[dim].ndim == 1:
                 where.append((dim, _scalar(ds[dim].values[i])))
     return Problem(name, what, n, int(values.size), _scalar(values[pos]), tuple(var.dims), pos, tuple(where))
@@ -159,7 +160,7 @@ def _location(p: Problem) -> str:
     " at history[i], sample[j]" on dims without coordinates."""
     named = dict(p.where)
     dims_text = []
-    for dim, i in sorted(zip(p.dims, p.index), key=lambda d: d[0] != "frequency_ratio"):
+    for dim, i in sorted(zip(p.dims, p.index, strict=True), key=lambda d: d[0] != "frequency_ratio"):
         if dim in named:
             dims_text.append(f"{dim}={named[dim]:.12g}")
         else:

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Hashable
 from pathlib import Path
+from typing import Any, Final
 
 import numpy as np
 import xarray as xr
@@ -10,17 +12,17 @@ import xarray as xr
 from friction_sweep.storage import atomic, provenance
 from friction_sweep.storage.schema import CONVENTIONS, COORDS, VARIABLES
 
-ENGINE = "h5netcdf"
+ENGINE: Final = "h5netcdf"
 
 
 def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
                   history: str) -> xr.Dataset:
     """A Dataset of the given arrays, each labelled and given CF attributes from the schema table."""
-    coords = {}
+    coords: dict[str, tuple] = {}
     for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio)):
         var = COORDS[name]
         coords[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
-    data_vars = {}
+    data_vars: dict[str, tuple] = {}
     for name, values in arrays.items():
         var = VARIABLES[name]  # KeyError here means a method produced an undeclared variable
         data_vars[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
@@ -30,9 +32,9 @@ def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str
     return ds
 
 
-def _encoding(ds: xr.Dataset) -> dict:
+def _encoding(ds: xr.Dataset) -> dict[Hashable, dict[str, Any]]:
     # explicit fill values: NaN for floats, none for the flag variable (every code is meaningful)
-    enc = {}
+    enc: dict[Hashable, dict[str, Any]] = {}
     for name, var in ds.variables.items():
         if np.issubdtype(var.dtype, np.floating):
             enc[name] = {"_FillValue": np.nan if name not in ds.coords else None}

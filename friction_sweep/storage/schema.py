@@ -183,7 +183,8 @@ VARIABLES = {
                              valid_range=NONNEGATIVE),
     "history_displacement": Variable(HISTORY_DIMS, np.float64, "response displacement x / {ref}", "1",
                                      valid_range=DISPLACEMENT_VALID),
-    "history_excitation": Variable(HISTORY_DIMS, np.float64, "excitation (force or base displacement) / its amplitude", "1",
+    "history_excitation": Variable(HISTORY_DIMS, np.float64,
+                                   "excitation (force or base displacement) / its amplitude", "1",
                                    valid_range=(-1.0, 1.0)),
     "history_relative_displacement": Variable(
         HISTORY_DIMS, np.float64, "displacement in the equation of motion (x; z = x - y for joined) / {ref}", "1",
