@@ -11,21 +11,21 @@ import sys
 import threading
 import time
 from pathlib import Path
-from typing import NoReturn
 
 import click
 import numpy as np
 
 import friction_sweep
 from friction_sweep import codes
+from friction_sweep.exits import (
+    EXIT_FINDINGS,
+    EXIT_INTERRUPTED,
+    EXIT_RUNTIME,
+    EXIT_TERMINATED,
+    fail,
+)
 from friction_sweep.spec import SpecError, load_spec
 from friction_sweep.sweep.executors import DEFAULT_EXECUTOR, EXECUTORS
-
-EXIT_BAD_INPUT = 2
-EXIT_RUNTIME = 1
-EXIT_INTERRUPTED = 130
-EXIT_TERMINATED = 143  # 128 + SIGTERM, as a shell reports a process it ended
-EXIT_FINDINGS = 1  # fsweep check: a rule failed
 
 
 class _Terminated(KeyboardInterrupt):
@@ -36,16 +36,11 @@ def _on_sigterm(signum, frame):
     raise _Terminated
 
 
-def _fail(message: str, code: int = EXIT_BAD_INPUT) -> NoReturn:
-    click.echo(f"fsweep: error: {message}", err=True)
-    sys.exit(code)
-
-
 def _load(path: Path):
     try:
         return load_spec(path)
     except SpecError as err:
-        _fail(f"invalid spec\n{err}")
+        fail(f"invalid spec\n{err}")
 
 
 def _output_path(spec_path: Path, spec, override: str | None) -> Path:
@@ -58,7 +53,7 @@ def _output_path(spec_path: Path, spec, override: str | None) -> Path:
         raw = str(Path("results") / f"{spec_path.stem}.h5")
     reason = refuse_special_output(raw)
     if reason is not None:
-        _fail(f"output: {reason}")
+        fail(f"output: {reason}")
     return Path(raw)
 
 
@@ -136,7 +131,7 @@ def settings_(method: str | None):
     from friction_sweep.catalogue import METHODS
 
     if method is not None and method not in METHODS:
-        _fail(f"unknown method {method!r} (available: {', '.join(METHODS)})")
+        fail(f"unknown method {method!r} (available: {', '.join(METHODS)})")
     for record in [METHODS[method]] if method else METHODS.values():
         click.echo(f"{record.name}:" + ("" if record.settings else " no settings"))
         for key, setting in record.settings.items():
@@ -197,15 +192,15 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     s = _load(spec)
     out = _output_path(spec, s, output)
     if resume and overwrite:
-        _fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
+        fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
     _refuse_destroying_spec(out, spec)
     if out.exists() and not overwrite and not resume:
-        _fail(f"{out} exists; pass --overwrite to replace it")
+        fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
         _check_dask(scheduler)
     cost = cost_model.estimate(s, jobs=jobs, executor=executor)
     if (cost.seconds > cost_model.HUGE_SECONDS or cost.bytes > cost_model.HUGE_BYTES) and not yes:
-        _fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
+        fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
               f"pass --yes to run it")
     _check_writable(out)
     if not quiet:
@@ -221,7 +216,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
             _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
                         extra)
     except (checkpoint.Busy, checkpoint.Mismatch) as err:
-        _fail(str(err))
+        fail(str(err))
 
 
 def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
@@ -231,7 +226,7 @@ def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
     try:
         settings, extra = run_settings(s)
     except LookupError as err:
-        _fail(f"{spec}: accuracy: {err}")
+        fail(f"{spec}: accuracy: {err}")
     if extra and not quiet:
         row = json.loads(extra["accuracy_choice"])
         chosen = {k: settings[k] for k in row["settings"] if k in settings}
@@ -245,7 +240,7 @@ def _refuse_destroying_spec(out: Path, spec: Path) -> None:
     for own in (out, out.parent / f".{out.name}.lock"):  # the run replaces the one, removes the other
         try:
             if own.exists() and os.path.samefile(own, spec):
-                _fail(f"output: {own} is the spec {spec} itself; a run would destroy it")
+                fail(f"output: {own} is the spec {spec} itself; a run would destroy it")
         except OSError:
             pass
 
@@ -257,7 +252,7 @@ def _check_dask(scheduler: str | None) -> None:
     try:
         check_dask(scheduler)
     except DaskUnavailable as err:
-        _fail(str(err))
+        fail(str(err))
 
 
 def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
@@ -271,15 +266,15 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     if store.exists() and not resume:
         if not store.belongs():
             raise checkpoint.Mismatch(store.foreign())
-        _fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
+        fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
               f"continue it, or clear them with: {store.clear_command}")
     if resume and out.exists() and not store.exists():
-        _fail(f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
+        fail(f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
               f"instead of --resume)")
     try:
         done, dropped = store.start(resume)
     except checkpoint.SaveFailed as err:
-        _fail(str(err), EXIT_RUNTIME)
+        fail(str(err), EXIT_RUNTIME)
     for name in dropped:
         click.echo(f"fsweep: warning: {store.dir / name} was damaged; its tile is computed again", err=True)
     r, beta = s.frequency_ratio, s.force_ratio
@@ -293,7 +288,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     except KeyboardInterrupt:
         _stopped(store, "interrupted", EXIT_INTERRUPTED)
     except checkpoint.SaveFailed as err:
-        _fail(str(err), EXIT_RUNTIME)
+        fail(str(err), EXIT_RUNTIME)
     except Exception as err:  # a lost scheduler, a bug: one line, and the finished tiles stay usable
         _stopped(store, f"the run failed: {type(err).__name__}: {' '.join(str(err).split())[:300]}", EXIT_RUNTIME)
     elapsed = time.perf_counter() - start
@@ -305,16 +300,16 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
 
         problems = audit.audit(ds)
         if problems:
-            _fail(f"the finished tiles in {store.dir} hold values no run writes ({problems[0]}); nothing was "
+            fail(f"the finished tiles in {store.dir} hold values no run writes ({problems[0]}); nothing was "
                   f"written: clear them with {store.clear_command} and run again", EXIT_RUNTIME)
     try:
         cube.write_atomic(ds, out, overwrite=overwrite or resume)
     except FileExistsError:
-        _fail(f"{out} appeared while the sweep ran; nothing was replaced (pass --overwrite)")
+        fail(f"{out} appeared while the sweep ran; nothing was replaced (pass --overwrite)")
     except OSError as err:
         kept = f"; its {store.finished()} finished tiles are kept in {store.dir}: rerun with --resume" \
             if store.finished() else ""
-        _fail(f"could not write {out}: {err.strerror or err}; nothing was written{kept}", EXIT_RUNTIME)
+        fail(f"could not write {out}: {err.strerror or err}; nothing was written{kept}", EXIT_RUNTIME)
 
     store.remove()
     click.echo(f"wrote {out}")
@@ -329,10 +324,10 @@ def _stopped(store, why: str, code: int):
     """End a run that stopped early: keep finished tiles for --resume, and say so; else leave nothing."""
     n = store.finished()
     if n:
-        _fail(f"{why}; no result was written; {n} finished tiles are kept in {store.dir}: rerun with --resume "
+        fail(f"{why}; no result was written; {n} finished tiles are kept in {store.dir}: rerun with --resume "
               f"to continue", code)
     store.remove()
-    _fail(f"{why}; nothing was written", code)
+    fail(f"{why}; nothing was written", code)
 
 
 def _logging(verbose: int) -> None:
@@ -352,7 +347,7 @@ def _check_writable(out: Path) -> None:
         with tempfile.NamedTemporaryFile(dir=out.parent, prefix=f".{out.name}.", suffix=".probe"):
             pass
     except OSError as err:
-        _fail(f"cannot write the output {out}: {err.strerror or err}")
+        fail(f"cannot write the output {out}: {err.strerror or err}")
 
 
 def _echo_regimes(ds) -> None:
@@ -418,11 +413,11 @@ def info(result: Path | None, show_methods: bool):
     tabulate the methods instead."""
     if show_methods:
         if result is not None:
-            _fail("give either RESULT or --methods, not both")
+            fail("give either RESULT or --methods, not both")
         _methods_table()
         return
     if result is None:
-        _fail("give a RESULT to describe, or --methods")
+        fail("give a RESULT to describe, or --methods")
     from friction_sweep.storage import audit
 
     ds = _open_result(result)
@@ -468,7 +463,7 @@ def check(result: Path, as_json: bool):
     try:
         findings = consistency.check(ds)
     except consistency.CubeError as err:
-        _fail(f"{result} is not a friction_sweep result cube: {err}")
+        fail(f"{result} is not a friction_sweep result cube: {err}")
     if as_json:
         click.echo(json.dumps([f.to_dict() for f in findings], indent=1))
     else:
@@ -489,15 +484,15 @@ def _open_result(path: Path):
 
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
-            _fail(f"{path} is not a regular file")
+            fail(f"{path} is not a regular file")
     except OSError as err:
-        _fail(f"{path}: {err.strerror or err}")
+        fail(f"{path}: {err.strerror or err}")
     try:
         ds = cube.open_cube(path)
     except Exception as err:  # any reader failure means: not a cube we can read
-        _fail(f"{path} is not a readable result cube: {' '.join(str(err).split())}")
+        fail(f"{path} is not a readable result cube: {' '.join(str(err).split())}")
     if "friction_sweep_version" not in ds.attrs:
-        _fail(f"{path} is not a friction_sweep result cube (no provenance attributes)")
+        fail(f"{path} is not a friction_sweep result cube (no provenance attributes)")
     return ds
 
 
@@ -506,7 +501,7 @@ def _fail_on_problems(path: Path, problems: list) -> None:
     if problems:
         for p in problems[:-1]:
             click.echo(f"fsweep: error: {path}: {p}", err=True)
-        _fail(f"{path}: {problems[-1]}")
+        fail(f"{path}: {problems[-1]}")
 
 
 def _finding_line(f) -> str:
@@ -541,19 +536,19 @@ def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None):
     from friction_sweep.storage.outputs import missing_figures_extra, refuse_special_output
 
     if calibrate and quick:
-        _fail("--calibrate needs the full benchmark, not --quick")
+        fail("--calibrate needs the full benchmark, not --quick")
     # every refusal before the benchmark's seconds to minutes of computing
     problem = (refuse_special_output(output) or wp.refuse_outputs(output, calibrate, calibration)
                or missing_figures_extra())
     if problem:
-        _fail(problem)
+        fail(problem)
     _check_writable(Path(output))
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
     table = wp.markdown(ds)
     try:
         paths = wp.write(ds, output, calibrate, calibration)  # all or nothing
     except OSError as err:
-        _fail(f"could not write the benchmark's results ({output}): {err.strerror or err}; "
+        fail(f"could not write the benchmark's results ({output}): {err.strerror or err}; "
               "no output was changed", EXIT_RUNTIME)
     click.echo(table)
     click.echo("wrote " + ", ".join(str(p) for p in paths))

@@ -25,7 +25,6 @@ import csv
 import math
 import os
 import stat
-import sys
 from pathlib import Path
 
 import click
@@ -34,6 +33,7 @@ import pandas as pd
 
 from friction_sweep import codes
 from friction_sweep.codes import Regime
+from friction_sweep.exits import EXIT_RUNTIME, fail
 from friction_sweep.spec import grid
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
@@ -56,8 +56,6 @@ MAX_DATA_BYTES = 16 * 2**20
 #: rows a data file may hold: a rig's sweep has tens to hundreds; each costs a simulation
 MAX_ROWS = 2000
 FIGURE_DPI = 150
-EXIT_BAD_INPUT = 2  # as the fsweep CLI
-EXIT_RUNTIME = 1
 
 
 class DataError(ValueError):
@@ -339,12 +337,6 @@ def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_p
 # --- command ----------------------------------------------------------------------------------------
 
 
-def _fail(message: str, code: int = EXIT_BAD_INPUT):
-    """One line on stderr and the exit code, as fsweep's other commands (cli._fail) do."""
-    click.echo(f"fsweep: error: {message}", err=True)
-    sys.exit(code)
-
-
 @click.command("validate-data")
 # no click.Path checks (dir_okay, file_okay): their refusals are multi-line usage errors; ours
 # below are one line each
@@ -357,20 +349,20 @@ def validate_data(data: Path | None, output_dir: Path):
     # Every refusal comes before the predictions (seconds; more where numba compiles first), and
     # nothing is written until everything is computed.
     if data is None and not DEFAULT_DATA.exists():
-        _fail(f"no measured data at {DEFAULT_DATA} (the default, shipped with the package): "
+        fail(f"no measured data at {DEFAULT_DATA} (the default, shipped with the package): "
               "pass --data FILE")
     data_path = data if data is not None else DEFAULT_DATA
     try:
         measured = read_measurements(data_path)
     except DataError as err:
-        _fail(str(err))
+        fail(str(err))
     for target in (output_dir / name for name in OUTPUT_FILES):
         refusal = outputs.refuse_special_output(target)
         if refusal:
-            _fail(refusal)
+            fail(refusal)
     missing = outputs.missing_figures_extra()
     if missing:
-        _fail(missing)
+        fail(missing)
 
     table = predict(measured)
     summary = summarize(table)
@@ -383,7 +375,7 @@ def validate_data(data: Path | None, output_dir: Path):
     try:
         paths = write_outputs(table, summary, output_dir, data_path)
     except OSError as err:
-        _fail(f"could not write into {output_dir}: {err.strerror or err}; no output was changed", EXIT_RUNTIME)
+        fail(f"could not write into {output_dir}: {err.strerror or err}; no output was changed", EXIT_RUNTIME)
     click.echo("\nwrote " + ", ".join(str(p) for p in paths))
 
 
