@@ -34,7 +34,7 @@ def independent(A, r, bk, bs, q, v, c=0.0, max_periods=400, tol=1e-11):
             else:
                 sig = mode
 
-                def rhs(tt, y):
+                def rhs(tt, y, sig=sig):  # bound now: this piece's direction
                     return [y[1], A * np.cos(r * tt) - y[0] - sig * bk]
 
                 def stop(tt, y):
@@ -64,7 +64,7 @@ def independent(A, r, bk, bs, q, v, c=0.0, max_periods=400, tol=1e-11):
         warnings.simplefilter("ignore", IntegrationWarning)
         for lo, hi, f in pieces:
             if hi > lo:
-                a += quad(lambda s: (f(s) + c * np.cos(r * s)) * np.cos(r * s), lo, hi, epsabs=1e-14, limit=200)[0]
-                b += quad(lambda s: (f(s) + c * np.cos(r * s)) * np.sin(r * s), lo, hi, epsabs=1e-14, limit=200)[0]
+                a += quad(lambda s, f=f: (f(s) + c * np.cos(r * s)) * np.cos(r * s), lo, hi, epsabs=1e-14, limit=200)[0]
+                b += quad(lambda s, f=f: (f(s) + c * np.cos(r * s)) * np.sin(r * s), lo, hi, epsabs=1e-14, limit=200)[0]
     stuck_now = v == 0.0 and abs(A * np.cos(r * t) - q) <= bs
     return 2 / T * np.hypot(a, b), stops, stuck_now

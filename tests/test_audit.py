@@ -4,35 +4,23 @@ its count, an example and where it sits (issue 14, item 7: `fsweep info` trusted
 from __future__ import annotations
 
 import math
-import os
 
 import h5py
 import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
+from conftest import OUTPUTS, in_dir, write_spec
 
-from friction_sweep import methods, regimes
+from friction_sweep import methods
 from friction_sweep.cli import main
+from friction_sweep.codes import Regime
 from friction_sweep.storage import audit, cube, schema
 from friction_sweep.theory.phase import wrap_lag_degrees
 
-OUTPUTS = ("transmissibility", "phase", "regime")
 R = np.array([0.5, 1.0, 2.0])  # r = 1 with beta <= pi/4 is unbounded: NaN, never inf
 BETA = np.array([0.1, 0.5, 1.0])  # beta = 1 is stuck (base): amplitudes 0, phases NaN
 HISTORY_POINTS = [[0.5, 0.1], [1.0, 0.1]]  # the second is unbounded: no orbit, a NaN row
-
-SMALL = """\
-scene:
-  excitation: base
-  effects: {}
-grid:
-  frequency_ratio: {start: 0.2, stop: 3.0, num: 15}
-  force_ratio: [0.0, 0.3, 0.9]
-method: theory
-outputs: [transmissibility, phase, regime]
-output: out.h5
-"""
 
 
 def make_cube(method, excitation="base", effects=None, histories=False, r=R, beta=BETA):
@@ -63,13 +51,9 @@ def only(problems, variable):
 
 
 def test_a_cube_written_by_the_cli_passes(tmp_path):
-    (tmp_path / "spec.yaml").write_text(SMALL)
-    old = os.getcwd()
-    os.chdir(tmp_path)
-    try:
+    write_spec(tmp_path)
+    with in_dir(tmp_path):
         res = CliRunner().invoke(main, ["run", "spec.yaml", "--quiet"])
-    finally:
-        os.chdir(old)
     assert res.exit_code == 0, res.output
     assert audit.audit(cube.open_cube(tmp_path / "out.h5")) == []
 
@@ -84,13 +68,14 @@ def test_theory_cubes_pass(excitation):
 
 @pytest.mark.parametrize("effects", [None, {"static_friction_ratio": 1.5}, {"viscous_damping": 0.05}],
                          ids=["plain", "static", "damped"])
+@pytest.mark.slow
 def test_event_cubes_pass_with_their_nan_points(effects):
     ds = make_cube("event", effects=effects, histories=True)
     assert audit.audit(ds) == []
     # what legitimately has no number: the unbounded point is NaN (not inf), stuck phases are NaN
     t = ds["transmissibility"].sel(frequency_ratio=1.0, force_ratio=0.1)
     if effects is None:
-        assert ds["regime"].sel(frequency_ratio=1.0, force_ratio=0.1) == regimes.UNBOUNDED
+        assert ds["regime"].sel(frequency_ratio=1.0, force_ratio=0.1) == Regime.UNBOUNDED
         assert np.isnan(t) and np.isnan(ds["orbit_period"].sel(frequency_ratio=1.0, force_ratio=0.1))
         assert ds["history_orbit_period"].values[1] == 0 and np.isnan(ds["history_displacement"].values[1]).all()
     assert np.isnan(ds["phase"].sel(force_ratio=1.0)).all()

@@ -19,6 +19,7 @@ def quick(tmp_path_factory):
     return out, res.output
 
 
+@pytest.mark.slow
 def test_quick_bench_writes_dataset_figure_and_table(quick):
     out, output = quick
     ds = xr.open_dataset(out, engine="h5netcdf")
@@ -30,6 +31,7 @@ def test_quick_bench_writes_dataset_figure_and_table(quick):
     assert "ms per point" in output
 
 
+@pytest.mark.slow
 def test_errors_shrink_as_settings_tighten(quick):
     ds = xr.open_dataset(quick[0], engine="h5netcdf")
     for m in ("event", "rk4"):

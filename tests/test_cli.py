@@ -1,56 +1,18 @@
 """The command line, driven through click's CliRunner: run, validate, info, and bad input."""
 
-import os
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
-from click.testing import CliRunner
+from conftest import ROOT, in_dir, small_spec, write_spec
 
-from friction_sweep import regimes
+from friction_sweep import codes
 from friction_sweep.cli import main
+from friction_sweep.codes import Regime
 from friction_sweep.storage import cube, schema
 
-ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = sorted((ROOT / "configs").glob("*.yaml"))
-
-SMALL = """\
-scene:
-  excitation: {excitation}
-  effects: {{}}
-grid:
-  frequency_ratio: {{start: 0.2, stop: 3.0, num: 15}}
-  force_ratio: [0.0, 0.3, 0.9]
-method: theory
-outputs: [transmissibility, phase, regime]
-output: {output}
-"""
-
-
-@pytest.fixture
-def runner():
-    return CliRunner()
-
-
-def write_spec(tmp_path, excitation="base", output="out.h5", text=None):
-    path = tmp_path / "spec.yaml"
-    path.write_text(text if text is not None else SMALL.format(excitation=excitation, output=output))
-    return path
-
-
-def in_dir(path):
-    """Run the CLI from `path` so relative outputs land there."""
-    class _Cwd:
-        def __enter__(self):
-            self.old = os.getcwd()
-            os.chdir(path)
-
-        def __exit__(self, *exc):
-            os.chdir(self.old)
-
-    return _Cwd()
-
 
 @pytest.mark.parametrize("excitation", ["force", "base", "joined"])
 def test_run_writes_a_cube_that_keeps_the_contract(runner, tmp_path, excitation):
@@ -71,7 +33,7 @@ def test_run_writes_a_cube_that_keeps_the_contract(runner, tmp_path, excitation)
     assert ds["phase"].attrs["units"] == "degree"
     assert ds["regime"].dtype == np.int8
     assert list(ds["regime"].attrs["flag_values"]) == [0, 1, 2, 3, 4]
-    assert ds["regime"].attrs["flag_meanings"].split() == list(regimes.NAMES)
+    assert ds["regime"].attrs["flag_meanings"].split() == list(codes.meanings(Regime))
     assert ds.attrs["Conventions"].startswith("CF-")
     assert "fsweep run" in ds.attrs["history"]
     assert ds.attrs["spec"] == spec.read_text()
@@ -147,8 +109,9 @@ def test_output_option_overrides_spec(runner, tmp_path):
     assert other.exists() and not (tmp_path / "out.h5").exists()
 
 
+@pytest.mark.slow
 def test_jobs_do_not_change_the_numbers(runner, tmp_path):
-    text = SMALL.format(excitation="joined", output="a.h5").replace("num: 15", "num: 70")
+    text = small_spec("joined", "a.h5").replace("num: 15", "num: 70")
     spec = write_spec(tmp_path, text=text)
     a, b = tmp_path / "a.h5", tmp_path / "b.h5"
     assert runner.invoke(main, ["run", str(spec), "-o", str(a), "-j", "1"]).exit_code == 0
@@ -184,7 +147,7 @@ BAD = {
 @pytest.mark.parametrize("case", sorted(BAD))
 def test_bad_specs_exit_2_name_the_key_and_write_nothing(runner, tmp_path, case):
     old, new, key = BAD[case]
-    text = SMALL.format(excitation="base", output="out.h5")
+    text = small_spec("base", "out.h5")
     assert old in text
     spec = write_spec(tmp_path, text=text.replace(old, new, 1))
     with in_dir(tmp_path):
@@ -220,8 +183,37 @@ def test_info_describes_the_cube(runner, tmp_path):
                  "numpy", "numba", "xarray", "regimes:", "stuck", "continuous"):
         assert text in res.output
     ds = cube.open_cube(tmp_path / "out.h5")
-    counts = regimes.counts(ds["regime"].values)
+    counts = codes.counts(ds["regime"].values)
     assert f"stuck {counts['stuck']}," in res.output
+
+
+def test_info_methods_tabulates_what_each_method_can_do(runner):
+    from friction_sweep.catalogue import METHODS
+
+    res = runner.invoke(main, ["info", "--methods"])
+    assert res.exit_code == 0, res.output
+    rows = {line.split()[0]: line for line in res.output.splitlines()[1:len(METHODS) + 1]}
+    assert list(rows) == list(METHODS)
+    assert "static_friction_ratio" in rows["event"] and "static_friction_ratio" not in rows["theory"]
+    assert "time_history" in rows["auto"] and "time_history" not in rows["paper"]
+    for args in (["info"], ["info", "--methods", "x.h5"]):
+        res = runner.invoke(main, args)
+        assert res.exit_code == 2 and "--methods" in res.output
+
+
+def test_run_spec_returns_the_cube_that_run_writes(runner, tmp_path):
+    """The Python API and the CLI are one pipeline: the same numbers, variables and attributes."""
+    from friction_sweep.spec import load_spec
+    from friction_sweep.sweep.pipeline import run_spec
+
+    spec = write_spec(tmp_path, "joined")
+    with in_dir(tmp_path):
+        assert runner.invoke(main, ["run", str(spec), "-q"]).exit_code == 0
+    written = cube.open_cube(tmp_path / "out.h5")
+    returned = run_spec(load_spec(spec))
+    xr.testing.assert_identical(written.drop_attrs(deep=False), returned.drop_attrs(deep=False))
+    assert set(written.attrs) == set(returned.attrs)
+    assert returned.attrs["method_settings"] == written.attrs["method_settings"]
 
 
 def test_info_refuses_a_foreign_file(runner, tmp_path):
@@ -233,6 +225,7 @@ def test_info_refuses_a_foreign_file(runner, tmp_path):
 
 
 @pytest.mark.parametrize("config", CONFIGS, ids=[c.stem for c in CONFIGS])
+@pytest.mark.slow
 def test_every_shipped_config_runs_and_keeps_the_contract(runner, tmp_path, config):
     out = tmp_path / f"{config.stem}.h5"
     res = runner.invoke(main, ["run", str(config), "-o", str(out), "--quiet"])
@@ -247,8 +240,8 @@ def test_every_shipped_config_runs_and_keeps_the_contract(runner, tmp_path, conf
     if "regime" in ds and "transmissibility" in ds:
         code = ds["regime"].values
         t = ds["transmissibility"].values
-        assert np.all(np.isnan(t[code == regimes.STICK_SLIP]))
-        assert np.all(np.isfinite(t[code == regimes.CONTINUOUS]))
+        assert np.all(np.isnan(t[code == Regime.STICK_SLIP]))
+        assert np.all(np.isfinite(t[code == Regime.CONTINUOUS]))
 
 
 def test_simulation_spec_with_time_history(runner, tmp_path):
@@ -267,9 +260,17 @@ time_history: {points: [[0.95, 0.8]], samples_per_period: 32}
     assert ds["history_displacement"].dims == ("history", "sample")
     assert ds.sizes["sample"] == 32 * int(ds["history_orbit_period"].max())
     assert list(ds["method_used"].attrs["flag_meanings"].split()) == ["theory", "event"]
-    assert ds["history_regime"].values[0] == regimes.STICK_SLIP  # the paper's Fig. 22 point
+    assert ds["history_regime"].values[0] == Regime.STICK_SLIP  # the paper's Fig. 22 point
     assert "phase" not in ds  # not asked for, not written
     assert ds.attrs["method"] == "auto"
+    # every stored code variable carries exactly the codes module's flags, and holds only those values
+    enums = {"regime": codes.Regime, "history_regime": codes.Regime, "steady_state": codes.SteadyState,
+             "method_used": codes.MethodUsed}
+    for name, enum in enums.items():
+        assert ds[name].attrs["flag_values"].tolist() == [m.value for m in enum]
+        assert ds[name].attrs["flag_meanings"].split() == [m.name.lower() for m in enum]
+        assert set(np.unique(ds[name].values)) <= {m.value for m in enum}
+    assert {n for n in ds.data_vars if "flag_values" in ds[n].attrs} == set(enums)
 
 
 # --- faults: nothing is lost ------------------------------------------------------------------------------
@@ -278,7 +279,7 @@ time_history: {points: [[0.95, 0.8]], samples_per_period: 32}
 def test_huge_grid_is_refused_with_an_estimate_unless_yes(runner, tmp_path, monkeypatch):
     import friction_sweep.sweep.estimate as estimate
 
-    text = SMALL.format(excitation="base", output="out.h5").replace("method: theory", "method: event")
+    text = small_spec("base", "out.h5").replace("method: theory", "method: event")
     spec = write_spec(tmp_path, text=text)
     monkeypatch.setattr(estimate, "HUGE_SECONDS", 1e-6)  # make this small grid count as huge
     with in_dir(tmp_path):
@@ -335,6 +336,7 @@ def test_full_disk_at_the_end_keeps_the_old_result(runner, tmp_path, monkeypatch
     assert not (tmp_path / ".out.h5.partial").exists()
 
 
+@pytest.mark.slow
 def test_a_killed_run_leaves_the_old_result_intact(tmp_path):
     import signal
     import subprocess
@@ -342,13 +344,13 @@ def test_a_killed_run_leaves_the_old_result_intact(tmp_path):
     import time
 
     spec = tmp_path / "spec.yaml"
-    spec.write_text(SMALL.format(excitation="base", output="out.h5"))
+    spec.write_text(small_spec("base", "out.h5"))
     out = tmp_path / "out.h5"
     fsweep = [sys.executable, "-m", "friction_sweep", "run", str(spec), "-o", str(out), "--quiet"]
     subprocess.run(fsweep, check=True, capture_output=True)
     before = out.read_bytes()
     # a long sweep over the same output, killed with SIGKILL while it computes
-    spec.write_text(SMALL.format(excitation="base", output="out.h5")
+    spec.write_text(small_spec("base", "out.h5")
                     .replace("{start: 0.2, stop: 3.0, num: 15}", "{start: 0.2, stop: 3.0, num: 40000}")
                     .replace("method: theory", "method: event"))
     proc = subprocess.Popen(fsweep + ["--overwrite", "--yes"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
@@ -381,6 +383,7 @@ def _assert_same_bits(a, b):
 
 @pytest.mark.parametrize("args", [["-j", "2", "--executor", "threads"], ["-j", "2", "--executor", "processes"],
                                   ["--executor", "serial"]], ids=["threads", "processes", "serial"])
+@pytest.mark.slow
 def test_executors_and_worker_counts_give_the_same_bits(runner, tmp_path, args):
     spec = write_spec(tmp_path, text=EVENT_SPEC)
     ref, out = tmp_path / "ref.h5", tmp_path / "out.h5"
@@ -390,6 +393,7 @@ def test_executors_and_worker_counts_give_the_same_bits(runner, tmp_path, args):
     _assert_same_bits(_cube_arrays(ref), _cube_arrays(out))
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_bits(runner, tmp_path):
     spec = write_spec(tmp_path, text=EVENT_SPEC)
     ref, out = tmp_path / "ref.h5", tmp_path / "out.h5"
@@ -412,6 +416,7 @@ def _interrupted_after(n: int, real):
     return compute
 
 
+@pytest.mark.slow
 def test_interrupted_run_resumes_to_the_same_bits(runner, tmp_path, monkeypatch):
     import friction_sweep.methods.event as event_module
 
@@ -484,6 +489,7 @@ def test_a_second_run_on_the_same_output_is_refused(runner, tmp_path):
     assert runner.invoke(main, ["run", str(spec), "-o", str(out)]).exit_code == 0  # released
 
 
+@pytest.mark.slow
 def test_kill_9_then_resume_gives_the_same_bits(tmp_path):
     import signal
     import subprocess

@@ -12,6 +12,7 @@ from friction_sweep.sweep.runner import compute_tile, tiles
 distributed = pytest.importorskip("dask.distributed")
 
 
+@pytest.mark.slow
 def test_a_worker_that_dies_has_its_tiles_recomputed():
     r = np.linspace(0.1, 3.0, 32 * 12)
     beta = np.array([0.0, 0.2, 0.5, 0.9])

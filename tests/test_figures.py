@@ -6,16 +6,15 @@ import re
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from conftest import ROOT
 
 from friction_sweep.cli import main as fsweep
 from friction_sweep.spec import load_spec
 
-ROOT = Path(__file__).resolve().parents[1]
 FIGURES = ROOT / "figures"
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
@@ -148,6 +147,7 @@ def test_every_script_is_covered_here():
 
 
 @pytest.mark.parametrize("name", sorted(CALLS))
+@pytest.mark.slow
 def test_script_writes_a_png(cubes, tmp_path, name):
     out = tmp_path / "out" / f"{name}.png"
     load_script(name).main([str(cubes[c]) for c in CALLS[name]] + [str(out)])
@@ -156,6 +156,7 @@ def test_script_writes_a_png(cubes, tmp_path, name):
     assert not [p for p in out.parent.iterdir() if p.name != out.name]  # no temporary file left behind
 
 
+@pytest.mark.slow
 def test_script_runs_from_the_command_line(cubes, tmp_path):
     out = tmp_path / "fig07.png"
     res = subprocess.run([sys.executable, str(FIGURES / "fig07.py"), str(cubes["base_theory"]), str(out)],
@@ -164,6 +165,7 @@ def test_script_runs_from_the_command_line(cubes, tmp_path):
     assert out.read_bytes().startswith(PNG_SIGNATURE)
 
 
+@pytest.mark.slow
 def test_wrong_call_exits_with_usage(cubes, tmp_path):
     with pytest.raises(SystemExit, match="usage"):
         load_script("fig14").main([str(cubes["joined_theory"]), str(tmp_path / "x.png")])  # needs two cubes
@@ -171,6 +173,7 @@ def test_wrong_call_exits_with_usage(cubes, tmp_path):
         load_script("fig07").main([str(cubes["base_theory"]), str(tmp_path / "x.pdf")])
 
 
+@pytest.mark.slow
 def test_missing_variable_is_reported(cubes, tmp_path):
     with pytest.raises(SystemExit, match="peak_phase"):  # the map cube has no phases
         load_script("fig05").main([str(cubes["joined_map"]), str(tmp_path / "x.png")])

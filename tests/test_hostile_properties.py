@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import tempfile
 from io import StringIO
 from pathlib import Path
@@ -24,24 +23,16 @@ import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
+from conftest import in_dir
 from hypothesis import HealthCheck, assume, event, example, given, note, settings
 from hypothesis import strategies as st
 from ruamel.yaml import YAML
 
+from friction_sweep import catalogue
+from friction_sweep.catalogue import DEFAULT_OUTPUTS, EXCITATIONS, Setting
 from friction_sweep.cli import main
 from friction_sweep.spec import SpecError, parse_spec_text
 from friction_sweep.spec.grid import FORCE_RATIO_MAX, FREQUENCY_RATIO_RANGE, MAX_POINTS
-from friction_sweep.spec.model import (
-    ACCURACY_KNOBS,
-    ACCURACY_METHODS,
-    DEFAULT_OUTPUTS,
-    EXCITATIONS,
-    HISTORY_METHODS,
-    METHOD_EFFECTS,
-    METHOD_SETTINGS,
-    SWEEP_METHODS,
-    Setting,
-)
 
 R_LO, R_HI = FREQUENCY_RATIO_RANGE
 SPEC = "spec.yaml"
@@ -54,15 +45,6 @@ PROPERTY = settings(
     deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large],
 )
-
-
-@pytest.fixture(scope="module")
-def compiled():
-    """The event and rk4 kernels compiled once for the module (loaded from numba's cache)."""
-    from friction_sweep import methods
-
-    for name in ("event", "rk4"):
-        methods.get(name).compute_tile("base", np.array([1.5]), np.array([0.1]), ("regime",))
 
 
 # ---- valid specs, built from the schema -----------------------------------------------------------
@@ -140,7 +122,7 @@ SIMULATED = ("event", "rk4", "auto")
 @st.composite
 def _settings(draw, method: str, exclude: set[str]) -> dict:
     """Knobs of the method (theory: of event, which theory has none of), mostly in range."""
-    own = METHOD_SETTINGS[method] or METHOD_SETTINGS["event"]
+    own = catalogue.METHODS[method].settings or catalogue.METHODS["event"].settings
     known = {k: v for k, v in own.items() if k not in exclude}
     out = {}
     for key in draw(st.lists(st.sampled_from(sorted(known)), max_size=3, unique=True)):
@@ -184,9 +166,10 @@ def valid_specs(draw) -> tuple[dict, tuple[int | None, int | None]]:
     if draw(st.booleans()):
         spec["outputs"] = draw(st.permutations(DEFAULT_OUTPUTS).flatmap(
             lambda p: st.integers(1, len(p)).map(lambda n: list(p[:n]))))
-    sweep = method in SWEEP_METHODS and draw(st.integers(0, 4)) == 0
-    accuracy = method in ACCURACY_METHODS and not sweep and draw(st.integers(0, 5)) == 0
-    if METHOD_EFFECTS[method] and draw(st.booleans()):
+    record = catalogue.METHODS[method]
+    sweep = record.sweep and draw(st.integers(0, 4)) == 0
+    accuracy = bool(record.accuracy_knobs) and not sweep and draw(st.integers(0, 5)) == 0
+    if record.effects and draw(st.booleans()):
         effects = {}
         if draw(st.booleans()):
             effects["viscous_damping"] = draw(st.one_of(st.just(0.0), st.floats(0, 0.9)))
@@ -197,11 +180,11 @@ def valid_specs(draw) -> tuple[dict, tuple[int | None, int | None]]:
         spec["sweep"] = {"direction": draw(st.sampled_from(["up", "down"]))}
     if accuracy:
         spec["accuracy"] = draw(st.sampled_from([0.5, 1e-2, 1e-4, 1e-6, 1e-9, 1e-14]))
-    if method in HISTORY_METHODS and not sweep and draw(st.integers(0, 4)) == 0:
+    if record.time_history and not sweep and draw(st.integers(0, 4)) == 0:
         spec["outputs"] = [*spec.get("outputs", DEFAULT_OUTPUTS), "time_history"]
         spec["time_history"] = _history(draw)
     if draw(st.integers(0, 2)) == 0:
-        exclude = ({"starts"} if sweep else set()) | (ACCURACY_KNOBS if accuracy else set())
+        exclude = ({"starts"} if sweep else set()) | (set(record.accuracy_knobs) if accuracy else set())
         spec["settings"] = draw(_settings(method, exclude))
     if draw(st.integers(0, 7)) == 5:  # fields that exclude each other, or that the method lacks
         conflict = draw(st.sampled_from(["sweep", "accuracy", "effects", "history", "history_unlisted",
@@ -251,7 +234,7 @@ HOSTILE = [
 def _bounds(path: tuple) -> list:
     """Values just outside the bounds of the field at `path`."""
     last = path[-1]
-    knobs = {k: v for m in METHOD_SETTINGS.values() for k, v in m.items()}
+    knobs = {k: v for m in catalogue.METHODS.values() for k, v in m.settings.items()}
     if "settings" in path and isinstance(last, str) and last in knobs:
         return _outside(knobs[last])
     if last == "num":
@@ -363,12 +346,8 @@ def _serialise(spec: dict, fmt: str) -> str:
 
 
 def _invoke(d: Path, *args: str):
-    old = os.getcwd()
-    os.chdir(d)
-    try:
+    with in_dir(d):
         return CliRunner().invoke(main, list(args))
-    finally:
-        os.chdir(old)
 
 
 def _no_traceback(res, what: str) -> None:
@@ -430,6 +409,7 @@ TAG_KEY = ("'<range>': 1\ngrid:\n  force_ratio: 0.0\n  frequency_ratio: 0.01\nou
 @PROPERTY
 @given(case=spec_texts())
 @example(case=(TAG_KEY, {"scene": {"excitation": "force"}}, (1, 1), ["unknown key '<range>' at ()"]))
+@pytest.mark.slow
 def test_validate_and_run_agree_exit_0_or_2_and_leave_nothing_on_refusal(case, compiled) -> None:
     text, spec, sizes, mutations = case
     note(f"mutations: {mutations}")
@@ -465,7 +445,7 @@ def test_validate_and_run_agree_exit_0_or_2_and_leave_nothing_on_refusal(case, c
         expected = _sizes(text)
         assert expected is not None, "run exited 0 on a spec the package refuses"
         if not mutations:  # the generator's own sizes, where it knows them
-            for want, got in zip(sizes, expected):
+            for want, got in zip(sizes, expected, strict=True):
                 assert want is None or want == got, (sizes, expected)
         with xr.open_dataset(d / cubes[0], engine="h5netcdf") as ds:
             assert ds.sizes["frequency_ratio"] == expected[0], dict(ds.sizes)

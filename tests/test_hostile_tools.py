@@ -20,13 +20,13 @@ import pandas as pd
 import pytest
 import xarray as xr
 from click.testing import CliRunner
+from conftest import ROOT
 
 from friction_sweep import validation
 from friction_sweep.bench import workprecision as wp
 from friction_sweep.cli import main
 from friction_sweep.storage.outputs import refuse_special_output, write_all
 
-ROOT = Path(__file__).resolve().parents[1]
 GOOD = "force_ratio,frequency_ratio,phase_deg\n0.5741,0.6487,46.4635\n0.3920,1.2525,150.1044\n"
 
 
@@ -350,6 +350,7 @@ def _run_child(args, limit):
 
 
 @pytest.mark.parametrize("limit", [1000, 20_000])
+@pytest.mark.slow
 def test_validate_data_on_a_full_disk_changes_nothing(tmp_path, limit):
     data = tmp_path / "d.csv"
     data.write_text(GOOD)
@@ -367,6 +368,7 @@ def test_validate_data_on_a_full_disk_changes_nothing(tmp_path, limit):
 
 
 @pytest.mark.parametrize("limit", [1000, 30_000])
+@pytest.mark.slow
 def test_bench_on_a_full_disk_changes_nothing(tmp_path, limit):
     out = tmp_path / "wp.h5"
     out.write_text("previous run\n")

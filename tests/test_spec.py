@@ -10,15 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from friction_sweep.spec import (
-    EXCITATIONS,
-    METHODS_AVAILABLE,
-    OUTPUTS,
-    Spec,
-    SpecError,
-    load_spec,
-    parse_spec_text,
-)
+from friction_sweep.catalogue import EXCITATIONS, METHODS, OUTPUTS
+from friction_sweep.spec import Spec, SpecError, load_spec, parse_spec_text
 
 DEMO = """\
 scene:
@@ -77,7 +70,7 @@ def test_demo_spec_from_file(tmp_path: Path):
     assert np.all(np.diff(r) > 0)
     assert spec.force_ratio.tolist() == [0.1, 0.3, 0.5]
     assert spec.scene.excitation == "base"
-    assert spec.scene.effects.declared() == {}
+    assert spec.scene.effects == {}
     assert spec.method == "theory"
     assert spec.outputs == ("transmissibility", "phase", "regime")
     assert spec.output == "results/demo.h5"  # as written: a Path would drop a trailing slash
@@ -128,7 +121,7 @@ def test_defaults():
     assert spec.method == "theory"
     assert spec.outputs == ("transmissibility", "phase", "regime")  # the default
     assert spec.output is None
-    assert spec.scene.effects.declared() == {}
+    assert spec.scene.effects == {}
     assert spec.source_path == "<string>"
 
 
@@ -139,12 +132,12 @@ def test_outputs_subset_in_canonical_order():
 
 def test_empty_effects_value_means_none():
     spec = parse_spec_text(spec_text(effects=""))
-    assert spec.scene.effects.declared() == {}
+    assert spec.scene.effects == {}
 
 
 def test_constants():
     assert EXCITATIONS == ("force", "base", "joined")
-    assert METHODS_AVAILABLE[0] == "theory" and "event" in METHODS_AVAILABLE
+    assert list(METHODS)[0] == "theory" and "event" in METHODS
     assert OUTPUTS == ("transmissibility", "phase", "regime", "time_history")
 
 
@@ -437,24 +430,36 @@ def test_every_method_is_available():
         assert parse_spec_text(spec_text(tail=f"method: {name}\n")).method == name
 
 
-def test_spec_methods_match_the_registry():
+def test_the_catalogue_matches_the_implementations():
+    """Every catalogued method is implemented, and every capability it claims is there to call."""
     from friction_sweep import methods
-    from friction_sweep.spec import METHOD_EFFECTS, METHOD_SETTINGS, METHODS_AVAILABLE
+    from friction_sweep.bench import workprecision
+    from friction_sweep.catalogue import METHODS
 
-    assert set(METHODS_AVAILABLE) == set(methods.REGISTRY)
+    assert list(methods.REGISTRY) == list(METHODS)
     for name, module in methods.REGISTRY.items():
-        assert set(METHOD_EFFECTS[name]) == set(module.EFFECTS)
-        assert set(METHOD_SETTINGS[name]) <= set(module.SETTINGS)
+        record = METHODS[name]
+        assert module.CATALOGUE is record
+        assert record.sweep == hasattr(module, "compute_sweep_tile")
+        assert record.time_history == hasattr(module, "time_histories")
+        assert set(record.excitations) <= {"force", "base", "joined"}
+        for setting in record.settings.values():
+            assert setting.contains(setting.default)
+        # `accuracy:` sets exactly the knobs that the benchmark calibrates
+        if record.accuracy_knobs:
+            bench = workprecision.SETTINGS[record.calibrated_as]
+            assert {k for row in bench for k in row} - {"max_evaluations"} == set(record.accuracy_knobs)
+            assert set(record.accuracy_knobs) <= set(record.settings)
 
 
 def test_effects_are_validated_and_declared():
     spec = parse_spec_text(spec_text(effects="{viscous_damping: 0.05, static_friction_ratio: 1.2}",
                                      tail="method: event\n"))
-    assert spec.scene.effects.declared() == {"viscous_damping": 0.05, "static_friction_ratio": 1.2}
+    assert spec.scene.effects == {"viscous_damping": 0.05, "static_friction_ratio": 1.2}
     p = only(spec_error(spec_text(effects="{viscous_damping: 1.0}", tail="method: event\n")))
-    assert p.key == "scene.effects.viscous_damping" and p.line == 3 and "< 1" in p.reason
+    assert p.key == "scene.effects.viscous_damping" and p.line == 3 and "between 0 and 1 (1 excluded)" in p.reason
     p = only(spec_error(spec_text(effects="{static_friction_ratio: 0.9}", tail="method: event\n")))
-    assert p.key == "scene.effects.static_friction_ratio" and ">= 1" in p.reason
+    assert p.key == "scene.effects.static_friction_ratio" and "between 1 and 100" in p.reason
 
 
 def test_theory_refuses_effects_it_does_not_model():
@@ -542,7 +547,7 @@ def test_time_history_needs_points_and_a_simulation_method():
     p = only(spec_error(spec_text(tail="method: event\noutputs: [time_history]\n")))
     assert p.key == "outputs" and "time_history: {points" in p.reason
     p = only(spec_error(spec_text(tail="method: theory\noutputs: [time_history]\ntime_history: {points: [[1.5, 0.2]]}\n")))
-    assert "cannot store time histories" in p.reason
+    assert "cannot write output 'time_history'" in p.reason
     p = only(spec_error(spec_text(tail="method: event\ntime_history: {points: [[1.5, 0.2]]}\n")))
     assert p.key == "time_history" and "not listed in outputs" in p.reason
     p = only(spec_error(spec_text(tail="method: event\noutputs: [time_history]\ntime_history: {points: [[0, 0.2]]}\n")))

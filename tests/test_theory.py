@@ -2,14 +2,14 @@
 
 import numpy as np
 import pytest
+from conftest import OUTPUTS
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from friction_sweep import regimes, ties
+from friction_sweep import ties
+from friction_sweep.codes import Regime
 from friction_sweep.methods import theory
 from friction_sweep.theory import den_hartog as dh
-
-OUTPUTS = ("transmissibility", "phase", "regime")
 
 
 def _printed_u(r):
@@ -17,7 +17,7 @@ def _printed_u(r):
     return np.sin(np.pi / r) / (r * (1.0 + np.cos(np.pi / r)))
 
 
-# --- reference values of DESIGN.md §2 --------------------------------------------------------
+# --- reference values of docs/equations.md §2 ------------------------------------------------
 
 
 @pytest.mark.parametrize("eps", [1e-3, 1e-5, 1e-7])
@@ -51,7 +51,7 @@ def test_maximum_of_continuous_limit():
         options={"xatol": 1e-10},
     )
     bmax, rmax = -res.fun, res.x
-    # the paper prints 0.8265 at r = 0.8490 (Eq. 26); DESIGN.md 0.82649 at 0.84906
+    # the paper prints 0.8265 at r = 0.8490 (Eq. 26); an earlier quote 0.82649 at 0.84906 (docs/equations.md §2)
     assert bmax == pytest.approx(0.8265, abs=1e-4)
     assert rmax == pytest.approx(0.8490, abs=3e-4)
     # Independent truth: at the displacement maximum the mass only slides back if the spring-minus-
@@ -101,7 +101,7 @@ def test_waveform_solves_the_equation_of_motion():
     """Integrate q'' + q - b = cos(r t + phi) (sliding with q' < 0) from (x0, 0) and compare."""
     for r, b in ((0.8, 0.3), (1.3, 0.6), (2.5, 0.4)):
         x0, phi = float(dh.amplitude(r, b)), float(dh.phase(r, b))
-        sol = solve_ivp(lambda t, y: [y[1], np.cos(r * t + phi) - y[0] + b], (0, np.pi / r), [x0, 0.0],
+        sol = solve_ivp(lambda t, y, r=r, phi=phi, b=b: [y[1], np.cos(r * t + phi) - y[0] + b], (0, np.pi / r), [x0, 0.0],
                         method="DOP853", rtol=1e-12, atol=1e-13, dense_output=True)
         tau = np.linspace(0, np.pi / r, 50)
         np.testing.assert_allclose(dh.waveform(r, b, tau), sol.sol(tau)[0], atol=1e-9 * x0)
@@ -152,7 +152,7 @@ def test_zero_friction_is_the_linear_oscillator(excitation):
     np.testing.assert_allclose(out["peak_transmissibility"][0], linear, rtol=1e-12)
     np.testing.assert_allclose(out["phase"][0], np.where(R < 1, 0.0, 180.0), atol=1e-9)
     np.testing.assert_allclose(out["peak_phase"][0], np.where(R < 1, 0.0, 180.0), atol=1e-6)
-    assert np.all(out["regime"] == regimes.CONTINUOUS)
+    assert np.all(out["regime"] == Regime.CONTINUOUS)
 
 
 def test_base_equals_force_with_f0_equal_ky():
@@ -202,7 +202,7 @@ def test_joined_peak_against_dense_sampling():
     out = theory.compute_tile("joined", r, beta, OUTPUTS)
     for i, bb in enumerate(beta):
         for j, rr in enumerate(r):
-            if out["regime"][i, j] != regimes.CONTINUOUS:
+            if out["regime"][i, j] != Regime.CONTINUOUS:
                 continue
             b = bb / rr**2
             phi = float(dh.phase(rr, b))
@@ -211,6 +211,7 @@ def test_joined_peak_against_dense_sampling():
             assert out["peak_transmissibility"][i, j] == pytest.approx(np.max(np.abs(x)), rel=1e-10)
 
 
+@pytest.mark.slow
 def test_joined_inversion_between_1p4_and_1p55():
     """Curves of |X|/|Y| for different force ratios cross inside 1.4 < r < 1.55 (paper Fig. 14b)."""
     r = np.linspace(1.3, 1.7, 401)
@@ -230,12 +231,12 @@ def test_joined_inversion_between_1p4_and_1p55():
 def test_no_motion_thresholds_and_ties():
     r = np.array([0.5, 1.0, 2.0])
     base = theory.compute_tile("base", r, np.array([0.999, 1.0, 1.5]), OUTPUTS)
-    assert np.all(base["regime"][1:] == regimes.STUCK)  # beta >= 1: stuck, tie included
-    assert np.all(base["regime"][0] != regimes.STUCK)
+    assert np.all(base["regime"][1:] == Regime.STUCK)  # beta >= 1: stuck, tie included
+    assert np.all(base["regime"][0] != Regime.STUCK)
     assert np.all(base["transmissibility"][1:] == 0.0)
     joined = theory.compute_tile("joined", np.array([0.5]), np.array([0.2499, 0.25, 0.3]), OUTPUTS)
-    assert joined["regime"][0, 0] != regimes.STUCK
-    assert np.all(joined["regime"][1:, 0] == regimes.STUCK)  # beta >= r^2: rides with the wall
+    assert joined["regime"][0, 0] != Regime.STUCK
+    assert np.all(joined["regime"][1:, 0] == Regime.STUCK)  # beta >= r^2: rides with the wall
     assert np.all(joined["transmissibility"][1:, 0] == 1.0)
     assert np.all(joined["phase"][1:, 0] == 0.0)
 
@@ -244,8 +245,8 @@ def test_continuous_limit_tie_is_continuous():
     r = np.array([0.5])  # beta*(0.5) = 1/3 exactly (to rounding)
     bstar = float(dh.continuous_limit(r)[0])
     out = theory.compute_tile("base", r, np.array([bstar, np.nextafter(bstar, 1)]), OUTPUTS)
-    assert out["regime"][0, 0] == regimes.CONTINUOUS  # the velocity only grazes zero
-    assert out["regime"][1, 0] == regimes.STICK_SLIP
+    assert out["regime"][0, 0] == Regime.CONTINUOUS  # the velocity only grazes zero
+    assert out["regime"][1, 0] == Regime.STICK_SLIP
     assert np.isfinite(out["transmissibility"][0, 0]) and np.isnan(out["transmissibility"][1, 0])
 
 
@@ -256,7 +257,7 @@ def test_resonance_unbounded_up_to_pi_over_4():
     out = theory.compute_tile("base", np.array([1.0]), beta, OUTPUTS)
     np.testing.assert_array_equal(
         out["regime"][:, 0],
-        [regimes.UNBOUNDED] * 5 + [regimes.STICK_SLIP] * 2,
+        [Regime.UNBOUNDED] * 5 + [Regime.STICK_SLIP] * 2,
     )
     # the tie: at b = pi/4 the continuous amplitude still diverges as r -> 1 (like 1/sqrt|1 - r|)
     r = 1 - np.array([1e-4, 1e-6, 1e-8])
@@ -265,7 +266,7 @@ def test_resonance_unbounded_up_to_pi_over_4():
     assert np.all(np.isnan(out["transmissibility"][:, 0]))
     # next to resonance the steady state is finite, large, and grows like 1/|1 - r|
     near = theory.compute_tile("base", np.array([1 - 1e-9, 1 + 1e-9]), np.array([0.5]), OUTPUTS)
-    assert np.all(near["regime"] == regimes.CONTINUOUS)
+    assert np.all(near["regime"] == Regime.CONTINUOUS)
     amp = near["peak_transmissibility"][0] * 1e-9
     np.testing.assert_allclose(amp, 0.5 * np.sqrt(1 - (4 * 0.5 / np.pi) ** 2), rtol=1e-6)
 
@@ -273,8 +274,8 @@ def test_resonance_unbounded_up_to_pi_over_4():
 def test_singular_points_of_u_have_no_continuous_motion_with_friction():
     for r in (1 / 3, 1 / 5):
         out = theory.compute_tile("base", np.array([r]), np.array([0.0, 0.01]), OUTPUTS)
-        assert out["regime"][0, 0] == regimes.CONTINUOUS  # linear
-        assert out["regime"][1, 0] == regimes.STICK_SLIP
+        assert out["regime"][0, 0] == Regime.CONTINUOUS  # linear
+        assert out["regime"][1, 0] == Regime.STICK_SLIP
         assert out["continuous_limit"][0] < 1e-6
 
 
@@ -286,18 +287,19 @@ def test_outputs_outside_validity_are_nan_never_numbers():
         code = out["regime"]
         for name in ("transmissibility", "phase", "peak_transmissibility", "peak_phase"):
             v = out[name]
-            assert np.all(np.isnan(v[(code == regimes.STICK_SLIP) | (code == regimes.UNBOUNDED)]))
-            assert np.all(np.isfinite(v[code == regimes.CONTINUOUS]))
-        assert np.all(np.isfinite(out["transmissibility"][code == regimes.STUCK]))
+            assert np.all(np.isnan(v[(code == Regime.STICK_SLIP) | (code == Regime.UNBOUNDED)]))
+            assert np.all(np.isfinite(v[code == Regime.CONTINUOUS]))
+        assert np.all(np.isfinite(out["transmissibility"][code == Regime.STUCK]))
 
 
+@pytest.mark.slow
 def test_regime_map_is_ordered_in_beta():
     """For fixed r, raising friction never turns stuck/stick-slip motion back into continuous motion."""
     r = np.linspace(0.05, 5.0, 200)
     beta = np.linspace(0.0, 1.5, 151)
     for excitation in ("base", "joined"):
         code = theory.compute_tile(excitation, r, beta, ("regime",))["regime"]
-        cont = code == regimes.CONTINUOUS
+        cont = code == Regime.CONTINUOUS
         # once not continuous (going up in beta) never continuous again
         first_break = np.argmin(cont, axis=0)
         for j in range(r.size):

@@ -76,7 +76,7 @@ def test_bad_data_files_are_refused(tmp_path):
 def test_theory_and_event_agree_where_the_theory_says_continuous(result):
     table, _ = result
     continuous = table["theory_regime"] == "continuous"
-    assert continuous.sum() == 36  # every measured point lies in the continuous region (DESIGN.md §5)
+    assert continuous.sum() == 36  # every measured point lies in the continuous region (docs/equations.md §5)
     assert (table.loc[continuous, "event_regime"] == "continuous").all()
     for definition in ("phase", "peak_phase"):
         diff = (table.loc[continuous, f"theory_{definition}_deg"] - table.loc[continuous, f"event_{definition}_deg"])
