@@ -17,11 +17,11 @@ from pathlib import Path
 
 import numpy as np
 
+from friction_sweep.catalogue import GRID_OUTPUTS as OUTPUTS
 from friction_sweep.methods import event, paper, theory
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "bench"
-OUTPUTS = ("transmissibility", "phase", "regime")
 
 
 def run_cube(spec: Path, executor: str, jobs: int) -> tuple[float, float]:

@@ -125,13 +125,7 @@ REGIME_COLORS = {
     int(Regime.UNBOUNDED): "tab:red",
     int(Regime.UNSETTLED): "tab:orange",
 }
-REGIME_NAMES = {
-    int(Regime.STUCK): "stuck",
-    int(Regime.STICK_SLIP): "stick-slip",
-    int(Regime.CONTINUOUS): "continuous",
-    int(Regime.UNBOUNDED): "unbounded",
-    int(Regime.UNSETTLED): "unsettled",
-}
+REGIME_NAMES = {int(code): code.name.lower().replace("_", "-") for code in Regime}  # legend words
 
 
 def regime_runs(r, codes):

@@ -89,13 +89,19 @@ class Method:
     excitations: tuple[str, ...] = EXCITATIONS
     effects: tuple[str, ...] = ()
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
-    #: settings that `accuracy:` chooses from the benchmark's calibration, and whose calibration it reads
+    #: settings that `accuracy:` owns (a spec with accuracy: may not give them): those the benchmark's
+    #: calibration varies, which it sets, and those the calibration held at their defaults
     accuracy_knobs: tuple[str, ...] = ()
+    #: whose calibration `accuracy:` reads
     calibrated_as: str | None = None
     #: whether it can run a stepped-sine sweep (`sweep:`), each point started from its neighbour's orbit
     sweep: bool = False
     #: how it computes what has no knob, recorded with the cube's settings
     algorithm: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:  # read-only, as the record is frozen
+        object.__setattr__(self, "settings", MappingProxyType(dict(self.settings)))
+        object.__setattr__(self, "algorithm", MappingProxyType(dict(self.algorithm)))
 
     @property
     def defaults(self) -> dict[str, float | int]:
@@ -161,7 +167,7 @@ _METHODS = (
     ),
     Method(
         "rk4", "fixed-step classical Runge-Kutta with a real stick mode: the baseline that shows what the closed "
-        "forms buy", effects=_SIMULATED, accuracy_knobs=("steps_per_period",), calibrated_as="rk4",
+        "forms buy", effects=_SIMULATED, accuracy_knobs=("steady_tol", "steps_per_period"), calibrated_as="rk4",
         sweep=True,
         settings={**_without(_STEADY, "stop_tol"), "starts": _STARTS,
                   "steps_per_period": _int(256, 256, 100_000, "fixed RK4 steps per forcing period: fewer give "

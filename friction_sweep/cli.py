@@ -111,7 +111,7 @@ def validate(spec: Path, output: str | None):
     s = _load(spec)
     out = _output_path(spec, s, output)
     _refuse_destroying_spec(out, spec)
-    _accuracy_settings(s, spec, quiet=True)
+    settings, _ = _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_ratio.size
     click.echo(
         f"{spec}: ok: excitation {s.scene.excitation}, method {s.method}, "
@@ -120,7 +120,7 @@ def validate(spec: Path, output: str | None):
     )
     from friction_sweep.sweep.estimate import estimate
 
-    cost = estimate(s, jobs=1, executor="serial")
+    cost = estimate(s, settings, jobs=1, executor="serial")
     click.echo(f"  estimate on one worker: {cost.describe()}")
 
 
@@ -198,7 +198,8 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
         fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
         _check_dask(scheduler)
-    cost = cost_model.estimate(s, jobs=jobs, executor=executor)
+    settings, extra = _accuracy_settings(s, spec, quiet=False)
+    cost = cost_model.estimate(s, settings, jobs=jobs, executor=executor)
     if (cost.seconds > cost_model.HUGE_SECONDS or cost.bytes > cost_model.HUGE_BYTES) and not yes:
         fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
               f"pass --yes to run it")
@@ -209,7 +210,6 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     sweep = s.sweep.direction if s.sweep is not None else None
     key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
                                  tile=TILE_FORCES if sweep else TILE_FREQUENCIES, version=friction_sweep.__version__)
-    settings, extra = _accuracy_settings(s, spec, quiet=False)
     store = checkpoint.Checkpoint(out, key, len(layout(r.size, beta.size, sweep)))
     try:
         with checkpoint.Lock(out):

@@ -26,7 +26,7 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep import codes, ties
-from friction_sweep.catalogue import EFFECTS, effect_value
+from friction_sweep.catalogue import EFFECTS, EXCITATIONS, effect_value
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.storage import schema
 from friction_sweep.theory import den_hartog as dh
@@ -45,7 +45,6 @@ THEORY_CHUNK = 32
 #: examples kept per rule
 MAX_EXAMPLES = 5
 
-EXCITATIONS = ("force", "base", "joined")
 DIMS = ("force_ratio", "frequency_ratio")
 
 OK, FAILED, SKIPPED, INFO = "ok", "failed", "skipped", "info"

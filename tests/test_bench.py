@@ -45,11 +45,12 @@ def test_errors_shrink_as_settings_tighten(quick):
 
 def test_accuracy_picks_the_cheapest_setting_that_meets_it():
     table = {"event": [
-        {"settings": {"stop_tol": 1e-4, "steady_tol": 1e-3}, "worst_error": 5e-5, "seconds_per_point": 4e-5},
-        {"settings": {"stop_tol": 1e-8, "steady_tol": 1e-7}, "worst_error": 3e-9, "seconds_per_point": 5e-5},
+        {"settings": {"stop_tol": 1e-4, "steady_tol": 1e-3}, "worst_error": 5e-5, "seconds_per_point": 1e-5},
+        {"settings": {"stop_tol": 1e-10, "steady_tol": 1e-7}, "worst_error": 3e-9, "seconds_per_point": 5e-5},
         {"settings": {"stop_tol": 1e-12, "steady_tol": 1e-10}, "worst_error": 3e-12, "seconds_per_point": 7e-5}]}
-    assert wp.choose("event", 1e-3, table)[0] == {"stop_tol": 1e-4, "steady_tol": 1e-3}
-    assert wp.choose("event", 1e-6, table)[0] == {"stop_tol": 1e-8, "steady_tol": 1e-7}
+    # the cheapest row is outside the ranges a spec may give (stop_tol <= 1e-10): never chosen
+    assert wp.choose("event", 1e-3, table)[0] == {"stop_tol": 1e-10, "steady_tol": 1e-7}
+    assert wp.choose("event", 1e-10, table)[0] == {"stop_tol": 1e-12, "steady_tol": 1e-10}
     with pytest.raises(LookupError, match="best measured is 3.0e-12"):
         wp.choose("event", 1e-14, table)
 

@@ -251,6 +251,7 @@ grid: {frequency_ratio: [0.5, 0.95, 2.0], force_ratio: [0.3, 0.8]}
 method: auto
 outputs: [transmissibility, regime, time_history]
 time_history: {points: [[0.95, 0.8]], samples_per_period: 32}
+settings: {theory_margin: 0.05}
 """
     spec = write_spec(tmp_path, text=text)
     out = tmp_path / "h.h5"
@@ -271,6 +272,11 @@ time_history: {points: [[0.95, 0.8]], samples_per_period: 32}
         assert ds[name].attrs["flag_meanings"].split() == [m.name.lower() for m in enum]
         assert set(np.unique(ds[name].values)) <= {m.value for m in enum}
     assert {n for n in ds.data_vars if "flag_values" in ds[n].attrs} == set(enums)
+    # the file format itself: codes written by earlier versions must keep their meaning
+    assert ds["regime"].attrs["flag_meanings"] == "stuck stick_slip continuous unbounded unsettled"
+    assert ds["steady_state"].attrs["flag_meanings"] == ("converged period_cap event_budget nonfinite growing "
+                                                         "not_simulated family aperiodic")
+    assert ds["method_used"].attrs["flag_meanings"] == "theory event"
 
 
 # --- faults: nothing is lost ------------------------------------------------------------------------------

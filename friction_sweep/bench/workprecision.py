@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from friction_sweep import catalogue
 from friction_sweep.methods import event, paper, rk4, theory
 
 OUTPUTS = ("transmissibility", "phase", "regime")
@@ -286,15 +287,19 @@ def calibration_table(ds: xr.Dataset) -> dict:
 
 
 def choose(method: str, accuracy: float, table: dict | None = None) -> tuple[dict, dict]:
-    """The cheapest calibrated setting of `method` whose worst measured error meets `accuracy`.
+    """The cheapest calibrated setting of `method`, within the catalogue's ranges, whose worst measured
+    error meets `accuracy`.
 
     Returns (settings, the calibration row). Raises LookupError when none does."""
     table = table if table is not None else json.loads(calibration_path().read_text())
-    rows = [row for row in table.get(method, []) if row["worst_error"] is not None
-            and row["worst_error"] <= accuracy]
+    # only settings that a spec could give itself: the benchmark also measures looser ones, to show
+    # the whole curve, but outside the catalogue's ranges a point may be mislabelled
+    known = catalogue.method(method).settings
+    measured = [row for row in table.get(method, []) if row["worst_error"] is not None
+                and all(known[k].contains(v) for k, v in row["settings"].items() if k in known)]
+    rows = [row for row in measured if row["worst_error"] <= accuracy]
     if not rows:
-        best = min((row["worst_error"] for row in table.get(method, []) if row["worst_error"] is not None),
-                   default=None)
+        best = min((row["worst_error"] for row in measured), default=None)
         raise LookupError(f"no calibrated setting of method {method!r} reaches {accuracy:g} "
                           f"(the best measured is {best:.1e})" if best is not None else
                           f"method {method!r} has no calibration")

@@ -1,4 +1,4 @@
-"""Registry of sweep methods: one module per method, each implementing `Method` below.
+"""Registry of sweep methods: one module per method, each implementing `MethodModule` below.
 
 What a method can do (excitations, effects, settings with defaults and ranges, outputs, `accuracy:`,
 `sweep:`) is its record in friction_sweep.catalogue, which each module holds as CATALOGUE; the module
@@ -16,7 +16,7 @@ from friction_sweep import catalogue
 from friction_sweep.methods import auto, event, paper, rk4, theory
 
 
-class Method(Protocol):
+class MethodModule(Protocol):
     """What the sweep layer calls on a method module."""
 
     CATALOGUE: catalogue.Method
@@ -34,10 +34,10 @@ class Method(Protocol):
 
 #: methods that can run a stepped-sine sweep also have compute_sweep_tile(..., direction); those that
 #: write time histories have time_histories(excitation, points, samples_per_period, effects, settings)
-REGISTRY: dict[str, Method] = {m.CATALOGUE.name: m for m in (theory, event, rk4, paper, auto)}
+REGISTRY: dict[str, MethodModule] = {m.CATALOGUE.name: m for m in (theory, event, rk4, paper, auto)}
 
 
-def get(name: str) -> Method:
+def get(name: str) -> MethodModule:
     try:
         return REGISTRY[name]
     except KeyError:

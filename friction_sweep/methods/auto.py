@@ -17,7 +17,11 @@ from friction_sweep.methods import event, theory
 
 CATALOGUE = catalogue.method("auto")  # no effects: the theory models none; a scene with them uses `event`
 
-time_histories = event.time_histories
+def time_histories(excitation: str, points, samples_per_period: int, effects=None, settings=None):
+    """Every time history is simulated (the theory has no orbit to sample): event's, without auto's own
+    theory_margin."""
+    settings = {k: v for k, v in (settings or {}).items() if k != "theory_margin"}
+    return event.time_histories(excitation, points, samples_per_period, effects, settings)
 
 
 def variables_for(excitation: str, outputs) -> tuple[str, ...]:

@@ -45,6 +45,7 @@ JOINED_EXTRA = {
     "phase": ("relative_peak_phase", "peak_phase_xz"),
 }
 
+
 def variables_for(excitation: str, outputs) -> tuple[str, ...]:
     """Per-point variable names this method writes for the requested output groups."""
     names: list[str] = []

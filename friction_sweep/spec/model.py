@@ -89,7 +89,6 @@ def show(v: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-
 def _error(kind: str, message: str, at: tuple = ()) -> PydanticCustomError:
     # `at` extends the error's location, so the report can point at the offending item.
     # The message is final text: pydantic only substitutes `{at}`, which no message contains.
@@ -282,6 +281,7 @@ class Scene(_Model):
             return {}
         if not isinstance(v, dict):
             raise _error("effects_type", f"must be a mapping of effect names to values (got {show(v)})")
+        v = {key: value for key, value in v.items() if value is not None}  # `name:` left empty: off
         problems = []
         for key, value in v.items():
             effect = EFFECTS.get(key) if isinstance(key, str) else None
@@ -404,9 +404,15 @@ class Spec(_Model):
     @model_validator(mode="after")
     def _consistent(self):
         """Every rule that ties fields together, all reported at once."""
-        _raise_all("Spec", [*self._output_problems(), *self._history_problems(), *self._sweep_problems(),
-                            *self._accuracy_problems(), *self._effect_problems()])
+        _raise_all("Spec", [*self._excitation_problems(), *self._output_problems(), *self._history_problems(),
+                            *self._sweep_problems(), *self._accuracy_problems(), *self._effect_problems()])
         return self
+
+    def _excitation_problems(self):
+        if self.scene.excitation not in METHODS[self.method].excitations:
+            able = [m.name for m in METHODS.values() if self.scene.excitation in m.excitations]
+            yield _error("excitation_method", f"method {self.method!r} does not simulate excitation "
+                         f"{self.scene.excitation!r} (methods that do: {', '.join(able)})", ("scene", "excitation"))
 
     def _output_problems(self):
         for name in self.outputs:

@@ -43,7 +43,6 @@ POINT_BYTES = 1000
 KERNEL_LOAD_SECONDS = 0.3
 
 
-
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
     return 3e-3 * np.maximum(1.0, 0.02 / r)
 
@@ -101,10 +100,11 @@ class Estimate:
         return text + f" and {self.bytes / 2**30:.2g} GiB of memory"
 
 
-def estimate(spec, *, jobs: int, executor: str) -> Estimate:
-    """The cost of running `spec` with `jobs` workers on `executor`."""
+def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str) -> Estimate:
+    """The cost of running `spec` with `jobs` workers on `executor`, with the run's `settings` (those
+    `accuracy:` chose included; default: the spec's)."""
     r, n_beta = spec.frequency_ratio, spec.force_ratio.size
-    knobs = {**METHODS[spec.method].defaults, **spec.settings}
+    knobs = {**METHODS[spec.method].defaults, **(spec.settings if settings is None else settings)}
     joined = spec.scene.excitation == "joined"
     solves = 3 if _two_starts(spec, knobs) else 1
     sweep = spec.sweep.direction if spec.sweep is not None else None

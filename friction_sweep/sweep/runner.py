@@ -24,7 +24,6 @@ log = logging.getLogger("friction_sweep")
 __all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_grid", "tiles"]
 
 
-
 def compute_tile(args):
     """One tile: a pure function of its arguments (picklable for processes and Dask)."""
     method_name, excitation, r, beta, outputs, effects, settings, sweep = args
