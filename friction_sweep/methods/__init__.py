@@ -7,13 +7,13 @@ holds only how it computes.
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Mapping, Sequence
-from typing import Any, Protocol
+from typing import Any, Protocol, cast
 
 import numpy as np
 
 from friction_sweep import catalogue
-from friction_sweep.methods import auto, event, paper, rk4, theory
 
 
 class MethodModule(Protocol):
@@ -32,13 +32,10 @@ class MethodModule(Protocol):
         ...
 
 
-#: methods that can run a stepped-sine sweep also have compute_sweep_tile(..., direction); those that
-#: write time histories have time_histories(excitation, points, samples_per_period, effects, settings)
-REGISTRY: dict[str, MethodModule] = {m.CATALOGUE.name: m for m in (theory, event, rk4, paper, auto)}
-
-
 def get(name: str) -> MethodModule:
-    try:
-        return REGISTRY[name]
-    except KeyError:
-        raise KeyError(f"unknown method {name!r} (available: {', '.join(sorted(REGISTRY))})") from None
+    """The module of a catalogued method, `friction_sweep.methods.<name>`, imported on first use: a run
+    loads its own method's libraries only (SciPy's integrators are `paper`'s alone). Methods that can
+    run a stepped-sine sweep also have compute_sweep_tile(..., direction); those that write time
+    histories have time_histories(excitation, points, samples_per_period, effects, settings)."""
+    record = catalogue.method(name)  # KeyError naming the methods there are
+    return cast(MethodModule, importlib.import_module(f"{__name__}.{record.name}"))

@@ -53,7 +53,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from friction_sweep import catalogue
 from friction_sweep.codes import Regime, SteadyState
@@ -151,6 +150,8 @@ def solve_point(excitation: str, r: float, beta: float, settings=None, **overrid
     stuck_fraction, periods, and ints (regimes codes) for regime and steady_state. Never raises for
     a bad point: failures are UNSETTLED with NaN numbers.
     """
+    from scipy.integrate import solve_ivp  # imported here: only this method needs SciPy's integrators
+
     if excitation not in CATALOGUE.excitations:
         raise ValueError(f"unknown excitation {excitation!r} (expected one of {CATALOGUE.excitations})")
     s = resolve_settings(settings, **overrides)
