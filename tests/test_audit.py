@@ -12,7 +12,8 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 
-from friction_sweep import methods, regimes
+from friction_sweep import methods
+from friction_sweep.codes import Regime
 from friction_sweep.cli import main
 from friction_sweep.storage import audit, cube, schema
 from friction_sweep.theory.phase import wrap_lag_degrees
@@ -90,7 +91,7 @@ def test_event_cubes_pass_with_their_nan_points(effects):
     # what legitimately has no number: the unbounded point is NaN (not inf), stuck phases are NaN
     t = ds["transmissibility"].sel(frequency_ratio=1.0, force_ratio=0.1)
     if effects is None:
-        assert ds["regime"].sel(frequency_ratio=1.0, force_ratio=0.1) == regimes.UNBOUNDED
+        assert ds["regime"].sel(frequency_ratio=1.0, force_ratio=0.1) == Regime.UNBOUNDED
         assert np.isnan(t) and np.isnan(ds["orbit_period"].sel(frequency_ratio=1.0, force_ratio=0.1))
         assert ds["history_orbit_period"].values[1] == 0 and np.isnan(ds["history_displacement"].values[1]).all()
     assert np.isnan(ds["phase"].sel(force_ratio=1.0)).all()

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from friction_sweep import regimes
+from friction_sweep import codes
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.cli import main
 from friction_sweep.methods import event
 from friction_sweep.storage import cube, provenance
@@ -111,10 +112,10 @@ def test_json_parses_and_lists_every_rule(theory_cubes):
 
 
 @pytest.mark.parametrize("beta, regime, expected", [
-    (0.3, regimes.CONTINUOUS, "unbounded"),  # b < pi/4 at r = 1: the amplitude grows without bound
-    (float(np.pi / 4), regimes.STICK_SLIP, "unbounded"),  # the tie b = pi/4 is unbounded too
-    (0.9, regimes.UNBOUNDED, "finite"),  # b > pi/4: friction outweighs the forcing's work
-    (1.0, regimes.STICK_SLIP, "stuck"),  # the force never leaves the static band
+    (0.3, Regime.CONTINUOUS, "unbounded"),  # b < pi/4 at r = 1: the amplitude grows without bound
+    (float(np.pi / 4), Regime.STICK_SLIP, "unbounded"),  # the tie b = pi/4 is unbounded too
+    (0.9, Regime.UNBOUNDED, "finite"),  # b > pi/4: friction outweighs the forcing's work
+    (1.0, Regime.STICK_SLIP, "stuck"),  # the force never leaves the static band
 ])
 def test_resonance_fault_is_caught(theory_cubes, tmp_path, beta, regime, expected):
     ds = cube.open_cube(theory_cubes["base"])
@@ -124,14 +125,14 @@ def test_resonance_fault_is_caught(theory_cubes, tmp_path, beta, regime, expecte
     res = found["resonance"]
     assert (res["status"], res["violations"], res["checked"]) == ("failed", 1, 2 * len(BETA_GRID))
     (ex,) = res["examples"]
-    assert (ex["r"], ex["beta"], ex["found"]) == (1.0, beta, regimes.NAMES[regime])
+    assert (ex["r"], ex["beta"], ex["found"]) == (1.0, beta, codes.name_of(Regime, regime))
     assert ex["expected"].startswith(expected)
     assert [f["status"] for n, f in found.items() if n != "resonance"] == ["ok", "skipped", "ok", "skipped"]
 
 
 def test_resonance_fault_is_caught_in_the_text_report(theory_cubes, tmp_path):
     ds = cube.open_cube(theory_cubes["joined"])
-    path = planted(ds, tmp_path, regime=[(1.0, 0.3, regimes.CONTINUOUS)], transmissibility=[(1.0, 0.3, 1e15)])
+    path = planted(ds, tmp_path, regime=[(1.0, 0.3, Regime.CONTINUOUS)], transmissibility=[(1.0, 0.3, 1e15)])
     res = check(path)
     assert res.exit_code == 1
     assert res.output.splitlines()[0] == (
@@ -173,7 +174,7 @@ def test_an_event_cube_agrees_with_the_theory_and_a_1e6_change_is_caught(event_c
     assert found["theory"]["status"] == "ok" and found["theory"]["checked"] >= 8
     assert found["family"]["status"] == "info" and found["family"]["violations"] == 0
     # a continuous point (beta = 0.1 < 0.98 beta*(1.5)), changed by 1e-6 relative
-    assert int(event_cube["regime"].sel(at(event_cube, 1.5, 0.1))) == regimes.CONTINUOUS
+    assert int(event_cube["regime"].sel(at(event_cube, 1.5, 0.1))) == Regime.CONTINUOUS
     T = float(event_cube["transmissibility"].sel(at(event_cube, 1.5, 0.1)))
     path = planted(event_cube, tmp_path, transmissibility=[(1.5, 0.1, T * (1 + 1e-6))])
     code, found = findings(path)
@@ -185,8 +186,8 @@ def test_an_event_cube_agrees_with_the_theory_and_a_1e6_change_is_caught(event_c
 
 
 def test_unsettled_fault_is_caught_with_its_reason(event_cube, tmp_path):
-    path = planted(event_cube, tmp_path, regime=[(2.0, 0.3, regimes.UNSETTLED)],
-                   steady_state=[(2.0, 0.3, regimes.PERIOD_CAP)])
+    path = planted(event_cube, tmp_path, regime=[(2.0, 0.3, Regime.UNSETTLED)],
+                   steady_state=[(2.0, 0.3, SteadyState.PERIOD_CAP)])
     code, found = findings(path)
     assert code == 1
     f = found["unsettled"]
@@ -196,7 +197,7 @@ def test_unsettled_fault_is_caught_with_its_reason(event_cube, tmp_path):
 
 
 def test_family_points_are_counted_never_failed(event_cube, tmp_path):
-    family = regimes.STEADY_NAMES.index("family")
+    family = SteadyState.FAMILY
     path = planted(event_cube, tmp_path, steady_state=[(0.8, 0.0, family), (2.0, 0.0, family)])
     code, found = findings(path)
     assert code == 0

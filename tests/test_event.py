@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from friction_sweep import regimes
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import event as ev
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event, theory
@@ -25,13 +25,13 @@ def test_continuous_region_matches_theory(excitation):
     beta = np.array([0.05, 0.2, 0.4, 0.6]) if excitation != "joined" else np.array([0.1, 0.4, 0.8, 1.2])
     th = theory.compute_tile(excitation, r, beta, OUTPUTS)
     ev_ = event.compute_tile(excitation, r, beta, OUTPUTS)
-    cont = th["regime"] == regimes.CONTINUOUS
+    cont = th["regime"] == Regime.CONTINUOUS
     # keep clear of the continuous limit, where the theory's tie is decided by rounding
     margin = (theory.forecast_regime(excitation, *np.meshgrid(r, beta * 1.01), dh.continuous_limit(r)[None, :])
-              == regimes.CONTINUOUS)
+              == Regime.CONTINUOUS)
     sel = cont & margin
     assert sel.sum() >= 20
-    assert np.all(ev_["regime"][sel] == regimes.CONTINUOUS)
+    assert np.all(ev_["regime"][sel] == Regime.CONTINUOUS)
     assert np.all(ev_["stops_per_period"][sel] == 0)
     for name in ("peak_transmissibility", "transmissibility"):
         rel = np.abs(ev_[name][sel] / th[name][sel] - 1)
@@ -46,8 +46,8 @@ def test_just_beyond_the_continuous_limit_the_mass_stops_twice():
     for j, rr in enumerate(r):
         below = solve("base", rr, bstar[j] * 0.97)
         beyond = solve("base", rr, bstar[j] * 1.03)
-        assert below["regime"][0, 0] == regimes.CONTINUOUS
-        assert beyond["regime"][0, 0] == regimes.STICK_SLIP
+        assert below["regime"][0, 0] == Regime.CONTINUOUS
+        assert beyond["regime"][0, 0] == Regime.STICK_SLIP
         assert beyond["stops_per_period"][0, 0] == 2
 
 
@@ -56,7 +56,7 @@ def test_stops_grow_as_r_goes_to_zero():
     r = np.array([0.05, 0.1, 0.2, 0.3, 0.45])
     out = event.compute_tile("base", r, np.array([0.3]), OUTPUTS)
     stops = out["stops_per_period"][0]
-    assert np.all(out["regime"][0] == regimes.STICK_SLIP)
+    assert np.all(out["regime"][0] == Regime.STICK_SLIP)
     assert np.all(np.diff(stops) <= 0), stops  # more stops at lower r
     assert stops[0] >= 8 and stops[-1] == 2
     assert np.all(stops % 2 == 0)  # the orbit is symmetric: stops come in pairs
@@ -64,10 +64,10 @@ def test_stops_grow_as_r_goes_to_zero():
 
 def test_resonance_below_pi_over_4_is_unbounded_and_above_is_finite():
     out = event.compute_tile("base", np.array([1.0]), np.array([0.3, 0.7, 0.85, 1.2]), OUTPUTS)
-    np.testing.assert_array_equal(out["regime"][:, 0], [regimes.UNBOUNDED, regimes.UNBOUNDED,
-                                                        regimes.STICK_SLIP, regimes.STUCK])
+    np.testing.assert_array_equal(out["regime"][:, 0], [Regime.UNBOUNDED, Regime.UNBOUNDED,
+                                                        Regime.STICK_SLIP, Regime.STUCK])
     assert np.all(np.isnan(out["transmissibility"][:2, 0]))
-    np.testing.assert_array_equal(out["steady_state"][:2, 0], [regimes.GROWING] * 2)
+    np.testing.assert_array_equal(out["steady_state"][:2, 0], [SteadyState.GROWING] * 2)
     assert np.isfinite(out["transmissibility"][2, 0])
 
 
@@ -76,7 +76,7 @@ def test_half_frequency_is_reported_honestly():
     stroboscopic map, so stick-free orbits form a family; the tool names it (`family`) and reports
     its first harmonic, which Den Hartog's closed form gives (U(1/2) = 0: x0 = V, phi = 0)."""
     out = solve("base", 0.5, 0.3)
-    assert out["steady_state"][0, 0] == regimes.FAMILY and out["regime"][0, 0] == regimes.CONTINUOUS
+    assert out["steady_state"][0, 0] == SteadyState.FAMILY and out["regime"][0, 0] == Regime.CONTINUOUS
     th = theory.compute_tile("base", np.array([0.5]), np.array([0.3]), OUTPUTS)
     assert out["transmissibility"][0, 0] == pytest.approx(th["transmissibility"][0, 0], rel=1e-12)
     linear = solve("base", 0.5, 0.0)  # without friction the orbit from rest is periodic at once
@@ -109,7 +109,7 @@ def test_free_decay_loses_4_beta_per_natural_period(beta):
 
 def test_from_rest_with_beta_at_least_one_nothing_moves():
     out = event.compute_tile("base", np.array([0.3, 1.0, 4.0]), np.array([1.0, 1.5]), OUTPUTS)
-    assert np.all(out["regime"] == regimes.STUCK)
+    assert np.all(out["regime"] == Regime.STUCK)
     assert np.all(out["transmissibility"] == 0.0) and np.all(out["peak_transmissibility"] == 0.0)
     assert np.all(out["stuck_fraction"] == 1.0)
 
@@ -117,7 +117,7 @@ def test_from_rest_with_beta_at_least_one_nothing_moves():
 def test_joined_with_beta_at_least_r2_moves_with_the_wall():
     r = np.array([0.3, 0.5, 0.9])
     out = event.compute_tile("joined", r, np.array([0.81, 1.0]), OUTPUTS)
-    assert np.all(out["regime"] == regimes.STUCK)
+    assert np.all(out["regime"] == Regime.STUCK)
     assert np.all(out["transmissibility"] == 1.0)  # exactly: the relative motion is identically zero
     assert np.all(out["peak_transmissibility"] == 1.0)
     assert np.all(out["phase"] == 0.0)
@@ -139,7 +139,7 @@ def test_stick_slip_matches_independent_dop853(excitation, r, beta):
 
     A, c = (r * r, 1.0) if excitation == "joined" else (1.0, 0.0)
     out = solve(excitation, r, beta)
-    assert out["regime"][0, 0] == regimes.STICK_SLIP
+    assert out["regime"][0, 0] == Regime.STICK_SLIP
     periods = int(out["periods"][0, 0]) + 3
     t_ref, p_ref = measure(A, r, beta, beta, periods, c)
     assert out["transmissibility"][0, 0] == pytest.approx(t_ref, rel=1e-7)
@@ -153,7 +153,7 @@ def test_shooting_and_marching_agree():
     r, beta = np.array([0.8, 1.3, 2.5]), np.array([0.1, 0.4])
     shot = event.compute_tile("base", r, beta, OUTPUTS)
     marched = event.compute_tile("base", r, beta, OUTPUTS, settings={"shoot_after": 10**6, "max_periods": 20000})
-    ok = marched["steady_state"] == regimes.CONVERGED
+    ok = marched["steady_state"] == SteadyState.CONVERGED
     assert ok.sum() >= 4
     np.testing.assert_allclose(shot["transmissibility"][ok], marched["transmissibility"][ok], rtol=1e-8)
     assert np.all(shot["periods"] <= marched["periods"])
@@ -163,21 +163,21 @@ def test_small_friction_is_not_labelled_converged_early():
     """beta tiny: the transient barely decays; the answer must still be the steady state."""
     out = solve("base", 2.0, 1e-6)
     th = theory.compute_tile("base", np.array([2.0]), np.array([1e-6]), OUTPUTS)
-    assert out["regime"][0, 0] == regimes.CONTINUOUS
+    assert out["regime"][0, 0] == Regime.CONTINUOUS
     assert out["transmissibility"][0, 0] == pytest.approx(th["transmissibility"][0, 0], rel=1e-8)
 
 
 def test_period_cap_is_reported_as_unsettled():
     out = solve("base", 2.0, 0.01, shoot_after=10**6, max_periods=5)
-    assert out["regime"][0, 0] == regimes.UNSETTLED
-    assert out["steady_state"][0, 0] == regimes.PERIOD_CAP
+    assert out["regime"][0, 0] == Regime.UNSETTLED
+    assert out["steady_state"][0, 0] == SteadyState.PERIOD_CAP
     assert np.isnan(out["transmissibility"][0, 0])
 
 
 def test_work_budget_is_reported():
     out = solve("base", 0.05, 0.3, work_budget=50)
-    assert out["regime"][0, 0] == regimes.UNSETTLED
-    assert out["steady_state"][0, 0] == regimes.EVENT_BUDGET
+    assert out["regime"][0, 0] == Regime.UNSETTLED
+    assert out["steady_state"][0, 0] == SteadyState.EVENT_BUDGET
 
 
 # --- effects --------------------------------------------------------------------------------------
@@ -208,7 +208,7 @@ def test_static_friction_above_kinetic_keeps_the_mass_stuck_longer():
     assert sticky["stuck_fraction"][0, 0] > plain["stuck_fraction"][0, 0]
     # static friction 1.5 x 0.7 >= 1: once stopped... from rest it never starts
     never = event.compute_tile("base", r, np.array([0.7]), OUTPUTS, effects={"static_friction_ratio": 1.5})
-    assert never["regime"][0, 0] == regimes.STUCK
+    assert never["regime"][0, 0] == Regime.STUCK
 
 
 # --- auto -----------------------------------------------------------------------------------------
@@ -223,13 +223,13 @@ def test_auto_uses_theory_only_inside_the_margin_and_agrees_with_event():
     e = event.compute_tile("base", r, beta, OUTPUTS)
     used = a["method_used"]
     th_forecast = theory.compute_tile("base", r, beta, OUTPUTS)["regime"]
-    assert np.all(th_forecast[used == auto.THEORY_USED] == regimes.CONTINUOUS)
+    assert np.all(th_forecast[used == auto.THEORY_USED] == Regime.CONTINUOUS)
     assert np.all(used[:, 2] == auto.EVENT_USED)  # r = 1 is always simulated
     assert (used == auto.THEORY_USED).sum() >= 5 and (used == auto.EVENT_USED).sum() >= 5
     np.testing.assert_array_equal(a["regime"], e["regime"])
     ok = np.isfinite(e["transmissibility"])
     np.testing.assert_allclose(a["transmissibility"][ok], e["transmissibility"][ok], rtol=1e-8)
-    assert np.all(a["steady_state"][used == auto.THEORY_USED] == regimes.NOT_SIMULATED)
+    assert np.all(a["steady_state"][used == auto.THEORY_USED] == SteadyState.NOT_SIMULATED)
 
 
 # --- time histories --------------------------------------------------------------------------------
@@ -269,7 +269,7 @@ def test_rk4_method_converges_to_event_with_order_four():
     assert np.all((slopes > 3.5) & (slopes < 4.6)), (errs, slopes)
     stick = rk4.compute_tile("base", np.array([0.3]), np.array([0.3]), OUTPUTS, settings={"steps_per_period": 512})
     ev_ = event.compute_tile("base", np.array([0.3]), np.array([0.3]), OUTPUTS)
-    assert stick["regime"][0, 0] == regimes.STICK_SLIP and stick["stops_per_period"][0, 0] == 2
+    assert stick["regime"][0, 0] == Regime.STICK_SLIP and stick["stops_per_period"][0, 0] == 2
     assert stick["transmissibility"][0, 0] == pytest.approx(ev_["transmissibility"][0, 0], rel=1e-7)
 
 
@@ -284,7 +284,7 @@ def test_without_any_dissipation_the_steady_state_is_the_forced_response():
         np.testing.assert_allclose(out["transmissibility"][0], linear, rtol=1e-12)
         np.testing.assert_allclose(out["peak_transmissibility"][0], linear, rtol=1e-12)
         assert np.all(out["orbit_period"][0] == 1)
-    assert solve("base", 1.0, 0.0)["regime"][0, 0] == regimes.UNBOUNDED
+    assert solve("base", 1.0, 0.0)["regime"][0, 0] == Regime.UNBOUNDED
 
 
 # --- kernel internals against independent truths -------------------------------------------------

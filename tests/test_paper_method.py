@@ -16,7 +16,7 @@ so their tests use few periods and atol 1e-5.
 import numpy as np
 import pytest
 
-from friction_sweep import regimes
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.methods import paper, theory
 
 OUTPUTS = ("transmissibility", "phase", "regime")
@@ -58,7 +58,7 @@ def test_linear_transmissibility_where_the_free_oscillation_falls_on_a_harmonic_
     assert p["phase"] == pytest.approx(0.0 if r < 1 else 180.0, abs=0.05)
     # the peak is the beat of forced and free motion, 2V, not the steady V
     assert p["peak_transmissibility"] == pytest.approx(2.0 * v, rel=2e-2)
-    assert p["regime"] == regimes.CONTINUOUS
+    assert p["regime"] == Regime.CONTINUOUS
 
 
 @pytest.mark.parametrize("r", [0.75, 1.6])
@@ -94,11 +94,11 @@ def test_linear_transmissibility_off_harmonic_is_off_by_the_leakage_of_the_free_
 )
 def test_continuous_points_agree_with_theory_within_the_measured_ode45_error(excitation, r, beta, rel, phase_tol):
     th = _theory(excitation, r, beta)
-    assert th["regime"] == regimes.CONTINUOUS
+    assert th["regime"] == Regime.CONTINUOUS
     p = paper.solve_point(excitation, r, beta)
-    assert p["regime"] == regimes.CONTINUOUS
+    assert p["regime"] == Regime.CONTINUOUS
     assert p["stops_per_period"] == 0.0
-    assert p["steady_state"] == regimes.PERIOD_CAP  # the paper never checks for a steady state
+    assert p["steady_state"] == SteadyState.PERIOD_CAP  # the paper never checks for a steady state
     assert p["periods"] == 200.0
     assert p["transmissibility"] == pytest.approx(th["transmissibility"], rel=rel)
     assert p["phase"] == pytest.approx(th["phase"], abs=phase_tol)
@@ -132,7 +132,7 @@ def test_tighter_tolerances_converge_to_the_theory(excitation, r, beta):
 
 def test_base_with_friction_above_the_force_never_moves():
     p = paper.solve_point("base", 2.0, 1.05, **CHATTER)
-    assert p["regime"] == regimes.STUCK
+    assert p["regime"] == Regime.STUCK
     assert p["transmissibility"] < 1e-3  # chatter only (measured 2.3e-4 at atol 1e-5)
     assert p["peak_transmissibility"] < 1e-3
     assert np.isnan(p["phase"]) and np.isnan(p["peak_phase"])
@@ -141,32 +141,32 @@ def test_base_with_friction_above_the_force_never_moves():
 
 def test_joined_with_friction_above_r_squared_rides_with_the_wall():
     p = paper.solve_point("joined", 0.5, 0.3, **CHATTER)  # beta 0.3 >= r^2 = 0.25
-    assert p["regime"] == regimes.STUCK
+    assert p["regime"] == Regime.STUCK
     assert p["transmissibility"] == pytest.approx(1.0, abs=1e-3)
     assert p["phase"] == pytest.approx(0.0, abs=0.5)
 
 
 def test_low_frequency_point_sticks_twice_per_period():
-    assert _theory("base", 0.3, 0.5)["regime"] == regimes.STICK_SLIP
+    assert _theory("base", 0.3, 0.5)["regime"] == Regime.STICK_SLIP
     p = paper.solve_point("base", 0.3, 0.5, **CHATTER)
-    assert p["regime"] == regimes.STICK_SLIP
+    assert p["regime"] == Regime.STICK_SLIP
     assert p["stops_per_period"] >= 2.0
     assert 0.2 < p["stuck_fraction"] < 0.8
-    assert p["steady_state"] == regimes.PERIOD_CAP
+    assert p["steady_state"] == SteadyState.PERIOD_CAP
 
 
 @pytest.mark.parametrize("excitation", ["base", "joined"])
 def test_resonance_below_pi_over_4_is_unbounded(excitation):
     p = paper.solve_point(excitation, 1.0, 0.3, periods=40)  # joined at r = 1: beta / r^2 = beta
-    assert p["regime"] == regimes.UNBOUNDED
+    assert p["regime"] == Regime.UNBOUNDED
     for name in ("transmissibility", "peak_transmissibility", "phase", "peak_phase"):
         assert np.isnan(p[name])
 
 
 def test_an_exhausted_budget_is_recorded_not_raised():
     p = paper.solve_point("base", 0.5, 0.2, max_evaluations=1000)
-    assert p["regime"] == regimes.UNSETTLED
-    assert p["steady_state"] == regimes.EVENT_BUDGET
+    assert p["regime"] == Regime.UNSETTLED
+    assert p["steady_state"] == SteadyState.EVENT_BUDGET
     assert np.isnan(p["transmissibility"]) and np.isnan(p["stops_per_period"])
     assert 0.0 < p["periods"] < 200.0
 

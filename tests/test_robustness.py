@@ -13,7 +13,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from friction_sweep import regimes
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import event as ev
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event, theory
@@ -40,25 +40,25 @@ def test_near_resonance_is_finite_or_labelled_and_never_overflows():
         e = event.compute_tile("base", R_NEAR, beta, OUTPUTS)
     th = theory.compute_tile("base", R_NEAR, beta, OUTPUTS)
     code = e["regime"]
-    for name, valid in (("transmissibility", [regimes.STUCK, regimes.STICK_SLIP, regimes.CONTINUOUS]),
-                        ("peak_transmissibility", [regimes.STUCK, regimes.STICK_SLIP, regimes.CONTINUOUS]),
-                        ("phase", [regimes.STICK_SLIP, regimes.CONTINUOUS])):  # no motion, no phase
+    for name, valid in (("transmissibility", [Regime.STUCK, Regime.STICK_SLIP, Regime.CONTINUOUS]),
+                        ("peak_transmissibility", [Regime.STUCK, Regime.STICK_SLIP, Regime.CONTINUOUS]),
+                        ("phase", [Regime.STICK_SLIP, Regime.CONTINUOUS])):  # no motion, no phase
         v = e[name]
         assert not np.any(np.isinf(v))
         assert np.all(np.isfinite(v) == np.isin(code, valid)), name
     at_one = R_NEAR == 1.0
     # exactly at resonance: unbounded up to pi/4 included, finite stick-slip above, stuck from 1
-    np.testing.assert_array_equal(code[:, at_one].ravel(), [regimes.UNBOUNDED] * 3 + [regimes.STICK_SLIP, regimes.STUCK])
+    np.testing.assert_array_equal(code[:, at_one].ravel(), [Regime.UNBOUNDED] * 3 + [Regime.STICK_SLIP, Regime.STUCK])
     # below pi/4, 1e-8 <= |r - 1| <= 1e-3: the finite continuous steady state (amplitude up to 5e7),
     # accurate to the conditioning of the stroboscopic map, about 1e-15 / |1 - r|
     far = np.abs(R_NEAR - 1) >= 1e-8
     for i in (0, 1):
         sel = far
-        assert np.all(code[i, sel] == regimes.CONTINUOUS)
+        assert np.all(code[i, sel] == Regime.CONTINUOUS)
         rel = np.abs(e["transmissibility"][i, sel] / th["transmissibility"][i, sel] - 1)
         assert np.all(rel <= 1e-13 / np.abs(R_NEAR[sel] - 1)), rel
     # above pi/4 the resonance is finite stick-slip on both sides
-    assert np.all(code[3] == regimes.STICK_SLIP)
+    assert np.all(code[3] == Regime.STICK_SLIP)
     assert np.all(np.isfinite(e["transmissibility"][3]))
 
 
@@ -66,7 +66,7 @@ def test_no_nan_leaks_into_neighbouring_points():
     r = np.array([0.9, 1.0, 1.1])
     beta = np.array([0.3])
     together = event.compute_tile("base", r, beta, OUTPUTS)
-    assert together["regime"][0, 1] == regimes.UNBOUNDED
+    assert together["regime"][0, 1] == Regime.UNBOUNDED
     for j in (0, 2):
         alone = event.compute_tile("base", r[j:j + 1], beta, OUTPUTS)
         for name in OUTPUTS[:2] + ("peak_transmissibility", "peak_phase"):
@@ -78,7 +78,7 @@ def test_no_nan_leaks_into_neighbouring_points():
 
 def test_very_low_frequency_many_stops():
     p = point("base", 0.01, 0.3)
-    assert p["regime"] == regimes.STICK_SLIP and p["steady_state"] == regimes.CONVERGED
+    assert p["regime"] == Regime.STICK_SLIP and p["steady_state"] == SteadyState.CONVERGED
     assert p["stops_per_period"] >= 20 and p["stops_per_period"] % 2 == 0
     # quasi-static limit: the first harmonic tends to a finite value, close to its r = 0.02 value
     assert p["transmissibility"] == pytest.approx(point("base", 0.02, 0.3)["transmissibility"], rel=5e-3)
@@ -106,15 +106,15 @@ def test_high_frequency_tiny_amplitudes_are_accurate_relative_to_their_size(exci
 
 def test_ties_are_decided_alike_by_theory_and_simulation():
     # no motion: beta exactly 1 (fixed wall), exactly r*r (joined)
-    assert point("base", 0.7, 1.0)["regime"] == regimes.STUCK
-    assert theory.compute_tile("base", np.array([0.7]), np.array([1.0]), OUTPUTS)["regime"][0, 0] == regimes.STUCK
+    assert point("base", 0.7, 1.0)["regime"] == Regime.STUCK
+    assert theory.compute_tile("base", np.array([0.7]), np.array([1.0]), OUTPUTS)["regime"][0, 0] == Regime.STUCK
     r = 0.7
-    assert point("joined", r, r * r)["regime"] == regimes.STUCK
+    assert point("joined", r, r * r)["regime"] == Regime.STUCK
     # the continuous limit: continuous at and just below beta*, stick-slip clearly above
     for rr in (0.8, 1.5, 3.0):
         bstar = float(dh.continuous_limit(rr))
-        for b, expected in ((np.nextafter(bstar, 0), regimes.CONTINUOUS), (bstar, regimes.CONTINUOUS),
-                            (bstar * (1 + 1e-6), regimes.STICK_SLIP)):
+        for b, expected in ((np.nextafter(bstar, 0), Regime.CONTINUOUS), (bstar, Regime.CONTINUOUS),
+                            (bstar * (1 + 1e-6), Regime.STICK_SLIP)):
             th = theory.compute_tile("base", np.array([rr]), np.array([b]), OUTPUTS)["regime"][0, 0]
             assert th == expected and point("base", rr, b)["regime"] == expected, (rr, b)
 
@@ -124,7 +124,7 @@ def test_ties_are_decided_alike_by_theory_and_simulation():
 
 def test_quarter_frequency_converges_with_energy_balance():
     p = point("base", 0.25, 0.1)
-    assert p["steady_state"] == regimes.CONVERGED and p["regime"] == regimes.STICK_SLIP
+    assert p["steady_state"] == SteadyState.CONVERGED and p["regime"] == Regime.STICK_SLIP
     _assert_energy_balance(p, 0.1)
 
 
@@ -135,13 +135,13 @@ def test_singular_points_of_u_have_a_stop_free_motion_den_hartog_cannot_describe
     from friction_sweep.bench.reference import measure
 
     p = point("base", 1 / 3, 0.01)
-    assert p["regime"] == regimes.CONTINUOUS and p["stops_per_period"] == 0
+    assert p["regime"] == Regime.CONTINUOUS and p["stops_per_period"] == 0
     assert p["peak_transmissibility"] < p["transmissibility"]  # not a one-reversal shape
     t_ref, peak_ref = measure(1.0, 1 / 3, 0.01, 0.01, 200)
     assert p["transmissibility"] == pytest.approx(t_ref, rel=1e-9)
     assert p["peak_transmissibility"] == pytest.approx(peak_ref, rel=1e-6)
     th = theory.compute_tile("base", np.array([1 / 3, 1 / 5]), np.array([0.01]), OUTPUTS)
-    assert np.all(th["regime"] == regimes.STICK_SLIP)
+    assert np.all(th["regime"] == Regime.STICK_SLIP)
 
 
 def _assert_energy_balance(p, beta):
@@ -199,11 +199,11 @@ betas = st.floats(0.0, 1.5)
 @given(excitation=st.sampled_from(["base", "joined"]), r=finite_r, beta=betas)
 def test_every_output_is_finite_or_labelled_and_no_point_stalls(excitation, r, beta):
     p = point(excitation, r, beta)
-    assert p["steady_state"] != regimes.EVENT_BUDGET  # every event advanced time
-    assert p["regime"] in (regimes.STUCK, regimes.STICK_SLIP, regimes.CONTINUOUS, regimes.UNSETTLED)
+    assert p["steady_state"] != SteadyState.EVENT_BUDGET  # every event advanced time
+    assert p["regime"] in (Regime.STUCK, Regime.STICK_SLIP, Regime.CONTINUOUS, Regime.UNSETTLED)
     numbers = [p[k] for k in ("transmissibility", "peak_transmissibility")]
-    if p["regime"] == regimes.UNSETTLED:
-        assert all(np.isnan(numbers)) and p["steady_state"] in (regimes.PERIOD_CAP, regimes.NONFINITE)
+    if p["regime"] == Regime.UNSETTLED:
+        assert all(np.isnan(numbers)) and p["steady_state"] in (SteadyState.PERIOD_CAP, SteadyState.NONFINITE)
     else:
         assert all(np.isfinite(numbers)) and all(x >= 0 for x in numbers)
 
@@ -219,7 +219,7 @@ def test_steady_state_does_not_depend_on_where_the_march_starts(r, beta, q0, v0)
     c = point("base", r, beta, initial_displacement=-q0, initial_velocity=-v0)
     for p in (b, c):
         assert p["regime"] == a["regime"]
-        if a["regime"] != regimes.STUCK:
+        if a["regime"] != Regime.STUCK:
             assert p["transmissibility"] == pytest.approx(a["transmissibility"], rel=1e-8)
             assert p["phase"] == pytest.approx(a["phase"], abs=1e-6)
 
@@ -233,7 +233,7 @@ def test_scaling_invariance_dimensional_parameters(r, beta, m, k, y):
     from friction_sweep.bench.reference import measure
 
     p = point("base", r, beta)
-    assert p["steady_state"] == regimes.CONVERGED and p["regime"] == regimes.STICK_SLIP
+    assert p["steady_state"] == SteadyState.CONVERGED and p["regime"] == Regime.STICK_SLIP
     w = r * np.sqrt(k / m)
     mu_n = beta * k * y
     # divide by m: x'' + (k/m) x + (muN/m) sgn = (kY/m) cos(w t); the reference takes q'' + w2 q + ...
@@ -288,7 +288,7 @@ def test_no_zeno_stall_where_the_orbit_creeps_towards_grazing():
     a stop at once on every restart (the velocity was still below the stop tolerance while rising)
     and crept forward geometrically until the work budget ran out."""
     out = event.solve_flat("base", np.array([0.45]), np.array([0.25]), shoot_after=10**9)[0]
-    assert out[steady.OUT_STEADY] != regimes.EVENT_BUDGET
+    assert out[steady.OUT_STEADY] != SteadyState.EVENT_BUDGET
     assert out[steady.OUT_WORK] / out[steady.OUT_PERIODS] < 500  # work per period stays ordinary
 
 
@@ -300,7 +300,7 @@ def test_shooting_through_sticks_lands_where_the_slow_march_ends():
     shot = event.solve_flat("base", np.array([0.45]), np.array([0.25]))[0]
     march = event.solve_flat("base", np.array([0.45]), np.array([0.25]), shoot_after=10**9, max_periods=60_000,
                              steady_tol=1e-14)[0]
-    assert shot[steady.OUT_STEADY] == march[steady.OUT_STEADY] == regimes.CONVERGED
+    assert shot[steady.OUT_STEADY] == march[steady.OUT_STEADY] == SteadyState.CONVERGED
     assert shot[steady.OUT_PERIODS] < 10 < 20_000 < march[steady.OUT_PERIODS]
     assert shot[steady.OUT_STOPS] == march[steady.OUT_STOPS] == 2
     assert shot[steady.OUT_TRANS] == pytest.approx(march[steady.OUT_TRANS], rel=1e-12)

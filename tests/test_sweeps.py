@@ -7,7 +7,7 @@ import xarray as xr
 from click.testing import CliRunner
 from independent_integrator import independent
 
-from friction_sweep import regimes
+from friction_sweep.codes import Regime
 from friction_sweep.cli import main
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event
@@ -45,7 +45,7 @@ def test_the_joined_hysteresis_band_is_the_two_answers_of_the_default_cube():
     band = ~np.isclose(up["transmissibility"][0], down["transmissibility"][0], rtol=1e-5, equal_nan=True)
     assert band.sum() >= 5
     assert np.all(r[band] < np.sqrt(1.5 * 0.5) + 0.01)  # below the break-away from rest
-    assert np.all(up["regime"][0, band] == regimes.STUCK) and np.all(down["regime"][0, band] != regimes.STUCK)
+    assert np.all(up["regime"][0, band] == Regime.STUCK) and np.all(down["regime"][0, band] != Regime.STUCK)
     assert np.all(default["steady_states"][0, band] == 2)
     np.testing.assert_allclose(up["transmissibility"][0, band], default["transmissibility"][0, band], rtol=1e-5)
     np.testing.assert_allclose(down["transmissibility"][0, band], default["transmissibility_moving"][0, band],

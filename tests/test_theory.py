@@ -5,7 +5,8 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
-from friction_sweep import regimes, ties
+from friction_sweep import ties
+from friction_sweep.codes import Regime
 from friction_sweep.methods import theory
 from friction_sweep.theory import den_hartog as dh
 
@@ -152,7 +153,7 @@ def test_zero_friction_is_the_linear_oscillator(excitation):
     np.testing.assert_allclose(out["peak_transmissibility"][0], linear, rtol=1e-12)
     np.testing.assert_allclose(out["phase"][0], np.where(R < 1, 0.0, 180.0), atol=1e-9)
     np.testing.assert_allclose(out["peak_phase"][0], np.where(R < 1, 0.0, 180.0), atol=1e-6)
-    assert np.all(out["regime"] == regimes.CONTINUOUS)
+    assert np.all(out["regime"] == Regime.CONTINUOUS)
 
 
 def test_base_equals_force_with_f0_equal_ky():
@@ -202,7 +203,7 @@ def test_joined_peak_against_dense_sampling():
     out = theory.compute_tile("joined", r, beta, OUTPUTS)
     for i, bb in enumerate(beta):
         for j, rr in enumerate(r):
-            if out["regime"][i, j] != regimes.CONTINUOUS:
+            if out["regime"][i, j] != Regime.CONTINUOUS:
                 continue
             b = bb / rr**2
             phi = float(dh.phase(rr, b))
@@ -230,12 +231,12 @@ def test_joined_inversion_between_1p4_and_1p55():
 def test_no_motion_thresholds_and_ties():
     r = np.array([0.5, 1.0, 2.0])
     base = theory.compute_tile("base", r, np.array([0.999, 1.0, 1.5]), OUTPUTS)
-    assert np.all(base["regime"][1:] == regimes.STUCK)  # beta >= 1: stuck, tie included
-    assert np.all(base["regime"][0] != regimes.STUCK)
+    assert np.all(base["regime"][1:] == Regime.STUCK)  # beta >= 1: stuck, tie included
+    assert np.all(base["regime"][0] != Regime.STUCK)
     assert np.all(base["transmissibility"][1:] == 0.0)
     joined = theory.compute_tile("joined", np.array([0.5]), np.array([0.2499, 0.25, 0.3]), OUTPUTS)
-    assert joined["regime"][0, 0] != regimes.STUCK
-    assert np.all(joined["regime"][1:, 0] == regimes.STUCK)  # beta >= r^2: rides with the wall
+    assert joined["regime"][0, 0] != Regime.STUCK
+    assert np.all(joined["regime"][1:, 0] == Regime.STUCK)  # beta >= r^2: rides with the wall
     assert np.all(joined["transmissibility"][1:, 0] == 1.0)
     assert np.all(joined["phase"][1:, 0] == 0.0)
 
@@ -244,8 +245,8 @@ def test_continuous_limit_tie_is_continuous():
     r = np.array([0.5])  # beta*(0.5) = 1/3 exactly (to rounding)
     bstar = float(dh.continuous_limit(r)[0])
     out = theory.compute_tile("base", r, np.array([bstar, np.nextafter(bstar, 1)]), OUTPUTS)
-    assert out["regime"][0, 0] == regimes.CONTINUOUS  # the velocity only grazes zero
-    assert out["regime"][1, 0] == regimes.STICK_SLIP
+    assert out["regime"][0, 0] == Regime.CONTINUOUS  # the velocity only grazes zero
+    assert out["regime"][1, 0] == Regime.STICK_SLIP
     assert np.isfinite(out["transmissibility"][0, 0]) and np.isnan(out["transmissibility"][1, 0])
 
 
@@ -256,7 +257,7 @@ def test_resonance_unbounded_up_to_pi_over_4():
     out = theory.compute_tile("base", np.array([1.0]), beta, OUTPUTS)
     np.testing.assert_array_equal(
         out["regime"][:, 0],
-        [regimes.UNBOUNDED] * 5 + [regimes.STICK_SLIP] * 2,
+        [Regime.UNBOUNDED] * 5 + [Regime.STICK_SLIP] * 2,
     )
     # the tie: at b = pi/4 the continuous amplitude still diverges as r -> 1 (like 1/sqrt|1 - r|)
     r = 1 - np.array([1e-4, 1e-6, 1e-8])
@@ -265,7 +266,7 @@ def test_resonance_unbounded_up_to_pi_over_4():
     assert np.all(np.isnan(out["transmissibility"][:, 0]))
     # next to resonance the steady state is finite, large, and grows like 1/|1 - r|
     near = theory.compute_tile("base", np.array([1 - 1e-9, 1 + 1e-9]), np.array([0.5]), OUTPUTS)
-    assert np.all(near["regime"] == regimes.CONTINUOUS)
+    assert np.all(near["regime"] == Regime.CONTINUOUS)
     amp = near["peak_transmissibility"][0] * 1e-9
     np.testing.assert_allclose(amp, 0.5 * np.sqrt(1 - (4 * 0.5 / np.pi) ** 2), rtol=1e-6)
 
@@ -273,8 +274,8 @@ def test_resonance_unbounded_up_to_pi_over_4():
 def test_singular_points_of_u_have_no_continuous_motion_with_friction():
     for r in (1 / 3, 1 / 5):
         out = theory.compute_tile("base", np.array([r]), np.array([0.0, 0.01]), OUTPUTS)
-        assert out["regime"][0, 0] == regimes.CONTINUOUS  # linear
-        assert out["regime"][1, 0] == regimes.STICK_SLIP
+        assert out["regime"][0, 0] == Regime.CONTINUOUS  # linear
+        assert out["regime"][1, 0] == Regime.STICK_SLIP
         assert out["continuous_limit"][0] < 1e-6
 
 
@@ -286,9 +287,9 @@ def test_outputs_outside_validity_are_nan_never_numbers():
         code = out["regime"]
         for name in ("transmissibility", "phase", "peak_transmissibility", "peak_phase"):
             v = out[name]
-            assert np.all(np.isnan(v[(code == regimes.STICK_SLIP) | (code == regimes.UNBOUNDED)]))
-            assert np.all(np.isfinite(v[code == regimes.CONTINUOUS]))
-        assert np.all(np.isfinite(out["transmissibility"][code == regimes.STUCK]))
+            assert np.all(np.isnan(v[(code == Regime.STICK_SLIP) | (code == Regime.UNBOUNDED)]))
+            assert np.all(np.isfinite(v[code == Regime.CONTINUOUS]))
+        assert np.all(np.isfinite(out["transmissibility"][code == Regime.STUCK]))
 
 
 def test_regime_map_is_ordered_in_beta():
@@ -297,7 +298,7 @@ def test_regime_map_is_ordered_in_beta():
     beta = np.linspace(0.0, 1.5, 151)
     for excitation in ("base", "joined"):
         code = theory.compute_tile(excitation, r, beta, ("regime",))["regime"]
-        cont = code == regimes.CONTINUOUS
+        cont = code == Regime.CONTINUOUS
         # once not continuous (going up in beta) never continuous again
         first_break = np.argmin(cont, axis=0)
         for j in range(r.size):

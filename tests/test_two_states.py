@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from independent_integrator import independent
 
-from friction_sweep import regimes
+from friction_sweep.codes import Regime
 from friction_sweep.methods import event
 from friction_sweep.storage import schema
 
@@ -23,14 +23,14 @@ def both(excitation, r, beta):
 
 
 @pytest.mark.parametrize("excitation,r,beta,moving_regime", [
-    ("base", 0.8, 0.7, regimes.CONTINUOUS),  # stuck from rest, continuous once moving (issue)
-    ("base", 0.5, 0.7, regimes.STICK_SLIP),  # stuck from rest, two stops per period once moving
-    ("joined", 0.89, 0.55, regimes.CONTINUOUS),  # rides with the wall from rest, moves relative once moving
+    ("base", 0.8, 0.7, Regime.CONTINUOUS),  # stuck from rest, continuous once moving (issue)
+    ("base", 0.5, 0.7, Regime.STICK_SLIP),  # stuck from rest, two stops per period once moving
+    ("joined", 0.89, 0.55, Regime.CONTINUOUS),  # rides with the wall from rest, moves relative once moving
 ])
 def test_two_states_both_confirmed_by_an_independent_integrator(excitation, r, beta, moving_regime):
     p = both(excitation, r, beta)
     assert p["steady_states"] == 2
-    assert p["regime"] == regimes.STUCK and p["regime_moving"] == moving_regime
+    assert p["regime"] == Regime.STUCK and p["regime_moving"] == moving_regime
     A = r * r if excitation == "joined" else 1.0
     c = 1.0 if excitation == "joined" else 0.0
     t_rest, stops_rest, stuck = independent(A, r, beta, 1.5 * beta, 0.0, 0.0, c)
@@ -43,7 +43,7 @@ def test_two_states_both_confirmed_by_an_independent_integrator(excitation, r, b
 
 def test_where_the_starts_agree_there_is_one_state():
     p = both("base", 2.0, 0.3)
-    assert p["steady_states"] == 1 and p["regime"] == p["regime_moving"] == regimes.CONTINUOUS
+    assert p["steady_states"] == 1 and p["regime"] == p["regime_moving"] == Regime.CONTINUOUS
     t_rest, stops, _ = independent(1.0, 2.0, 0.3, 0.45, 0.0, 0.0)
     t_moving, _, _ = independent(1.0, 2.0, 0.3, 0.45, 0.0, 3.0)
     assert p["transmissibility"] == pytest.approx(t_rest, rel=1e-8)
@@ -70,8 +70,8 @@ def test_band_edge_at_fixed_r_is_where_the_reversal_force_meets_static_friction(
     edge = brentq(margin, 0.05, 0.8, xtol=1e-14)
     below, above = edge * (1 - 1e-3), edge * (1 + 1e-3)
     out = event.compute_tile("base", np.array([r]), np.array([below, above]), OUTPUTS, STATIC)
-    assert out["regime_moving"][0, 0] == regimes.CONTINUOUS
-    assert out["regime_moving"][1, 0] != regimes.CONTINUOUS
+    assert out["regime_moving"][0, 0] == Regime.CONTINUOUS
+    assert out["regime_moving"][1, 0] != Regime.CONTINUOUS
 
 
 def test_one_start_costs_what_it_cost_and_plain_friction_adds_nothing():

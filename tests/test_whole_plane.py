@@ -9,7 +9,8 @@ coarse planes of every scene and effect.
 import numpy as np
 import pytest
 
-from friction_sweep import consistency, regimes, ties
+from friction_sweep import consistency, ties
+from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import event as ev
 from friction_sweep.methods import event, rk4, theory
 from friction_sweep.storage import cube, provenance
@@ -44,23 +45,23 @@ def test_at_resonance_every_moving_point_below_pi_over_4_is_unbounded(excitation
     mu = (effects or {}).get("static_friction_ratio", 1.0)
     moves = ~ties.never_moves(amplitude(excitation, 1.0), mu * beta)
     code = out["regime"][moves]
-    assert np.all(code == regimes.UNBOUNDED), beta[np.any(out["regime"] != regimes.UNBOUNDED, axis=1) & moves]
+    assert np.all(code == Regime.UNBOUNDED), beta[np.any(out["regime"] != Regime.UNBOUNDED, axis=1) & moves]
     assert np.all(np.isnan(out["transmissibility"][moves]))
-    assert np.all(out["regime"][~moves] == regimes.STUCK)
+    assert np.all(out["regime"][~moves] == Regime.STUCK)
 
 
 def test_the_rk4_map_has_no_resonance_orbit_either():
     """RK4's map detunes the resonance by its truncation error and has a bounded orbit of size ~1e8 at
     r = 1; the acceptance weighs the map's own error, so it is refused like a rounding artefact."""
     out = tile("base", 1.0, [0.0, 0.2, 0.5, 0.78], method=rk4)
-    assert np.all(out["regime"] == regimes.UNBOUNDED)
+    assert np.all(out["regime"] == Regime.UNBOUNDED)
 
 
 def test_damped_resonance_stays_finite_and_within_the_proven_bound():
     beta = np.array([0.0, 0.2, 0.5, 0.78])
     out = tile("base", 1.0, beta, DAMPED)
-    assert np.all(out["steady_state"] == regimes.CONVERGED)
-    assert np.all(np.isin(out["regime"], [regimes.CONTINUOUS, regimes.STICK_SLIP]))
+    assert np.all(out["steady_state"] == SteadyState.CONVERGED)
+    assert np.all(np.isin(out["regime"], [Regime.CONTINUOUS, Regime.STICK_SLIP]))
     # at beta = 0 the linear damped response 1/(2 zeta); friction only lowers it here
     assert out["transmissibility"][0, 0] == pytest.approx(1 / (2 * 0.05), rel=1e-9)
     bound = (1 + 4 * beta / np.pi) / (2 * 0.05)
@@ -83,7 +84,7 @@ def test_large_true_amplitudes_next_to_resonance_are_kept(detuning):
     r = np.array([1 - detuning, 1 + detuning])
     out = tile("base", r, 0.3)
     th = theory.compute_tile("base", r, np.array([0.3]), OUTPUTS)
-    assert np.all(out["regime"] == regimes.CONTINUOUS)
+    assert np.all(out["regime"] == Regime.CONTINUOUS)
     np.testing.assert_allclose(out["transmissibility"], th["transmissibility"], rtol=1e-13 / detuning)
 
 
@@ -99,10 +100,10 @@ def test_joined_no_motion_ties_are_stuck_however_r_times_r_rounds(effects):
     assert np.any(r * r > beta)  # the trap: some products round above
     for ri, bi in JOINED_TIES:
         out = tile("joined", ri, bi, effects)
-        assert out["regime"][0, 0] == regimes.STUCK, (ri, bi)
-        assert out["steady_state"][0, 0] == regimes.CONVERGED and out["periods"][0, 0] <= 2
+        assert out["regime"][0, 0] == Regime.STUCK, (ri, bi)
+        assert out["steady_state"][0, 0] == SteadyState.CONVERGED and out["periods"][0, 0] <= 2
         assert out["transmissibility"][0, 0] == 1.0  # rides with the wall
-        assert theory.compute_tile("joined", np.array([ri]), np.array([bi]), OUTPUTS)["regime"][0, 0] == regimes.STUCK
+        assert theory.compute_tile("joined", np.array([ri]), np.array([bi]), OUTPUTS)["regime"][0, 0] == Regime.STUCK
 
 
 def test_static_friction_ties_are_stuck_too():
@@ -110,12 +111,12 @@ def test_static_friction_ties_are_stuck_too():
     for excitation, r, beta in (("joined", 0.3, 0.06), ("joined", 0.6, 0.24), ("base", 0.7, 1 / 1.5),
                                 ("base", 2.0, np.nextafter(1 / 1.5, 0))):
         out = tile(excitation, r, beta, STATIC)
-        assert out["regime"][0, 0] == regimes.STUCK, (excitation, r, beta)
+        assert out["regime"][0, 0] == Regime.STUCK, (excitation, r, beta)
 
 
 def test_resonance_ties_within_rounding_of_one():
     for r in R_ONE:
-        for beta, expected in ((0.5, regimes.UNBOUNDED), (np.pi / 4, regimes.UNBOUNDED), (0.9, regimes.STICK_SLIP)):
+        for beta, expected in ((0.5, Regime.UNBOUNDED), (np.pi / 4, Regime.UNBOUNDED), (0.9, Regime.STICK_SLIP)):
             th = theory.compute_tile("base", np.array([r]), np.array([beta]), OUTPUTS)["regime"][0, 0]
             assert th == expected and tile("base", r, beta)["regime"][0, 0] == expected, (r, beta)
 
@@ -136,16 +137,16 @@ def test_just_below_the_no_motion_threshold_the_tiny_motion_settles(excitation, 
             out = tile(excitation, r, beta, effects)
             code = out["regime"][0, 0]
             if e < ties.TIE_RTOL:
-                expected = {regimes.STUCK}
+                expected = {Regime.STUCK}
             elif r == 1.0 and effects != DAMPED and beta / A <= ties.RESONANCE_FRICTION_LIMIT:
-                expected = {regimes.UNBOUNDED}  # static friction 1.5: once moving, kinetic b = 2/3 < pi/4
+                expected = {Regime.UNBOUNDED}  # static friction 1.5: once moving, kinetic b = 2/3 < pi/4
             else:
-                expected = {regimes.STICK_SLIP} if e >= 1e-4 else {regimes.STUCK, regimes.STICK_SLIP}
+                expected = {Regime.STICK_SLIP} if e >= 1e-4 else {Regime.STUCK, Regime.STICK_SLIP}
             assert code in expected, (r, e, code, out["steady_state"][0, 0])
-            if code == regimes.STUCK:  # no motion: exactly the no-motion values
+            if code == Regime.STUCK:  # no motion: exactly the no-motion values
                 assert out["transmissibility"][0, 0] == (1.0 if excitation == "joined" else 0.0)
-            if code != regimes.UNBOUNDED:
-                assert out["steady_state"][0, 0] == regimes.CONVERGED, (r, e, out["steady_state"][0, 0])
+            if code != Regime.UNBOUNDED:
+                assert out["steady_state"][0, 0] == SteadyState.CONVERGED, (r, e, out["steady_state"][0, 0])
 
 
 # --- slow approaches: an answer within the default budgets ------------------------------------------------
@@ -162,7 +163,7 @@ SLOW = [("base", 0.31, 0.09, 1.0880197801), ("base", 0.33, 0.11, 1.1382321930), 
 @pytest.mark.parametrize("excitation,r,beta,expected", SLOW)
 def test_slowly_approached_orbits_are_solved(excitation, r, beta, expected):
     out = tile(excitation, r, beta)
-    assert out["steady_state"][0, 0] == regimes.CONVERGED and out["regime"][0, 0] == regimes.STICK_SLIP
+    assert out["steady_state"][0, 0] == SteadyState.CONVERGED and out["regime"][0, 0] == Regime.STICK_SLIP
     assert out["transmissibility"][0, 0] == pytest.approx(expected, rel=2e-10)
     assert out["stops_per_period"][0, 0] == 2
 
@@ -170,7 +171,7 @@ def test_slowly_approached_orbits_are_solved(excitation, r, beta, expected):
 def test_next_to_the_joined_no_motion_boundary_near_resonance():
     for r, beta in ((0.99, 0.98), (1.01, 1.02), (1.02, 1.04)):
         out = tile("joined", r, beta)
-        assert out["steady_state"][0, 0] == regimes.CONVERGED and out["regime"][0, 0] == regimes.STICK_SLIP
+        assert out["steady_state"][0, 0] == SteadyState.CONVERGED and out["regime"][0, 0] == Regime.STICK_SLIP
         assert out["transmissibility"][0, 0] == pytest.approx(1.0, abs=1e-8)  # z moves by ~3e-8
 
 
@@ -180,7 +181,7 @@ def test_next_to_the_joined_no_motion_boundary_near_resonance():
 def test_static_friction_locks_onto_long_periods(excitation, r, beta, k):
     """Periods found independently (see SLOW), except 253, found by the tool and checked by its march."""
     out = tile(excitation, r, beta, STATIC)
-    assert out["steady_state"][0, 0] == regimes.CONVERGED and out["orbit_period"][0, 0] == k
+    assert out["steady_state"][0, 0] == SteadyState.CONVERGED and out["orbit_period"][0, 0] == k
 
 
 def test_motion_that_never_repeats_has_its_own_flag_and_it_is_chaos():
@@ -192,7 +193,7 @@ def test_motion_that_never_repeats_has_its_own_flag_and_it_is_chaos():
     from friction_sweep.bench.reference import simulate
 
     out = tile("base", 0.4, 0.15, STATIC)
-    assert out["steady_state"][0, 0] == regimes.APERIODIC and out["regime"][0, 0] == regimes.STICK_SLIP
+    assert out["steady_state"][0, 0] == SteadyState.APERIODIC and out["regime"][0, 0] == Regime.STICK_SLIP
     assert out["orbit_period"][0, 0] == 256
     assert out["transmissibility"][0, 0] == pytest.approx(1.2865, abs=0.01)  # independent mean +- spread
 
@@ -208,7 +209,7 @@ def test_motion_that_never_repeats_has_its_own_flag_and_it_is_chaos():
 def test_plain_friction_is_never_aperiodic():
     """With static = kinetic friction the period map does not expand distances: no chaos to flag."""
     out = tile("base", np.linspace(0.1, 0.6, 26), np.linspace(0.01, 0.3, 6))
-    assert not np.any(out["steady_state"] == regimes.APERIODIC)
+    assert not np.any(out["steady_state"] == SteadyState.APERIODIC)
 
 
 # --- r = 1/(2n) ----------------------------------------------------------------------------------------
@@ -223,7 +224,7 @@ def test_the_subharmonic_family_is_named_and_its_first_harmonic_is_den_hartogs(e
     beta = 0.5 * bstar * amplitude(excitation, r)
     out = tile(excitation, r, beta)
     th = theory.compute_tile(excitation, np.array([r]), np.array([beta]), OUTPUTS)
-    assert out["steady_state"][0, 0] == regimes.FAMILY and out["regime"][0, 0] == regimes.CONTINUOUS
+    assert out["steady_state"][0, 0] == SteadyState.FAMILY and out["regime"][0, 0] == Regime.CONTINUOUS
     assert out["transmissibility"][0, 0] == pytest.approx(th["transmissibility"][0, 0], rel=1e-10)
     assert out["phase"][0, 0] == pytest.approx(th["phase"][0, 0], abs=1e-8)
     assert out["peak_transmissibility"][0, 0] == pytest.approx(th["peak_transmissibility"][0, 0], rel=1e-9)
@@ -255,9 +256,9 @@ def test_family_members_share_the_first_harmonic_but_not_the_peak():
 
 
 def test_with_damping_or_sticks_there_is_no_family():
-    assert tile("base", 0.5, 0.1, DAMPED)["steady_state"][0, 0] == regimes.CONVERGED
+    assert tile("base", 0.5, 0.1, DAMPED)["steady_state"][0, 0] == SteadyState.CONVERGED
     out = tile("base", 0.5, 0.6)  # beyond beta*(1/2) = 1/3: the orbit sticks
-    assert out["steady_state"][0, 0] == regimes.CONVERGED and out["regime"][0, 0] == regimes.STICK_SLIP
+    assert out["steady_state"][0, 0] == SteadyState.CONVERGED and out["regime"][0, 0] == Regime.STICK_SLIP
 
 
 # --- the whole plane ---------------------------------------------------------------------------------
@@ -282,11 +283,11 @@ def test_a_coarse_plane_passes_every_consistency_rule(excitation, effects):
     findings = {f.rule: f for f in consistency.check(ds)}
     assert not consistency.failed(findings.values()), [f for f in findings.values() if f.status == "failed"]
     assert findings["unsettled"].status == "ok"
-    family = int((ds["steady_state"] == regimes.FAMILY).sum())
+    family = int((ds["steady_state"] == SteadyState.FAMILY).sum())
     if effects is None:
         assert findings["resonance"].status == "ok" and findings["theory"].status == "ok"
         assert family > 0  # r = 1/2, 1/4, 1/10, 1/20 below beta*
-        r_family = ds["frequency_ratio"].values[(ds["steady_state"] == regimes.FAMILY).any("force_ratio").values]
+        r_family = ds["frequency_ratio"].values[(ds["steady_state"] == SteadyState.FAMILY).any("force_ratio").values]
         assert np.all(ties.subharmonic_order(r_family) > 0)
     else:
         assert family == 0
