@@ -552,7 +552,8 @@ def solve_sweep(A, r, bk, bs, zeta, c, settings, out):
     for i in range(r.size):
         solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
         regime = out[i, OUT_REGIME]
-        if regime == Regime.UNBOUNDED or regime == Regime.UNSETTLED:
+        # a float slot against the codes' values: numba casts no IntEnum to float
+        if regime == Regime.UNBOUNDED.value or regime == Regime.UNSETTLED.value:
             own[SET_Q0] = settings[SET_Q0]
             own[SET_V0] = settings[SET_V0]
         else:
