@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
-from friction_sweep.codes import Regime, SteadyState
+from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.kernels import event as ev
+from friction_sweep.kernels import measure as accumulator
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event, theory
 from friction_sweep.theory import den_hartog as dh
@@ -89,7 +90,7 @@ def test_half_frequency_is_reported_honestly():
 
 @pytest.mark.parametrize("beta", [0.05, 0.3, 1.0])
 def test_free_decay_loses_4_beta_per_natural_period(beta):
-    acc = ev.new_accumulator()
+    acc = accumulator.new_accumulator()
     q, v, mode = 10.0, 0.0, -1
     r = 1.0  # the map's period is then the natural period 2 pi
     amplitudes = [q]
@@ -223,13 +224,13 @@ def test_auto_uses_theory_only_inside_the_margin_and_agrees_with_event():
     e = event.compute_tile("base", r, beta, OUTPUTS)
     used = a["method_used"]
     th_forecast = theory.compute_tile("base", r, beta, OUTPUTS)["regime"]
-    assert np.all(th_forecast[used == auto.THEORY_USED] == Regime.CONTINUOUS)
-    assert np.all(used[:, 2] == auto.EVENT_USED)  # r = 1 is always simulated
-    assert (used == auto.THEORY_USED).sum() >= 5 and (used == auto.EVENT_USED).sum() >= 5
+    assert np.all(th_forecast[used == MethodUsed.THEORY] == Regime.CONTINUOUS)
+    assert np.all(used[:, 2] == MethodUsed.EVENT)  # r = 1 is always simulated
+    assert (used == MethodUsed.THEORY).sum() >= 5 and (used == MethodUsed.EVENT).sum() >= 5
     np.testing.assert_array_equal(a["regime"], e["regime"])
     ok = np.isfinite(e["transmissibility"])
     np.testing.assert_allclose(a["transmissibility"][ok], e["transmissibility"][ok], rtol=1e-8)
-    assert np.all(a["steady_state"][used == auto.THEORY_USED] == SteadyState.NOT_SIMULATED)
+    assert np.all(a["steady_state"][used == MethodUsed.THEORY] == SteadyState.NOT_SIMULATED)
 
 
 # --- time histories --------------------------------------------------------------------------------
@@ -301,18 +302,18 @@ def test_monodromy_matrix_is_the_derivative_of_the_period_map(excitation, r, bet
     none = np.empty(0)
 
     def period(q, v):
-        acc = ev.new_accumulator()
+        acc = accumulator.new_accumulator()
         mode = 1 if v > 0 else -1
         q1, v1, _, st, _ = ev.advance_period(q, v, mode, A, r, bk, bs, z, c, 1e-12, 10**6, False, acc, none, none,
                                              none)
-        assert st == 0 and acc[ev.ACC_STOPS] == 0
+        assert st == 0 and acc[accumulator.ACC_STOPS] == 0
         return np.array([q1, v1]), acc
 
-    q0, v0 = out[steady.OUT_Q], out[steady.OUT_V]
+    q0, v0 = out[steady.OUT_END_Q], out[steady.OUT_END_V]
     for q, v in [(q0, v0), (q0 * 1.05, v0 + 0.02 * abs(q0))]:
         _, acc = period(q, v)
-        assert acc[ev.ACC_JOK] == 1.0
-        jac = acc[ev.ACC_JAC:ev.ACC_JAC + 4].reshape(2, 2)
+        assert acc[accumulator.ACC_JAC_OK] == 1.0
+        jac = acc[accumulator.ACC_JAC:accumulator.ACC_JAC + 4].reshape(2, 2)
         h = 1e-6 * max(abs(q), abs(v), 1.0)
         fd = np.column_stack([(period(q + h, v)[0] - period(q - h, v)[0]) / (2 * h),
                               (period(q, v + h)[0] - period(q, v - h)[0]) / (2 * h)])

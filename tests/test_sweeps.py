@@ -65,9 +65,9 @@ def test_a_state_that_only_a_sweep_finds_is_a_real_orbit():
     last = raw[-1]
     default = event.compute_tile("base", r[-1:], np.array([0.3]), OUTPUTS, STATIC)
     assert default["steady_states"][0, 0] == 1
-    assert abs(last[steady.OUT_TRANS] / default["transmissibility"][0, 0] - 1) > 1e-3  # another state
-    t, stops, _ = independent(1.0, 0.56, 0.3, 0.45, last[steady.OUT_Q], last[steady.OUT_V])
-    assert t == pytest.approx(last[steady.OUT_TRANS], rel=1e-8) and stops == last[steady.OUT_STOPS] == 1
+    assert abs(last[steady.OUT_TRANSMISSIBILITY] / default["transmissibility"][0, 0] - 1) > 1e-3  # another state
+    t, stops, _ = independent(1.0, 0.56, 0.3, 0.45, last[steady.OUT_END_Q], last[steady.OUT_END_V])
+    assert t == pytest.approx(last[steady.OUT_TRANSMISSIBILITY], rel=1e-8) and stops == last[steady.OUT_STOPS_PER_PERIOD] == 1
 
 
 SPEC = """\

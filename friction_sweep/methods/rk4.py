@@ -6,6 +6,7 @@ is integrated by classical fixed-step Runge-Kutta (`steps_per_period`) with a re
 from __future__ import annotations
 
 from friction_sweep.kernels import steady
+from friction_sweep.kernels.settings import KERNEL_RK4
 from friction_sweep.methods import event
 
 NAME = "rk4"
@@ -13,16 +14,15 @@ EXCITATIONS = event.EXCITATIONS
 EFFECTS = event.EFFECTS
 SETTINGS = {**{k: v for k, v in event.SETTINGS.items() if k != "stop_tol"},
             "steps_per_period": steady.DEFAULT_SETTINGS["steps_per_period"]}
-ORDER = 4
 
 variables_for = event.variables_for
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None):
-    settings = {**(settings or {}), "kernel": steady.KERNEL_RK4}
+    settings = {**(settings or {}), "kernel": KERNEL_RK4}
     return event.compute_tile(excitation, r, beta, outputs, effects, settings)
 
 
 def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings=None, direction: str = "up"):
-    settings = {**(settings or {}), "kernel": steady.KERNEL_RK4}
+    settings = {**(settings or {}), "kernel": KERNEL_RK4}
     return event.compute_sweep_tile(excitation, r, beta, outputs, effects, settings, direction)
