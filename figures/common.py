@@ -212,6 +212,7 @@ def transient_from_rest(excitation: str, r: float, beta: float, periods: int, sa
     event kernel. Returns (time in forcing periods, x, excitation, q, q'), each of length
     periods * samples_per_period."""
     from friction_sweep.kernels import steady, stick
+    from friction_sweep.kernels.point import Point
     from friction_sweep.kernels.settings import SET_STOP_TOL, SET_WORK_BUDGET
     from friction_sweep.methods import event as event_method
 
@@ -224,7 +225,7 @@ def transient_from_rest(excitation: str, r: float, beta: float, periods: int, sa
     sv = np.empty((periods, samples_per_period))
     q0, v0 = 0.0, 0.0
     mode = stick.decide(0.0, q0, A, r, bs)
-    steady.sample_orbit(q0, v0, mode, A, r, bk, bs, zeta, c, sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]),
+    steady.sample_orbit(q0, v0, mode, Point(A, r, bk, bs, zeta, c), sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]),
                         periods, ts, sq, sv)
     n = periods * samples_per_period
     t = np.arange(n) / samples_per_period

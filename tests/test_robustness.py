@@ -15,7 +15,8 @@ from hypothesis import strategies as st
 
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import event as ev
-from friction_sweep.kernels import measure as accumulator
+from friction_sweep.kernels.point import Point
+from friction_sweep.kernels import measure as rec
 from friction_sweep.kernels import stick
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event, theory
@@ -166,12 +167,12 @@ def test_hundred_thousand_periods_without_drift():
     r = 0.7
     V = 1 / (1 - r * r)
     T = 2 * np.pi / r
-    acc = accumulator.new_accumulator()
+    acc = rec.new_accumulator()
     q, v, mode = 0.0, 0.0, stick.decide(0.0, 0.0, 1.0, r, 0.0)
     n = 100_000
     for _ in range(n):
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 1.0, r, 0.0, 0.0, 0.0, 0.0, 1e-12, 10**6, False, acc,
-                                                  ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, Point(1.0, r, 0.0, 0.0, 0.0, 0.0), 1e-12, 10**6,
+                                                  False, acc, ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
     nT = n * T
     assert q == pytest.approx(V * (1 - np.cos(nT)), abs=1e-9 * V)
     assert v == pytest.approx(V * np.sin(nT), abs=1e-9 * V)
@@ -180,14 +181,14 @@ def test_hundred_thousand_periods_without_drift():
 def test_a_converged_orbit_stays_put_for_a_hundred_thousand_periods():
     out = event.solve_flat("base", np.array([0.3]), np.array([0.3]))[0]
     q, v, mode = out[steady.OUT_END_Q], out[steady.OUT_END_V], int(out[steady.OUT_END_MODE])
-    acc = accumulator.new_accumulator()
+    acc = rec.new_accumulator()
     for _ in range(100):  # the search stops within steady_tol of the orbit; stick-slip lands on it
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 1.0, 0.3, 0.3, 0.3, 0.0, 0.0, 1e-12, 10**6, False, acc,
-                                                  ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, Point(1.0, 0.3, 0.3, 0.3, 0.0, 0.0), 1e-12, 10**6,
+                                                  False, acc, ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
     q0, v0 = q, v
     for _ in range(100_000):
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 1.0, 0.3, 0.3, 0.3, 0.0, 0.0, 1e-12, 10**6, False, acc,
-                                                  ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, Point(1.0, 0.3, 0.3, 0.3, 0.0, 0.0), 1e-12, 10**6,
+                                                  False, acc, ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
     assert abs(q - q0) + abs(v - v0) <= 1e-12
 
 

@@ -258,13 +258,14 @@ def _jac_reversal(acc, a_before, a_after):
 
 
 @jit
-def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure, acc, ts, sq, sv):
+def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work).
 
     ts: sorted period-local sample times (empty when not sampling); q, v there go to sq, sv.
     Along the way acc[ACC_JAC:ACC_JAC + 4] gets the monodromy matrix d(q, v)(T)/d(q, v)(0) and
     acc[ACC_JAC_OK] = 1 when it is valid (slip only; the map is not smooth through a stick).
     """
+    A, r, bk, bs, zeta, c = p
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
     acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3] = 1.0, 0.0, 0.0, 1.0
@@ -278,7 +279,7 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
     while True:
         if mode == 0:
             acc[ACC_JAC_OK] = 0.0
-            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, stalled)
+            te = stick_phase(acc, q, t, T, p, new_stop, measure, stalled)
             new_stop = False
             stalled = False
             if ts.size:

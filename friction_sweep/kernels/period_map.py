@@ -24,43 +24,43 @@ MAP_ROUNDING = 32.0 * 2.220446049250313e-16
 
 
 @jit
-def advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, measure, acc):
+def advance(q, v, mode, p, settings, budget, measure, acc):
     """One period with the chosen integrator (a runtime switch: cached kernels cannot take functions).
     Returns (q, v, mode, status, work)."""
     if settings[SET_KERNEL] == KERNEL_RK4:
-        return advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, int(settings[SET_STEPS_PER_PERIOD]), budget,
+        return advance_period_rk4(q, v, mode, p, int(settings[SET_STEPS_PER_PERIOD]), budget,
                                   measure, acc)
     none = np.empty(0)  # no samples (a global array would be a read-only constant to numba)
-    return advance_period(q, v, mode, A, r, bk, bs, zeta, c, settings[SET_STOP_TOL], budget, measure, acc, none,
+    return advance_period(q, v, mode, p, settings[SET_STOP_TOL], budget, measure, acc, none,
                           none, none)
 
 
 @jit
-def period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, acc):
+def period(q, v, mode, p, settings, budget, acc):
     """One unmeasured period into a fresh accumulator (the march's step)."""
     reset_accumulator(acc)
-    return advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, False, acc)
+    return advance(q, v, mode, p, settings, budget, False, acc)
 
 
 @jit
-def mode_of(q, v, A, r, bs):
+def mode_of(q, v, p):
     """The mode of a state at forcing phase 0: the direction of motion, or at rest what the force decides."""
     if v > 0.0:
         return 1
     if v < 0.0:
         return -1
-    return decide(0.0, q, A, r, bs)
+    return decide(0.0, q, p.A, p.r, p.bs)
 
 
 @jit
-def map_k(q, v, k, A, r, bk, bs, zeta, c, settings, budget, measure, acc):
+def map_k(q, v, k, p, settings, budget, measure, acc):
     """P^k(q, v): k periods from (q, v), measured together in `acc` if asked. Returns (q, v, status,
     work); acc's jac_ok vouches for the monodromy matrix only for k = 1."""
     reset_accumulator(acc)
-    mode = mode_of(q, v, A, r, bs)
+    mode = mode_of(q, v, p)
     work = 0
     for _ in range(k):
-        q, v, mode, st, w = advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, measure, acc)
+        q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, measure, acc)
         work += w
         if st != 0:
             return q, v, st, work

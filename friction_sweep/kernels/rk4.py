@@ -47,6 +47,10 @@ GL3_W = np.ascontiguousarray(0.5 * _GL3_W)
 
 @jit
 def _accel(t, q, v, sig, A, r, bk, zeta):
+    """The equation's right-hand side (segments.acceleration) grouped as RK4 evaluates it: the forcing
+    and friction first, then the state. The same sum rounds differently from segments.acceleration's
+    order; regrouping the RK4 kernel through that one function changes its results by up to 1e-14 of the
+    transmissibility (and flips peak phases near 0), so RK4 keeps its grouping."""
     # zeta == 0: 2 zeta v is +-0.0, and subtracting a zero is exact
     return (A * math.cos(r * t) - sig * bk) - q - 2.0 * zeta * v
 
@@ -289,7 +293,7 @@ def _slip_step(acc, t, q, v, a0, H, sig, A, r, bk, zeta, c, measure, work, budge
 
 
 @jit
-def _rest_to_step_end(acc, q, t, tk1, A, r, bs, c, after_stop, measure):
+def _rest_to_step_end(acc, q, t, tk1, p, after_stop, measure):
     """A start from rest that never gets moving inside its step (CANNOT_MOVE): a tie at the band edge
     decided by rounding (a sliver of a step after a stick exit), or no way to move. The mass rests to
     the step's end and the mode is decided there, so that the march always moves on (deciding again at
@@ -298,17 +302,18 @@ def _rest_to_step_end(acc, q, t, tk1, A, r, bs, c, after_stop, measure):
     if after_stop:
         acc[ACC_STOPS] += 1.0  # the stop turned out to be a stick of positive duration
     if measure:
-        measure_stick(acc, q, t, tk1, r, c)
-    return decide(tk1, q, A, r, bs)
+        measure_stick(acc, q, t, tk1, p.r, p.c)
+    return decide(tk1, q, p.A, p.r, p.bs)
 
 
 @jit
-def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budget, measure, acc):
+def advance_period_rk4(q, v, mode, p, steps_per_period, budget, measure, acc):
     """March one forcing period from t = 0 to T with fixed-step RK4. Returns (q, v, mode, status, work).
 
     Same contract and accumulator record as `event.advance_period`; `steps_per_period` RK4 steps of
     T / steps_per_period on a grid aligned with the period.
     """
+    A, r, bk, bs, zeta, c = p
     T = TWO_PI / r
     n = steps_per_period
     h = T / n
@@ -323,7 +328,7 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
     while True:
         if mode == 0:
             have_a = False
-            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, False)
+            te = stick_phase(acc, q, t, T, p, new_stop, measure, False)
             new_stop = False
             after_stop = False
             if te >= T:
@@ -365,7 +370,7 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
                     return q, v, mode, OK, work
                 continue
             if theta == CANNOT_MOVE:
-                mode = _rest_to_step_end(acc, q, t, tk1, A, r, bs, c, after_stop, measure)
+                mode = _rest_to_step_end(acc, q, t, tk1, p, after_stop, measure)
                 t = tk1
                 v = 0.0
                 have_a = False

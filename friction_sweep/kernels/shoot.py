@@ -28,8 +28,9 @@ def _spectral_radius(m11, m12, m21, m22):
 
 #: a solution of P(x) = x is accepted only if the error that the map's own error (rounding, or RK4's
 #: truncation: period_map.map_error) can cause, |(J - I)^-1| times it, is below this relative: near
-#: r = 1, |(J - I)^-1| ~ 0.23/|1 - r|, so orbits are resolved down to |1 - r| ~ 2e-11; a "solution" of size 1e15 or more at r = 1, where the
-#: map's O(1) drift per period is lost in rounding, has |(J - I)^-1| ~ its size and is refused
+#: r = 1, |(J - I)^-1| ~ 0.23/|1 - r|, so orbits are resolved down to |1 - r| ~ 2e-11; a "solution" of
+#: size 1e15 or more at r = 1, where the map's O(1) drift per period is lost in rounding, has
+#: |(J - I)^-1| ~ its size and is refused
 RESOLVABLE = 1e-4
 
 
@@ -51,18 +52,19 @@ def _resolvable(b11, b12, b21, b22, error):
 
 
 @jit
-def _within_forced_bound(acc, k, A, r, bk, bs, zeta):
+def _within_forced_bound(acc, k, p):
     """The orbit's first harmonic Q1 (of q over its k measured periods, from the slots ic, is) obeys the
     bound that the equation itself proves: projecting q'' + 2 zeta q' + q + f = A cos(r t) onto the forcing
     frequency gives (1 - r^2 + 2i zeta r) Q1 = A - F1, and a friction force |f| <= max(bk, bs) has
     |F1| <= 4 max(bk, bs)/pi. Only a spurious orbit breaks it (always true at r = 1 without damping)."""
+    A, r, bk, bs, zeta, _ = p
     q1 = r / math.pi * math.hypot(acc[ACC_IC], acc[ACC_IS]) / k
     gain = math.hypot((1.0 - r) * (1.0 + r), 2.0 * zeta * r)
     return q1 * gain <= (A + 4.0 / math.pi * max(bk, bs)) * (1.0 + 1e-9)
 
 
 @jit
-def shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
+def shoot(q, v, k, p, settings, tol, budget, acc):
     """Newton on F(x) = P^k(x) - x for a period-k orbit. Returns (q, v, ok, work).
 
     The Jacobian is the event kernel's monodromy matrix (exact, saltation at reversals) wherever it
@@ -73,7 +75,7 @@ def shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
     and only one that rounding cannot move far (_resolvable) and that obeys the forced bound.
     """
     work = 0
-    error = map_error(r, settings)
+    error = map_error(p.r, settings)
     # Accept only after a small Newton step: where the map has no fixed point (r = 1, friction
     # below pi/4) a near-singular Jacobian leaps to a huge state whose relative residual looks tiny.
     last_step = math.inf
@@ -86,7 +88,7 @@ def shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
         # What the map's own error leaves: it is computed to ~map_error of the larger of the orbit and
         # the forcing (an orbit far smaller than A, next to the no-motion threshold, is pinned only
         # absolutely), and Newton's step inherits that times |(J - I)^-1|.
-        noise = error * max(scale, A)
+        noise = error * max(scale, p.A)
         step_noise = noise * min(_inverse_norm(b11, b12, b21, b22), 1e300) if last_step < math.inf else 0.0
         # Confirm (and measure) once Newton has hit its floor: a step below 1e-9 of the state, or one
         # below 1e-6 that no longer shrinks quadratically (rounding next to resonance). Stopping at the
@@ -94,7 +96,7 @@ def shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
         # is tiny (joined scene at high r).
         measure = (last_step <= 1e-9 * scale + step_noise
                    or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
-        q1, v1, st, w = map_k(q, v, k, A, r, bk, bs, zeta, c, settings, budget - work, measure, acc)
+        q1, v1, st, w = map_k(q, v, k, p, settings, budget - work, measure, acc)
         work += w
         if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
             return q, v, False, work
@@ -106,7 +108,7 @@ def shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
                 b11, b12 = acc[ACC_JAC] - 1.0, acc[ACC_JAC + 1]
                 b21, b22 = acc[ACC_JAC + 2], acc[ACC_JAC + 3] - 1.0
             ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, error)
-                  and _within_forced_bound(acc, k, A, r, bk, bs, zeta))
+                  and _within_forced_bound(acc, k, p))
             return q, v, ok, work
         if acc[ACC_JAC_OK] == 1.0:
             j11 = acc[ACC_JAC] - 1.0
@@ -115,9 +117,9 @@ def shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
             j22 = acc[ACC_JAC + 3] - 1.0
         else:
             # a step of 1e-6 of the orbit, or more where that would drown in the forcing's rounding
-            h = max(1e-6 * scale, 1e-8 * math.sqrt(A * scale))
-            qa, va, st1, w1 = map_k(q + h, v, k, A, r, bk, bs, zeta, c, settings, budget - work, False, acc)
-            qb, vb, st2, w2 = map_k(q, v + h, k, A, r, bk, bs, zeta, c, settings, budget - work, False, acc)
+            h = max(1e-6 * scale, 1e-8 * math.sqrt(p.A * scale))
+            qa, va, st1, w1 = map_k(q + h, v, k, p, settings, budget - work, False, acc)
+            qb, vb, st2, w2 = map_k(q, v + h, k, p, settings, budget - work, False, acc)
             work += w1 + w2
             if st1 != 0 or st2 != 0:
                 return q, v, False, work

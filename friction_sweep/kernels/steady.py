@@ -5,7 +5,8 @@ P^k repeats (period 1 or k), tries a Newton shooting solve of P(x) = x (shoot.py
 stop-free period and again every shoot_every periods, recognises steady linear growth (resonance
 below pi/4) and then measures over the k periods of the orbit. Everything is recorded as numbers and
 codes in one float row per point, whose slots are named in OUTPUT_FIELDS (the cube's variable names
-where the row holds one).
+where the row holds one). A point's parameters travel as one kernels.point.Point; solve_points and its
+variants build it from the parameter arrays the methods pass.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from friction_sweep.kernels.measure import (
     BUDGET, reset_accumulator,
 )
 from friction_sweep.kernels.period_map import advance, map_error, mode_of, period
+from friction_sweep.kernels.point import Point
 from friction_sweep.kernels.segments import TWO_PI
 from friction_sweep.kernels.settings import (
     SET_INITIAL_DISPLACEMENT, SET_INITIAL_VELOCITY, SET_MAX_ORBIT_PERIOD, SET_MAX_PERIODS, SET_SHOOT_AFTER,
@@ -108,6 +110,34 @@ LAG_SHOT = 1e-3
 APERIODIC_WINDOW = 256
 
 
+#: a state |(q, v)| beyond this multiple of max(A, 1) has grown without bound, whatever the rate
+RUNAWAY = 1e12
+#: Steady linear growth is looked for only GROWTH_AFTER periods into the march, every
+#: GROWTH_CHECK_EVERY periods, and only within GROWTH_DETUNING of r = 1 (|1 - r^2|)
+GROWTH_AFTER = 128
+GROWTH_CHECK_EVERY = 16
+GROWTH_DETUNING = 1e-6
+#: growth is GROWTH_WINDOW periods in which |(q, v)| rises every period, with the rise over the window's last
+#: third at least GROWTH_KEPT of that over its first third (a rate that does not decay)
+GROWTH_WINDOW = 48
+GROWTH_KEPT = 0.9
+#: |(q, v)| at the section is kept for this many periods (a ring; at least GROWTH_WINDOW + 1)
+RHO_HISTORY = 64
+
+
+@jit
+def _start(p, settings):
+    """The state the march starts from: the settings' start, except where nothing dissipates.
+
+    Without friction or damping a transient from any start would never decay, and the orbit would be
+    forced plus free motion forever. The steady state meant is the forced one (the limit of vanishing
+    damping): start on it, q = A/(1 - r^2), v = 0 at the excitation's maximum, whatever the given start.
+    """
+    if p.bk == 0.0 and p.bs == 0.0 and p.zeta == 0.0 and abs(1.0 - p.r) > TIE_RTOL:
+        return p.A / ((1.0 - p.r) * (1.0 + p.r)), 0.0
+    return settings[SET_INITIAL_DISPLACEMENT], settings[SET_INITIAL_VELOCITY]
+
+
 @jit
 def _subharmonic(r):
     """r = 1/(2n) to the tie tolerance (friction_sweep.ties.subharmonic_order)."""
@@ -115,58 +145,36 @@ def _subharmonic(r):
     return n >= 1.0 and abs(2.0 * n * r - 1.0) <= TIE_RTOL
 
 
-#: |x| beyond this multiple of max(A, 1) has grown without bound, whatever the rate
-RUNAWAY = 1e12
-#: Steady linear growth is looked for only GROWTH_AFTER periods into the march, every
-#: GROWTH_CHECK_EVERY periods, and only within GROWTH_DETUNING of r = 1 (|1 - r^2|)
-GROWTH_AFTER = 128
-GROWTH_CHECK_EVERY = 16
-GROWTH_DETUNING = 1e-6
-#: growth is GROWTH_WINDOW periods in which |x| rises every period, with the rise over the window's last
-#: third at least GROWTH_KEPT of that over its first third (a rate that does not decay)
-GROWTH_WINDOW = 48
-GROWTH_KEPT = 0.9
-#: |x| at the section is kept for this many periods (a ring; at least GROWTH_WINDOW + 1)
-RHO_HISTORY = 64
-
-
 @jit
-def _start(A, r, bk, bs, zeta, settings):
-    """The state the march starts from: the settings' start, except where nothing dissipates.
-
-    Without friction or damping a transient from any start would never decay, and the orbit would be
-    forced plus free motion forever. The steady state meant is the forced one (the limit of vanishing
-    damping): start on it, q = A/(1 - r^2), v = 0 at the excitation's maximum, whatever the given start.
-    """
-    if bk == 0.0 and bs == 0.0 and zeta == 0.0 and abs(1.0 - r) > TIE_RTOL:
-        return A / ((1.0 - r) * (1.0 + r)), 0.0
-    return settings[SET_INITIAL_DISPLACEMENT], settings[SET_INITIAL_VELOCITY]
-
-
-@jit
-def _family_member(q, v, A, r, bk, bs, zeta, c, settings, acc):
-    """The Den Hartog member of the stick-free family at r = 1/(2n), if this point has one.
+def _in_family(q, v, p):
+    """Whether the point lies on a stick-free family: r = 1/(2n), static = kinetic friction, no damping.
 
     At r = 1/(2n) stick-free orbits form a continuum (DESIGN.md §6), so the map has no isolated fixed
     point to march to or shoot for. Its half-wave symmetric member is Den Hartog's, which at U(r) = 0
-    starts from q = A/(1 - r^2), v = 0 at the excitation's maximum; one exact, measured period confirms
-    it (no stop, back to the start). With static = kinetic friction the fixed points form one convex
-    set, here the family, so this holds whatever the start (a swept start too), unless the start is held.
-    Returns (found, q, mode, work); on success `acc` holds the orbit's measurement.
+    starts from q = A/(1 - r^2), v = 0 at the excitation's maximum (_family_start); one exact, measured
+    period confirms it (_returns_to_start). With static = kinetic friction the fixed points form one
+    convex set, here the family, so this holds whatever the start (a swept start too), unless the start
+    is held.
     """
-    held = v == 0.0 and stuck_for_good(q, A, bs)
-    if not (bk > 0.0 and bs == bk and zeta == 0.0 and not held and _subharmonic(r)):
-        return False, q, 0, 0
-    tol = settings[SET_STEADY_TOL]
-    qf = A / ((1.0 - r) * (1.0 + r))
-    mf = mode_of(qf, 0.0, A, r, bs)
-    reset_accumulator(acc)
-    q1, v1, _, st, work = advance(qf, 0.0, mf, A, r, bk, bs, zeta, c, settings, int(settings[SET_WORK_BUDGET]),
-                                  True, acc)
+    held = v == 0.0 and stuck_for_good(q, p.A, p.bs)
+    return p.bk > 0.0 and p.bs == p.bk and p.zeta == 0.0 and not held and _subharmonic(p.r)
+
+
+@jit
+def _family_start(p):
+    """Den Hartog's member of the family: q = A/(1 - r^2) at rest, and the mode it starts in."""
+    qf = p.A / ((1.0 - p.r) * (1.0 + p.r))
+    return qf, mode_of(qf, 0.0, p)
+
+
+@jit
+def _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
+    """One period from (qf, 0) in mode mf, measured in `acc`, ended at (q1, v1) with status st: an orbit
+    of the family if it moved, never stopped, and came back to its start within the steady tolerance
+    (plus the map's own error)."""
     scale = max(abs(qf), acc[ACC_QMAX])
-    found = (st == 0 and mf != 0 and acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
-             and abs(q1 - qf) + abs(v1) <= tol * scale + map_error(r, settings) * max(scale, A))
-    return found, qf, mf, work
+    return (st == 0 and mf != 0 and acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
+            and abs(q1 - qf) + abs(v1) <= settings[SET_STEADY_TOL] * scale + map_error(p.r, settings) * max(scale, p.A))
 
 
 @jit
@@ -198,12 +206,13 @@ def _closest_lag(q, v, n, hq, hv, kmax):
 
 
 @jit
-def _growing(rho_hist, n, A, r, bk, zeta):
+def _growing(rho_hist, n, p):
     """Steady linear growth (resonance with friction below pi/4): GROWTH_WINDOW rising periods at a rate
     that does not decay, after shooting had its chances. Only next to r = 1, without damping and with
     friction up to pi/4 of the force: a pure sinusoid pumps without bound only there (paper Eqs.
     14-15), while Coulomb transients elsewhere also approach their (bounded) steady state at a
     constant rate, which must not be mistaken for growth."""
+    A, r, bk, _, zeta, _ = p
     if not (n >= GROWTH_AFTER and n % GROWTH_CHECK_EVERY == 0 and abs(1.0 - r) * (1.0 + r) < GROWTH_DETUNING
             and zeta == 0.0 and bk <= RESONANCE_FRICTION_LIMIT * A * (1.0 + TIE_RTOL)):
         return False
@@ -217,18 +226,16 @@ def _growing(rho_hist, n, A, r, bk, zeta):
 
 
 @jit
-def _track_lyapunov(q, v, size, tracked, yq, yv, ym, delta, log_growth, A, r, bk, bs, zeta, c, settings,
-                    budget, acc_y):
-    """One period of the companion state that measures the largest Lyapunov exponent (Benettin: at
-    relative distance 1e-7 from the march, renormalised along the current separation after every
-    period; along q to start). Returns (yq, yv, ym, delta, log_growth, work)."""
-    work = 0
+def _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p):
+    """Account for one period of the companion state that measures the largest Lyapunov exponent
+    (Benettin: at relative distance 1e-7 from the march, renormalised along the current separation
+    after every period; along q to start). (yq, yv): the companion after the period (unused on the
+    first, tracked = 0). Returns the companion's next start (yq, yv, ym), delta and log_growth."""
     if tracked > 0:
-        yq, yv, ym, _, work = period(yq, yv, ym, A, r, bk, bs, zeta, c, settings, budget, acc_y)
         d = math.hypot(yq - q, yv - v)
         log_growth += math.log(d / delta) if d > 0.0 else -math.inf
     else:
-        delta = 1e-7 * max(size, A)
+        delta = 1e-7 * max(size, p.A)
         yq, yv = q, v
         d = 0.0
     if d > 0.0 and math.isfinite(d):
@@ -237,28 +244,28 @@ def _track_lyapunov(q, v, size, tracked, yq, yv, ym, delta, log_growth, A, r, bk
     else:
         yq = q + delta
         yv = v
-    return yq, yv, mode_of(yq, yv, A, r, bs), delta, log_growth, work
+    return yq, yv, mode_of(yq, yv, p), delta, log_growth
 
 
 @jit
-def _march(q, v, mode, A, r, bk, bs, zeta, c, settings, work, acc):
+def _march(q, v, mode, p, settings, work, acc):
     """March the period map from (q, v, mode) until it repeats, a shooting solve lands on the orbit, the
     motion grows without bound, or the periods or the work run out; at the cap, shoot for the orbit
     of the lag the march repeats best at, else tell an aperiodic motion from a cut-short transient.
     Returns (q, v, mode, status, orbit, n, work, shot): shot when `acc` holds the orbit's measurement."""
+    A, bk, bs = p.A, p.bk, p.bs
     tol = settings[SET_STEADY_TOL]
     max_periods = int(settings[SET_MAX_PERIODS])
     kmax = int(settings[SET_MAX_ORBIT_PERIOD])
     budget = int(settings[SET_WORK_BUDGET])
     shoot_every = int(settings[SET_SHOOT_EVERY])
-    error = map_error(r, settings)
+    error = map_error(p.r, settings)
     hq = np.empty(kmax + 1)
     hv = np.empty(kmax + 1)
     hm = np.empty(kmax + 1, dtype=np.int64)
     rho_hist = np.empty(RHO_HISTORY)
     acc_y = np.empty(ACC_SIZE)
     hq[0], hv[0], hm[0] = q, v, mode
-    orbit = 0
     n = 0
     # shoot at the first stop-free period from shoot_after on, and again shoot_every periods after a miss
     next_shot = int(settings[SET_SHOOT_AFTER])
@@ -270,7 +277,7 @@ def _march(q, v, mode, A, r, bk, bs, zeta, c, settings, work, acc):
     tracked = 0
     while n < max_periods:
         n += 1
-        q, v, mode, st, w = period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, acc)
+        q, v, mode, st, w = period(q, v, mode, p, settings, budget - work, acc)
         work += w
         if st == BUDGET or work > budget:
             return q, v, mode, SteadyState.EVENT_BUDGET, 0, n, work, False
@@ -292,14 +299,15 @@ def _march(q, v, mode, A, r, bk, bs, zeta, c, settings, work, acc):
         i = n % (kmax + 1)
         hq[i], hv[i], hm[i] = q, v, mode
         if bs > bk and n >= lyap_from:
-            yq, yv, ym, delta, log_growth, w = _track_lyapunov(q, v, size, tracked, yq, yv, ym, delta, log_growth,
-                                                               A, r, bk, bs, zeta, c, settings, budget - work, acc_y)
-            work += w
+            if tracked > 0:
+                yq, yv, ym, _, w = period(yq, yv, ym, p, settings, budget - work, acc_y)
+                work += w
+            yq, yv, ym, delta, log_growth = _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p)
             tracked += 1
         no_stops = acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
         # a march that still has not settled after shoot_every periods shoots through its sticks too
         if n >= next_shot and (no_stops or n >= shoot_every):
-            qs, vs, ok, w = shoot(q, v, 1, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
+            qs, vs, ok, w = shoot(q, v, 1, p, settings, tol, budget - work, acc)
             work += w
             next_shot = n + shoot_every
             # Through sticks the map is only piecewise smooth and Newton may land on another orbit than
@@ -308,18 +316,18 @@ def _march(q, v, mode, A, r, bk, bs, zeta, c, settings, work, acc):
             if ok and not no_stops:
                 ok = math.hypot(qs - q, vs - v) <= STICK_SHOT_REACH * max(size, A)
             if ok:
-                return qs, vs, mode_of(qs, vs, A, r, bs), SteadyState.CONVERGED, 1, n, work, True
-        if _growing(rho_hist, n, A, r, bk, zeta):
+                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, 1, n, work, True
+        if _growing(rho_hist, n, p):
             return q, v, mode, SteadyState.GROWING, 0, n, work, False
     if n >= 2:
         # Out of periods: a period-k orbit that the march approaches too slowly (static friction locks
         # onto long periods) is solved for directly, from the lag at which the march repeats best.
         lag, best = _closest_lag(q, v, n, hq, hv, kmax)
         if lag > 0 and best <= LAG_SHOT * max(math.hypot(q, v), acc[ACC_QMAX], A):
-            qs, vs, ok, w = shoot(q, v, lag, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
+            qs, vs, ok, w = shoot(q, v, lag, p, settings, tol, budget - work, acc)
             work += w
             if ok:
-                return qs, vs, mode_of(qs, vs, A, r, bs), SteadyState.CONVERGED, lag, n, work, True
+                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, lag, n, work, True
     # only static friction above kinetic can keep a motion from settling: with bs == bk the friction
     # law is monotone and the period map does not expand distances (README, "Where the physics gets
     # hard"), so there a motion that has not repeated is a transient the budget cut short
@@ -329,13 +337,13 @@ def _march(q, v, mode, A, r, bk, bs, zeta, c, settings, work, acc):
 
 
 @jit
-def _measure_orbit(q, v, mode, orbit, A, r, bk, bs, zeta, c, settings, work, acc):
+def _measure_orbit(q, v, mode, orbit, p, settings, work, acc):
     """Measure the k = orbit periods from a state on the orbit into `acc`. Returns (work, done): not
     done when the point's work budget (which the measurement is part of) runs out."""
     budget = int(settings[SET_WORK_BUDGET])
     reset_accumulator(acc)
     for _ in range(orbit):
-        q, v, mode, st, w = advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, True, acc)
+        q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, True, acc)
         work += w
         if st == BUDGET or work > budget:
             return work, False
@@ -343,8 +351,9 @@ def _measure_orbit(q, v, mode, orbit, A, r, bk, bs, zeta, c, settings, work, acc
 
 
 @jit
-def _record_measurement(out, acc, orbit, A, r, c, tol):
+def _record_measurement(out, acc, orbit, p, tol):
     """The outputs of the orbit measured in `acc` over `orbit` periods from the state out[end_q]."""
+    A, r, c = p.A, p.r, p.c
     q0 = out[OUT_END_Q]
     total = orbit * (TWO_PI / r)
     stuck_fraction = acc[ACC_STUCK] / total
@@ -377,17 +386,24 @@ def _record_measurement(out, acc, orbit, A, r, c, tol):
 
 
 @jit
-def solve_point(A, r, bk, bs, zeta, c, settings, out):
-    """Steady state and measurements of one grid point; results in `out` (slots of OUTPUT_FIELDS)."""
+def solve_point(p, settings, out):
+    """Steady state and measurements of one grid point; results in `out` (slots of OUTPUT_FIELDS): from
+    the start, the family's member or the march's end, then the orbit's measurement."""
     out[:] = math.nan
     acc = np.empty(ACC_SIZE)
-    q, v = _start(A, r, bk, bs, zeta, settings)
-    mode = mode_of(q, v, A, r, bs)
-    found, qf, mf, work = _family_member(q, v, A, r, bk, bs, zeta, c, settings, acc)
-    if found:
-        q, v, mode, status, orbit, n, shot = qf, 0.0, mf, SteadyState.FAMILY, 1, 1, True
-    else:
-        q, v, mode, status, orbit, n, work, shot = _march(q, v, mode, A, r, bk, bs, zeta, c, settings, work, acc)
+    q, v = _start(p, settings)
+    mode = mode_of(q, v, p)
+    status = SteadyState.PERIOD_CAP
+    work = 0
+    if _in_family(q, v, p):
+        # Den Hartog's member of the family, confirmed (and measured) by one exact period
+        qf, mf = _family_start(p)
+        reset_accumulator(acc)
+        q1, v1, _, st, work = advance(qf, 0.0, mf, p, settings, int(settings[SET_WORK_BUDGET]), True, acc)
+        if _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
+            q, v, mode, status, orbit, n, shot = qf, 0.0, mf, SteadyState.FAMILY, 1, 1, True
+    if status != SteadyState.FAMILY:
+        q, v, mode, status, orbit, n, work, shot = _march(q, v, mode, p, settings, work, acc)
     out[OUT_PERIODS] = n
     out[OUT_STEADY_STATE] = status.value  # a float slot: numba casts no IntEnum to float
     out[OUT_WORK] = work
@@ -400,17 +416,17 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
         return
     # a shooting solve (or the family's check) measured its orbit already
     if not shot:
-        work, done = _measure_orbit(q, v, mode, orbit, A, r, bk, bs, zeta, c, settings, work, acc)
+        work, done = _measure_orbit(q, v, mode, orbit, p, settings, work, acc)
         out[OUT_WORK] = work
         if not done:
             out[OUT_STEADY_STATE] = SteadyState.EVENT_BUDGET.value
             out[OUT_REGIME] = Regime.UNSETTLED.value
             return
-    _record_measurement(out, acc, orbit, A, r, c, settings[SET_STEADY_TOL])
+    _record_measurement(out, acc, orbit, p, settings[SET_STEADY_TOL])
 
 
 @jit
-def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, sq, sv):
+def sample_orbit(q, v, mode, p, vtol, budget, periods, ts, sq, sv):
     """Replay `periods` forcing periods from a state on the orbit, sampling q, v at the local
     times ts (sorted, in [0, T)) of every period; sq, sv have shape (periods, ts.size). Returns
     BUDGET if the replay ran out of `budget` (the samples are then incomplete), else 0."""
@@ -418,8 +434,7 @@ def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, s
     work = 0
     for k in range(periods):
         reset_accumulator(acc)
-        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget - work, False, acc,
-                                           ts, sq[k], sv[k])
+        q, v, mode, st, w = advance_period(q, v, mode, p, vtol, budget - work, False, acc, ts, sq[k], sv[k])
         work += w
         if st == BUDGET or work > budget:
             return BUDGET
@@ -430,7 +445,7 @@ def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, s
 def solve_points(A, r, bk, bs, zeta, c, settings, out):
     """solve_point over 1-D arrays of points; out has shape (n, OUT_SIZE)."""
     for i in range(r.size):
-        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], settings, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), settings, out[i])
 
 
 @jit
@@ -440,7 +455,7 @@ def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, out):
     for i in range(r.size):
         own[SET_INITIAL_DISPLACEMENT] = q0[i]
         own[SET_INITIAL_VELOCITY] = v0[i]
-        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, out[i])
 
 
 @jit
@@ -451,7 +466,7 @@ def solve_sweep(A, r, bk, bs, zeta, c, settings, out):
     state (unbounded, unsettled) the next starts afresh from the settings' start."""
     own = settings.copy()
     for i in range(r.size):
-        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, out[i])
         regime = out[i, OUT_REGIME]
         # a float slot against the codes' values: numba casts no IntEnum to float
         if regime == Regime.UNBOUNDED.value or regime == Regime.UNSETTLED.value:

@@ -89,10 +89,11 @@ def stick_exit(t0, qs, A, r, bs):
 
 
 @jit
-def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, stalled):
+def stick_phase(acc, q, t, T, p, new_stop, measure, stalled):
     """A stick from t (exact for every integrator): count a new stop if it lasts longer than a grazing
     contact, add the time stuck, measure it if asked. Returns the exit time (>= T when the mass stays
     stuck to the period end). stalled: the last slip could not start (see TANGENT_SKIP)."""
+    A, r, bs = p.A, p.r, p.bs
     if stalled:
         skip = TANGENT_SKIP * T
         te = max(stick_exit(t + skip, q, A, r, bs + FORCE_TIE * (A + bs + abs(q))), t + skip)
@@ -103,5 +104,5 @@ def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, stalled):
     tb = min(te, T)
     acc[ACC_STUCK] += tb - t
     if measure:
-        measure_stick(acc, q, t, tb, r, c)
+        measure_stick(acc, q, t, tb, r, p.c)
     return te

@@ -19,6 +19,7 @@ import numpy as np
 
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import steady
+from friction_sweep.kernels.point import Point
 from friction_sweep.kernels.settings import SET_STOP_TOL, SET_WORK_BUDGET
 from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
@@ -196,8 +197,9 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         ts = frac * T
         sq = np.empty((k, samples_per_period))
         sv = np.empty((k, samples_per_period))
-        status = steady.sample_orbit(raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V], int(raw[i, steady.OUT_END_MODE]), A[i],
-                                     r[i], bk[i], bs[i], zeta[i], c[i], sett[SET_STOP_TOL],
+        point = Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i])
+        status = steady.sample_orbit(raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V],
+                                     int(raw[i, steady.OUT_END_MODE]), point, sett[SET_STOP_TOL],
                                      int(sett[SET_WORK_BUDGET]), k, ts, sq, sv)
         if status != 0:  # the replay ran out of budget: incomplete samples are not shown
             continue
