@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from friction_sweep.kernels.jit import jit
+from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
     ACC_IC, ACC_IS, ACC_STOPS, ACC_STUCK, BUDGET, OK, measure_stick, note_stop, offer_extreme,
 )
@@ -254,7 +254,7 @@ def _measure_slip(acc, t0, q0, v0, a0, q1, v1, a1, H, r, c):
             offer_extreme(acc, q + c * math.cos(r * tx), tx)
 
 
-@jit
+@jit_inline
 def _grid_step_of(t, h, n):
     """The grid step k, [k h, (k + 1) h], that holds t (guarding int(t / h) against rounding)."""
     k = min(int(t / h), n - 1)
@@ -265,7 +265,7 @@ def _grid_step_of(t, h, n):
     return k
 
 
-@jit
+@jit_inline
 def _slip_step(acc, t, q, v, a0, H, sig, A, r, bk, zeta, c, measure, work, budget):
     """One RK4 step of length H in slip direction sig, cut short at a stop inside it, and measured.
 
@@ -292,7 +292,7 @@ def _slip_step(acc, t, q, v, a0, H, sig, A, r, bk, zeta, c, measure, work, budge
     return q1, v1, a1, theta, OK, work
 
 
-@jit
+@jit_inline
 def _rest_to_step_end(acc, q, t, tk1, p, after_stop, measure):
     """A start from rest that never gets moving inside its step (CANNOT_MOVE): a tie at the band edge
     decided by rounding (a sliver of a step after a stick exit), or no way to move. The mass rests to

@@ -17,7 +17,7 @@ import numpy as np
 
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels.event import advance_period
-from friction_sweep.kernels.jit import jit
+from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
     ACC_IC, ACC_IS, ACC_QHI, ACC_QLO, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX, ACC_XMIN,
     BUDGET, reset_accumulator,
@@ -82,10 +82,10 @@ def settings_array(**overrides) -> np.ndarray:
 
 
 #: the phase convention of friction_sweep.theory.phase, compiled
-wrap_degrees = jit(phase.wrap_degrees)
+wrap_degrees = jit_inline(phase.wrap_degrees)
 
 
-@jit
+@jit_inline
 def lag_degrees(radians):
     """A lag in radians as degrees in [-90, 270). The conversion rounds twice, (x 180) / pi, where
     np.degrees multiplies by 180 / pi once; the two differ by an ulp in a quarter of the values, so each
@@ -125,7 +125,7 @@ GROWTH_KEPT = 0.9
 RHO_HISTORY = 64
 
 
-@jit
+@jit_inline
 def _start(p, settings):
     """The state the march starts from: the settings' start, except where nothing dissipates.
 
@@ -145,7 +145,7 @@ def _subharmonic(r):
     return n >= 1.0 and abs(2.0 * n * r - 1.0) <= TIE_RTOL
 
 
-@jit
+@jit_inline
 def _in_family(q, v, p):
     """Whether the point lies on a stick-free family: r = 1/(2n), static = kinetic friction, no damping.
 
@@ -160,14 +160,14 @@ def _in_family(q, v, p):
     return p.bk > 0.0 and p.bs == p.bk and p.zeta == 0.0 and not held and _subharmonic(p.r)
 
 
-@jit
+@jit_inline
 def _family_start(p):
     """Den Hartog's member of the family: q = A/(1 - r^2) at rest, and the mode it starts in."""
     qf = p.A / ((1.0 - p.r) * (1.0 + p.r))
     return qf, mode_of(qf, 0.0, p)
 
 
-@jit
+@jit_inline
 def _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
     """One period from (qf, 0) in mode mf, measured in `acc`, ended at (q1, v1) with status st: an orbit
     of the family if it moved, never stopped, and came back to its start within the steady tolerance
@@ -177,7 +177,7 @@ def _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
             and abs(q1 - qf) + abs(v1) <= settings[SET_STEADY_TOL] * scale + map_error(p.r, settings) * max(scale, p.A))
 
 
-@jit
+@jit_inline
 def _repeat_lag(q, v, mode, n, hq, hv, hm, kmax, tol, size, floor):
     """The smallest k <= kmax at which the state repeats the one k periods back (0 if none): within
     tol of the orbit's size plus `floor`, in the same mode (or at rest on both sides of a decision tie)."""
@@ -191,7 +191,7 @@ def _repeat_lag(q, v, mode, n, hq, hv, hm, kmax, tol, size, floor):
     return 0
 
 
-@jit
+@jit_inline
 def _closest_lag(q, v, n, hq, hv, kmax):
     """The lag k (1 <= k < n, k <= kmax) at which the state comes closest to the one k periods back,
     and that distance (|dq| + |dv|)."""
@@ -205,7 +205,7 @@ def _closest_lag(q, v, n, hq, hv, kmax):
     return lag, best
 
 
-@jit
+@jit_inline
 def _growing(rho_hist, n, p):
     """Steady linear growth (resonance with friction below pi/4): GROWTH_WINDOW rising periods at a rate
     that does not decay, after shooting had its chances. Only next to r = 1, without damping and with
@@ -225,7 +225,7 @@ def _growing(rho_hist, n, p):
     return d_new >= GROWTH_KEPT * d_old
 
 
-@jit
+@jit_inline
 def _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p):
     """Account for one period of the companion state that measures the largest Lyapunov exponent
     (Benettin: at relative distance 1e-7 from the march, renormalised along the current separation
@@ -247,7 +247,7 @@ def _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p):
     return yq, yv, mode_of(yq, yv, p), delta, log_growth
 
 
-@jit
+@jit_inline
 def _march(q, v, mode, p, settings, work, acc):
     """March the period map from (q, v, mode) until it repeats, a shooting solve lands on the orbit, the
     motion grows without bound, or the periods or the work run out; at the cap, shoot for the orbit
@@ -336,7 +336,7 @@ def _march(q, v, mode, p, settings, work, acc):
     return q, v, mode, SteadyState.PERIOD_CAP, 0, n, work, False
 
 
-@jit
+@jit_inline
 def _measure_orbit(q, v, mode, orbit, p, settings, work, acc):
     """Measure the k = orbit periods from a state on the orbit into `acc`. Returns (work, done): not
     done when the point's work budget (which the measurement is part of) runs out."""
@@ -350,7 +350,7 @@ def _measure_orbit(q, v, mode, orbit, p, settings, work, acc):
     return work, True
 
 
-@jit
+@jit_inline
 def _record_measurement(out, acc, orbit, p, tol):
     """The outputs of the orbit measured in `acc` over `orbit` periods from the state out[end_q]."""
     A, r, c = p.A, p.r, p.c

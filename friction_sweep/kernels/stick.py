@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from friction_sweep.kernels.jit import jit
+from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import ACC_STOPS, ACC_STUCK, measure_stick
 from friction_sweep.kernels.segments import FORCE_TIE, TWO_PI
 from friction_sweep.ties import TIE_RTOL
@@ -26,7 +26,7 @@ GRAZING_STICK = 1e-10
 TANGENT_SKIP = 1e-13
 
 
-@jit
+@jit_inline
 def net_force(t, q, A, r):
     """Forcing minus spring on a mass at rest at q at time t: what friction must hold."""
     return A * math.cos(r * t) - q
