@@ -205,20 +205,21 @@ def transient_from_rest(excitation: str, r: float, beta: float, periods: int, sa
     """The motion from rest at the excitation's maximum over `periods` forcing periods, by the exact
     event kernel. Returns (time in forcing periods, x, excitation, q, q'), each of length
     periods * samples_per_period."""
-    from friction_sweep.kernels import event as ev
-    from friction_sweep.kernels import steady
+    from friction_sweep.kernels import steady, stick
+    from friction_sweep.kernels.point import Point
+    from friction_sweep.kernels.settings import SET_STOP_TOL, SET_WORK_BUDGET
     from friction_sweep.methods import event as event_method
 
     A, c, bk, bs, zeta = (float(a[0]) for a in event_method.point_parameters(
         excitation, np.array([r]), np.array([beta]), effects))
-    sett = steady.settings_array(**(settings or {}))
+    sett = event_method.kernel_settings(settings)
     T = 2.0 * np.pi / r
     ts = np.arange(samples_per_period) / samples_per_period * T
     sq = np.empty((periods, samples_per_period))
     sv = np.empty((periods, samples_per_period))
     q0, v0 = 0.0, 0.0
-    mode = ev.decide(0.0, q0, A, r, bs)
-    steady.sample_orbit(q0, v0, mode, A, r, bk, bs, zeta, c, sett[steady.SET_VTOL], int(sett[steady.SET_BUDGET]),
+    mode = stick.decide(0.0, q0, A, r, bs)
+    steady.sample_orbit(q0, v0, mode, Point(A, r, bk, bs, zeta, c), sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]),
                         periods, ts, sq, sv)
     n = periods * samples_per_period
     t = np.arange(n) / samples_per_period

@@ -6,7 +6,9 @@ from conftest import OUTPUTS
 
 from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.kernels import event as ev
+from friction_sweep.kernels import measure as rec
 from friction_sweep.kernels import steady
+from friction_sweep.kernels.point import Point
 from friction_sweep.methods import event, theory
 from friction_sweep.theory import den_hartog as dh
 
@@ -88,13 +90,13 @@ def test_half_frequency_is_reported_honestly():
 
 @pytest.mark.parametrize("beta", [0.05, 0.3, 1.0])
 def test_free_decay_loses_4_beta_per_natural_period(beta):
-    acc = ev.new_accumulator()
+    acc = rec.new_accumulator()
     q, v, mode = 10.0, 0.0, -1
     r = 1.0  # the map's period is then the natural period 2 pi
     amplitudes = [q]
     for _ in range(200):
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 0.0, r, beta, beta, 0.0, 0.0, 1e-13, 10**6, False, acc,
-                                                          ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, Point(0.0, r, beta, beta, 0.0, 0.0), 1e-13, 10**6,
+                                                  False, acc, ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
         assert status == ev.OK
         amplitudes.append(q)
         if mode == 0:
@@ -301,18 +303,18 @@ def test_monodromy_matrix_is_the_derivative_of_the_period_map(excitation, r, bet
     none = np.empty(0)
 
     def period(q, v):
-        acc = ev.new_accumulator()
+        acc = rec.new_accumulator()
         mode = 1 if v > 0 else -1
-        q1, v1, _, st, _ = ev.advance_period(q, v, mode, A, r, bk, bs, z, c, 1e-12, 10**6, False, acc, none, none,
-                                             none)
-        assert st == 0 and acc[ev.ACC_STOPS] == 0
+        q1, v1, _, st, _ = ev.advance_period(q, v, mode, Point(A, r, bk, bs, z, c), 1e-12, 10**6, False, acc, none,
+                                             none, none)
+        assert st == 0 and acc[rec.ACC_STOPS] == 0
         return np.array([q1, v1]), acc
 
-    q0, v0 = out[steady.OUT_Q], out[steady.OUT_V]
+    q0, v0 = out[steady.OUT_END_Q], out[steady.OUT_END_V]
     for q, v in [(q0, v0), (q0 * 1.05, v0 + 0.02 * abs(q0))]:
         _, acc = period(q, v)
-        assert acc[ev.ACC_JOK] == 1.0
-        jac = acc[ev.ACC_JAC:ev.ACC_JAC + 4].reshape(2, 2)
+        assert acc[rec.ACC_JAC_OK] == 1.0
+        jac = acc[rec.ACC_JAC:rec.ACC_JAC + 4].reshape(2, 2)
         h = 1e-6 * max(abs(q), abs(v), 1.0)
         fd = np.column_stack([(period(q + h, v)[0] - period(q - h, v)[0]) / (2 * h),
                               (period(q, v + h)[0] - period(q, v - h)[0]) / (2 * h)])

@@ -593,19 +593,20 @@ def test_ctrl_c_under_dask_is_one_line(tmp_path):
 def test_no_point_exceeds_its_work_budget_and_calls_itself_converged(compiled, r, beta, static):
     """The measurement replays are part of the point's budget (they used to get the whole budget again)."""
     from friction_sweep.kernels import steady
+    from friction_sweep.methods import event
 
     def solve(budget):
         out = np.empty((1, steady.OUT_SIZE))
         steady.solve_points(np.array([1.0]), np.array([r]), np.array([beta]), np.array([beta * static]),
-                            np.array([0.0]), np.array([0.0]), steady.settings_array(work_budget=budget), out)
+                            np.array([0.0]), np.array([0.0]), event.kernel_settings({"work_budget": budget}), out)
         return out[0]
 
     full = solve(5_000_000)
     needed = int(full[steady.OUT_WORK])
     for budget in (needed, needed - 1, needed // 2):
         got = solve(budget)
-        assert got[steady.OUT_WORK] <= budget or got[steady.OUT_STEADY] == SteadyState.EVENT_BUDGET, budget
-    assert solve(needed)[steady.OUT_STEADY] == full[steady.OUT_STEADY]
+        assert got[steady.OUT_WORK] <= budget or got[steady.OUT_STEADY_STATE] == SteadyState.EVENT_BUDGET, budget
+    assert solve(needed)[steady.OUT_STEADY_STATE] == full[steady.OUT_STEADY_STATE]
 
 
 def test_a_port_that_accepts_and_stays_silent_is_no_scheduler(tmp_path, monkeypatch):

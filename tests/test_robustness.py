@@ -15,7 +15,9 @@ from hypothesis import strategies as st
 
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import event as ev
-from friction_sweep.kernels import steady
+from friction_sweep.kernels import measure as rec
+from friction_sweep.kernels import steady, stick
+from friction_sweep.kernels.point import Point
 from friction_sweep.methods import event, theory
 from friction_sweep.theory import den_hartog as dh
 
@@ -163,12 +165,12 @@ def test_hundred_thousand_periods_without_drift():
     r = 0.7
     V = 1 / (1 - r * r)
     T = 2 * np.pi / r
-    acc = ev.new_accumulator()
-    q, v, mode = 0.0, 0.0, ev.decide(0.0, 0.0, 1.0, r, 0.0)
+    acc = rec.new_accumulator()
+    q, v, mode = 0.0, 0.0, stick.decide(0.0, 0.0, 1.0, r, 0.0)
     n = 100_000
     for _ in range(n):
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 1.0, r, 0.0, 0.0, 0.0, 0.0, 1e-12, 10**6, False, acc,
-                                                  ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, Point(1.0, r, 0.0, 0.0, 0.0, 0.0), 1e-12, 10**6,
+                                                  False, acc, ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
     nT = n * T
     assert q == pytest.approx(V * (1 - np.cos(nT)), abs=1e-9 * V)
     assert v == pytest.approx(V * np.sin(nT), abs=1e-9 * V)
@@ -177,15 +179,15 @@ def test_hundred_thousand_periods_without_drift():
 @pytest.mark.nojit_slow
 def test_a_converged_orbit_stays_put_for_a_hundred_thousand_periods():
     out = event.solve_flat("base", np.array([0.3]), np.array([0.3]))[0]
-    q, v, mode = out[steady.OUT_Q], out[steady.OUT_V], int(out[steady.OUT_MODE])
-    acc = ev.new_accumulator()
+    q, v, mode = out[steady.OUT_END_Q], out[steady.OUT_END_V], int(out[steady.OUT_END_MODE])
+    acc = rec.new_accumulator()
     for _ in range(100):  # the search stops within steady_tol of the orbit; stick-slip lands on it
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 1.0, 0.3, 0.3, 0.3, 0.0, 0.0, 1e-12, 10**6, False, acc,
-                                                  ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, Point(1.0, 0.3, 0.3, 0.3, 0.0, 0.0), 1e-12, 10**6,
+                                                  False, acc, ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
     q0, v0 = q, v
     for _ in range(100_000):
-        q, v, mode, status, _ = ev.advance_period(q, v, mode, 1.0, 0.3, 0.3, 0.3, 0.0, 0.0, 1e-12, 10**6, False, acc,
-                                                  ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
+        q, v, mode, status, _ = ev.advance_period(q, v, mode, Point(1.0, 0.3, 0.3, 0.3, 0.0, 0.0), 1e-12, 10**6,
+                                                  False, acc, ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
     assert abs(q - q0) + abs(v - v0) <= 1e-12
 
 
@@ -291,7 +293,7 @@ def test_no_zeno_stall_where_the_orbit_creeps_towards_grazing():
     a stop at once on every restart (the velocity was still below the stop tolerance while rising)
     and crept forward geometrically until the work budget ran out."""
     out = event.solve_flat("base", np.array([0.45]), np.array([0.25]), shoot_after=10**9)[0]
-    assert out[steady.OUT_STEADY] != SteadyState.EVENT_BUDGET
+    assert out[steady.OUT_STEADY_STATE] != SteadyState.EVENT_BUDGET
     assert out[steady.OUT_WORK] / out[steady.OUT_PERIODS] < 500  # work per period stays ordinary
 
 
@@ -304,10 +306,10 @@ def test_shooting_through_sticks_lands_where_the_slow_march_ends():
     shot = event.solve_flat("base", np.array([0.45]), np.array([0.25]))[0]
     march = event.solve_flat("base", np.array([0.45]), np.array([0.25]), shoot_after=10**9, max_periods=60_000,
                              steady_tol=1e-14)[0]
-    assert shot[steady.OUT_STEADY] == march[steady.OUT_STEADY] == SteadyState.CONVERGED
+    assert shot[steady.OUT_STEADY_STATE] == march[steady.OUT_STEADY_STATE] == SteadyState.CONVERGED
     assert shot[steady.OUT_PERIODS] < 10 < 20_000 < march[steady.OUT_PERIODS]
-    assert shot[steady.OUT_STOPS] == march[steady.OUT_STOPS] == 2
-    assert shot[steady.OUT_TRANS] == pytest.approx(march[steady.OUT_TRANS], rel=1e-12)
-    assert shot[steady.OUT_PEAK] == pytest.approx(march[steady.OUT_PEAK], rel=1e-10)
+    assert shot[steady.OUT_STOPS_PER_PERIOD] == march[steady.OUT_STOPS_PER_PERIOD] == 2
+    assert shot[steady.OUT_TRANSMISSIBILITY] == pytest.approx(march[steady.OUT_TRANSMISSIBILITY], rel=1e-12)
+    assert shot[steady.OUT_PEAK_TRANSMISSIBILITY] == pytest.approx(march[steady.OUT_PEAK_TRANSMISSIBILITY], rel=1e-10)
 
 

@@ -60,13 +60,13 @@ def test_a_state_that_only_a_sweep_finds_is_a_real_orbit():
     r = np.round(np.arange(1, 57) * 0.01, 12)  # up to 0.56
     A, c, bk, bs, zeta = event.point_parameters("base", r, np.full(r.shape, 0.3), STATIC)
     raw = np.empty((r.size, steady.OUT_SIZE))
-    steady.solve_sweep(A, r, bk, bs, zeta, c, steady.settings_array(), raw)
+    steady.solve_sweep(A, r, bk, bs, zeta, c, event.kernel_settings(), raw)
     last = raw[-1]
     default = event.compute_tile("base", r[-1:], np.array([0.3]), OUTPUTS, STATIC)
     assert default["steady_states"][0, 0] == 1
-    assert abs(last[steady.OUT_TRANS] / default["transmissibility"][0, 0] - 1) > 1e-3  # another state
-    t, stops, _ = independent(1.0, 0.56, 0.3, 0.45, last[steady.OUT_Q], last[steady.OUT_V])
-    assert t == pytest.approx(last[steady.OUT_TRANS], rel=1e-8) and stops == last[steady.OUT_STOPS] == 1
+    assert abs(last[steady.OUT_TRANSMISSIBILITY] / default["transmissibility"][0, 0] - 1) > 1e-3  # another state
+    t, stops, _ = independent(1.0, 0.56, 0.3, 0.45, last[steady.OUT_END_Q], last[steady.OUT_END_V])
+    assert t == pytest.approx(last[steady.OUT_TRANSMISSIBILITY], rel=1e-8) and stops == last[steady.OUT_STOPS_PER_PERIOD] == 1
 
 
 SPEC = """\

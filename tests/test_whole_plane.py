@@ -13,6 +13,8 @@ from conftest import OUTPUTS, STATIC
 from friction_sweep import consistency, ties
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import event as ev
+from friction_sweep.kernels import measure as rec
+from friction_sweep.kernels.point import Point
 from friction_sweep.methods import event, rk4, theory
 from friction_sweep.storage import cube, provenance
 from friction_sweep.theory import den_hartog as dh
@@ -246,12 +248,13 @@ def test_family_members_share_the_first_harmonic_but_not_the_peak():
     results = []
     for a in (0.0, 0.05):
         q, v = q0 + a, 0.0  # adds a cos(t): same sign pattern of the velocity for a small a
-        acc = ev.new_accumulator()
-        q1, v1, _, status, _ = ev.advance_period(q, v, -1, 1.0, r, beta, beta, 0.0, 0.0, 1e-13, 10**6, True, acc,
+        acc = rec.new_accumulator()
+        q1, v1, _, status, _ = ev.advance_period(q, v, -1, Point(1.0, r, beta, beta, 0.0, 0.0), 1e-13, 10**6, True, acc,
                                                  ev.NO_SAMPLES, ev.NO_SAMPLES, ev.NO_SAMPLES)
-        assert status == 0 and acc[ev.ACC_STOPS] == 0
+        assert status == 0 and acc[rec.ACC_STOPS] == 0
         assert abs(q1 - q) + abs(v1 - v) < 1e-12  # periodic
-        results.append((np.hypot(acc[ev.ACC_IC], acc[ev.ACC_IS]) * r / np.pi, max(acc[ev.ACC_XMAX], -acc[ev.ACC_XMIN])))
+        results.append((np.hypot(acc[rec.ACC_IC], acc[rec.ACC_IS]) * r / np.pi,
+                        max(acc[rec.ACC_XMAX], -acc[rec.ACC_XMIN])))
     assert results[1][0] == pytest.approx(results[0][0], rel=1e-12)  # first harmonic shared
     assert results[1][1] > results[0][1] + 0.04  # peaks differ
 

@@ -18,6 +18,8 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep import catalogue
+from friction_sweep.kernels import steady
+from friction_sweep.kernels.settings import KERNEL_RK4
 from friction_sweep.methods import event, paper, rk4, theory
 
 OUTPUTS = ("transmissibility", "phase", "regime")
@@ -60,13 +62,13 @@ def reference(region, excitation, quick):
             theory.compute_tile(excitation, r, b, OUTPUTS)["transmissibility"][0]
         return np.asarray(th), 0.0
     raw = event.solve_flat(excitation, r, b, **REFERENCE_SETTINGS)
-    ref = raw[:, 0]
+    ref = raw[:, steady.OUT_TRANSMISSIBILITY]
     from friction_sweep.bench.reference import measure
 
     worst = 0.0
     for i, (rr, bb) in enumerate(pts[:1] if quick else pts):  # DOP853 is slow: one point per region in quick
         A, c = (rr * rr, 1.0) if excitation == "joined" else (1.0, 0.0)
-        t_dop, _ = measure(A, rr, bb, bb, int(raw[i, 7]) + 20, c)
+        t_dop, _ = measure(A, rr, bb, bb, int(raw[i, steady.OUT_PERIODS]) + 20, c)
         worst = max(worst, abs(t_dop / ref[i] - 1))
     return ref, worst
 
@@ -79,12 +81,12 @@ def _time_points(method_name, excitation, pts, settings, repeat):
         for rr, bb in pts:
             values.append(paper.solve_point(excitation, rr, bb, settings)["transmissibility"])
         return np.array(values), (time.perf_counter() - t) / len(pts)
-    full = {**settings, "kernel": 1} if method_name == "rk4" else dict(settings)
+    full = {**settings, "kernel": KERNEL_RK4} if method_name == "rk4" else dict(settings)
     event.solve_flat(excitation, r[:1], b[:1], **full)  # compiled before timing
     rr, bb = np.tile(r, repeat), np.tile(b, repeat)
     t = time.perf_counter()
     raw = event.solve_flat(excitation, rr, bb, **full)
-    return raw[: r.size, 0], (time.perf_counter() - t) / rr.size
+    return raw[: r.size, steady.OUT_TRANSMISSIBILITY], (time.perf_counter() - t) / rr.size
 
 
 def run(quick: bool = False, methods=("event", "rk4", "paper"), log=print) -> xr.Dataset:

@@ -5,15 +5,12 @@ kernel is period-local (0 <= t <= T = 2 pi / r), so the forcing phase r t never 
 however many periods are marched. At every stop the next mode is decided from the force there
 (stick if |A cos(r t) - q| <= bs, else slip towards it), never by re-arming a root finder.
 
-Measurement (only on the periods that are measured) accumulates into `acc`:
-    ACC_IC, ACC_IS   integrals of q cos(r t), q sin(r t): closed form (or Gauss-Legendre near
-                     resonance and with damping) on slip pieces, exact on sticks
-    ACC_XMAX/TMAX, ACC_XMIN/TMIN   extremes of the response x = q + c cos(r t) and their times
-and, always (cheap): ACC_STUCK (time stuck), ACC_STOPS (stick entries of positive duration),
-ACC_EVENTS and ACC_QMAX (max |q| at events: the orbit's size, a scale for convergence tests),
-ACC_JAC/ACC_JOK (the period map's monodromy matrix, for shooting). For c = 0 the extremes sit at
-events (q is monotone between velocity zeros); for c != 0 (joined: x = z + cos r t) each slip piece
-is sampled and its best samples refined by Newton on x' = 0.
+Measurement goes into the accumulator record of kernels/measure.py. On slip pieces the first-harmonic
+integrals are closed form (or Gauss-Legendre near resonance and with damping), sticks are measured
+exactly (kernels/stick.py). For c = 0 the extremes of the response x = q + c cos(r t) sit at events
+(q is monotone between velocity zeros); for c != 0 (joined: x = z + cos r t) each slip piece is sampled
+and its best samples refined by Newton on x' = 0. Along the way the period map's monodromy matrix
+(slots jac11..jac22, for shooting) is built from the flow of slip pieces and the saltation at reversals.
 """
 
 from __future__ import annotations
@@ -22,34 +19,23 @@ import math
 
 import numpy as np
 
-from friction_sweep.codes import SteadyState
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.segments import (
-    FORCE_TIE, TWO_PI, find_stop, sin_over, slip_state, stick_exit, stuck_for_good,
+from friction_sweep.kernels.measure import (
+    ACC_IC,
+    ACC_IS,
+    ACC_JAC,
+    ACC_JAC_OK,
+    BUDGET,
+    OK,
+    note_stop,
+    offer_extreme,
 )
-
-#: status of a period's advance: done, or out of work budget (the steady-state code it leads to)
-OK = 0
-BUDGET = SteadyState.EVENT_BUDGET
-
-#: A stick shorter than this fraction of the forcing period is a grazing contact, not a stop: at the
-#: continuous limit the exact stick lasts zero time and rounding leaves ~1e-12 of a period, while a
-#: friction ratio 1e-9 above the limit already sticks for ~1e-9 of a period.
-GRAZING_STICK = 1e-10
+from friction_sweep.kernels.segments import TWO_PI, acceleration, find_stop, sin_over, slip_state
+from friction_sweep.kernels.stick import decide, slip_direction, stick_phase
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(16)
 GL_X = np.ascontiguousarray(_GL_X)
 GL_W = np.ascontiguousarray(_GL_W)
-
-ACC_IC, ACC_IS, ACC_XMAX, ACC_TMAX, ACC_XMIN, ACC_TMIN, ACC_STUCK, ACC_STOPS, ACC_EVENTS, ACC_QMAX = range(10)
-# monodromy matrix of the period map d(q, v)(T)/d(q, v)(0), row-major, and whether it is valid
-# (event kernel, slip only: saltation at reversals; a stick or a grazing reversal leaves it invalid)
-ACC_JAC = 10
-ACC_JOK = 14
-# lowest and highest q at the stops (velocity zeros): q is monotone between them, so with the period's
-# ends they bound the orbit's whole motion
-ACC_QLO, ACC_QHI = 15, 16
-ACC_SIZE = 17
 
 #: below this |1 - r^2| the first-harmonic integrals of a slip piece use Gauss-Legendre on the
 #: cancellation-free slip_state; above it the closed form, whose terms are at most A/|1 - r^2|
@@ -58,67 +44,7 @@ CLOSED_FORM_DETUNING = 0.1
 #: frequencies 1 and r, so one hump spans more than pi/(1 + r) and cannot hide between samples
 EXTREME_SPACING = 0.15
 
-
 NO_SAMPLES = np.empty(0)  # for callers from Python; jitted callers allocate their own
-
-
-def new_accumulator():
-    acc = np.zeros(ACC_SIZE)
-    reset_accumulator(acc)
-    return acc
-
-
-@jit
-def reset_accumulator(acc):
-    acc[:] = 0.0  # ACC_JOK = 0: only the event kernel vouches for a monodromy matrix
-    acc[ACC_XMAX] = -math.inf
-    acc[ACC_XMIN] = math.inf
-    acc[ACC_QLO] = math.inf
-    acc[ACC_QHI] = -math.inf
-
-
-@jit
-def note_stop(acc, q):
-    """Count a velocity zero at q: events, the orbit's size (max |q|) and its range of q."""
-    acc[ACC_EVENTS] += 1.0
-    acc[ACC_QMAX] = max(acc[ACC_QMAX], abs(q))
-    acc[ACC_QLO] = min(acc[ACC_QLO], q)
-    acc[ACC_QHI] = max(acc[ACC_QHI], q)
-
-
-@jit
-def decide(t, q, A, r, bs):
-    """Mode at rest at time t: 0 (stick) if the force is inside the static band, else its sign.
-    A band that holds the force's whole swing (to the tie tolerance, friction_sweep.ties) is a stick."""
-    d = A * math.cos(r * t) - q
-    if abs(d) <= bs or stuck_for_good(q, A, bs):
-        return 0
-    return 1 if d > 0.0 else -1
-
-
-@jit
-def offer_extreme(acc, x, t):
-    """Offer the response x at time t as the period's max or min."""
-    if x > acc[ACC_XMAX]:
-        acc[ACC_XMAX] = x
-        acc[ACC_TMAX] = t
-    if x < acc[ACC_XMIN]:
-        acc[ACC_XMIN] = x
-        acc[ACC_TMIN] = t
-
-
-@jit
-def _measure_stick(acc, qs, ta, tb, A, r, c):
-    acc[ACC_IC] += qs * (math.sin(r * tb) - math.sin(r * ta)) / r
-    acc[ACC_IS] += qs * (math.cos(r * ta) - math.cos(r * tb)) / r
-    offer_extreme(acc, qs + c * math.cos(r * ta), ta)
-    offer_extreme(acc, qs + c * math.cos(r * tb), tb)
-    if c != 0.0:
-        # x = qs + c cos(r t) peaks where r t is a multiple of pi inside the stick
-        k = math.ceil(r * ta / math.pi)
-        while k * math.pi < r * tb:
-            offer_extreme(acc, qs + c * math.cos(k * math.pi), k * math.pi / r)
-            k += 1
 
 
 @jit
@@ -184,7 +110,7 @@ def _slip_x(s, t0, q0, v0, sig, A, r, bk, zeta, c, ca, sa):
     cp = math.cos(ph)
     x = q + c * cp
     xd = v - c * r * math.sin(ph)
-    xdd = A * cp - q - sig * bk - 2.0 * zeta * v - c * r * r * cp
+    xdd = acceleration(q, v, sig, A, bk, zeta, cp) - c * r * r * cp
     return x, xd, xdd
 
 
@@ -286,38 +212,6 @@ def _measure_slip(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa):
     _slip_extremes(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa)
 
 
-#: After a slip that could not start (the force touched the band edge tangentially and turned back,
-#: or pushed out of it by less than FORCE_TIE: a tie that rounding can decide either way), the next
-#: stick exit is where the force leaves the band by more than the tie, and at least this fraction of a
-#: period later, so that time always advances (no Zeno cycle of exit -> no motion -> stick).
-TANGENT_SKIP = 1e-13
-
-
-@jit
-def stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, stalled):
-    """A stick from t (exact for every integrator): count a new stop if it lasts longer than a grazing
-    contact, add the time stuck, measure it if asked. Returns the exit time (>= T when the mass stays
-    stuck to the period end). stalled: the last slip could not start (see TANGENT_SKIP)."""
-    if stalled:
-        skip = TANGENT_SKIP * T
-        te = max(stick_exit(t + skip, q, A, r, bs + FORCE_TIE * (A + bs + abs(q))), t + skip)
-    else:
-        te = max(stick_exit(t, q, A, r, bs), t)
-    if new_stop and te - t > GRAZING_STICK * T:
-        acc[ACC_STOPS] += 1.0
-    tb = min(te, T)
-    acc[ACC_STUCK] += tb - t
-    if measure:
-        _measure_stick(acc, q, t, tb, A, r, c)
-    return te
-
-
-@jit
-def slip_direction(t, q, A, r):
-    """Direction in which the force sets the mass sliding when it leaves a stick at t."""
-    return 1 if A * math.cos(r * t) - q > 0.0 else -1
-
-
 @jit
 def _sample(ts, sq, sv, j, ta, tb, t0, q0, v0, sig, A, r, bk, zeta):
     """Fill the samples with ta <= ts[j] < tb from the piece anchored at t0; returns the next j."""
@@ -363,7 +257,7 @@ def _jac_reversal(acc, a_before, a_after):
     """Saltation at a reversal (event v = 0, friction flips): S = I + (f+ - f-) n^T / (n^T f-) with
     n = (0, 1), f = (v, a), i.e. the velocity row of J scales by a+/a-."""
     if a_before == 0.0:
-        acc[ACC_JOK] = 0.0
+        acc[ACC_JAC_OK] = 0.0
         return
     f = a_after / a_before
     acc[ACC_JAC + 2] *= f
@@ -371,17 +265,18 @@ def _jac_reversal(acc, a_before, a_after):
 
 
 @jit
-def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure, acc, ts, sq, sv):
+def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work).
 
     ts: sorted period-local sample times (empty when not sampling); q, v there go to sq, sv.
     Along the way acc[ACC_JAC:ACC_JAC + 4] gets the monodromy matrix d(q, v)(T)/d(q, v)(0) and
-    acc[ACC_JOK] = 1 when it is valid (slip only; the map is not smooth through a stick).
+    acc[ACC_JAC_OK] = 1 when it is valid (slip only; the map is not smooth through a stick).
     """
+    A, r, bk, bs, zeta, c = p
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
     acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3] = 1.0, 0.0, 0.0, 1.0
-    acc[ACC_JOK] = 1.0
+    acc[ACC_JAC_OK] = 1.0
     t = 0.0
     work = 0
     new_stop = False
@@ -390,8 +285,8 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
     stalled = False  # the last slip could not start from its stick exit
     while True:
         if mode == 0:
-            acc[ACC_JOK] = 0.0
-            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, stalled)
+            acc[ACC_JAC_OK] = 0.0
+            te = stick_phase(acc, q, t, T, p, new_stop, measure, stalled)
             new_stop = False
             stalled = False
             if ts.size:
@@ -434,10 +329,11 @@ def advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol_rel, budget, measure,
             old = mode
             mode = decide(t, q, A, r, bs)
             if mode == -old:
-                force = A * math.cos(r * t) - q
-                _jac_reversal(acc, force - old * bk, force + old * bk)
+                cp = math.cos(r * t)
+                _jac_reversal(acc, acceleration(q, 0.0, old, A, bk, zeta, cp),
+                              acceleration(q, 0.0, mode, A, bk, zeta, cp))
             else:
-                acc[ACC_JOK] = 0.0
+                acc[ACC_JAC_OK] = 0.0
             new_stop = mode == 0
             if t >= T:
                 return q, v, mode, OK, work

@@ -11,10 +11,10 @@ right-hand side but a mode, as in the event kernel.
   most steps free of stops at the cost of four comparisons; otherwise the cubic is split at its
   critical points and the first down-crossing is bisected. The step is then redone from its start
   with the shorter length, v is set to 0 at the stop, the next mode is decided there
-  (`event.decide`), and the rest of the original step follows, so the grid stays aligned with the
+  (`stick.decide`), and the rest of the original step follows, so the grid stays aligned with the
   period. A slip from rest (v = 0) searches w(s)/s instead of w(s), so the initial zero is never a
   stop, and a tie at the band edge (w'(0) = 0) only needs w to turn positive strictly after 0.
-- Stick: q and v frozen; the exit from the static band is the closed form `segments.stick_exit`
+- Stick: q and v frozen; the exit from the static band is the closed form `stick.stick_exit`
   (exact); the slip starts there, inside its grid step.
 - Measurement: the first-harmonic integrals are 3-point Gauss-Legendre on each step's cubic Hermite
   interpolant of q (q and v at both ends: O(h^4) globally), exact on sticks. Extremes of
@@ -32,12 +32,20 @@ import math
 
 import numpy as np
 
-from friction_sweep.kernels.event import (
-    ACC_IC, ACC_IS, ACC_STOPS, ACC_STUCK, BUDGET, OK, _measure_stick, decide, note_stop, offer_extreme,
-    slip_direction, stick_phase,
+from friction_sweep.kernels.jit import jit, jit_inline
+from friction_sweep.kernels.measure import (
+    ACC_IC,
+    ACC_IS,
+    ACC_STOPS,
+    ACC_STUCK,
+    BUDGET,
+    OK,
+    measure_stick,
+    note_stop,
+    offer_extreme,
 )
-from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.segments import TWO_PI
+from friction_sweep.kernels.stick import decide, slip_direction, stick_phase
 
 _GL3_X, _GL3_W = np.polynomial.legendre.leggauss(3)
 #: 3-point Gauss-Legendre on [0, 1]: nodes and weights
@@ -47,6 +55,10 @@ GL3_W = np.ascontiguousarray(0.5 * _GL3_W)
 
 @jit
 def _accel(t, q, v, sig, A, r, bk, zeta):
+    """The equation's right-hand side (segments.acceleration) grouped as RK4 evaluates it: the forcing
+    and friction first, then the state. The same sum rounds differently from segments.acceleration's
+    order; regrouping the RK4 kernel through that one function changes its results by up to 1e-14 of the
+    transmissibility (and flips peak phases near 0), so RK4 keeps its grouping."""
     # zeta == 0: 2 zeta v is +-0.0, and subtracting a zero is exact
     return (A * math.cos(r * t) - sig * bk) - q - 2.0 * zeta * v
 
@@ -152,13 +164,19 @@ def _first_down(p0, p1, p2, p3):
     return -1.0
 
 
+#: _stop_in_step's answers besides a fraction of the step: no stop in it, or a start from rest that
+#: never gets moving
+NO_STOP = -1.0
+CANNOT_MOVE = -2.0
+
+
 @jit
 def _stop_in_step(sig, v0, a0, v1, a1, H):
-    """Fraction of the step (0, 1] at which sig v first falls to 0, or -1.0 if it does not.
+    """Fraction of the step (0, 1] at which sig v first falls to 0, or NO_STOP if it does not.
 
     From the cubic Hermite interpolant of v on the step (theta = s / H):
         w(theta) = sig (v0 + H a0 theta + C2 theta^2 + C3 theta^3).
-    Returns -2.0 when the motion starts from rest but sig v never turns positive (cannot move).
+    Returns CANNOT_MOVE when the motion starts from rest but sig v never turns positive.
     """
     d0 = H * a0
     d1 = H * a1
@@ -172,14 +190,14 @@ def _stop_in_step(sig, v0, a0, v1, a1, H):
         g1 = sig * C2
         g2 = sig * C3
         if g0 > 0.0 and g0 + g1 + g2 > 0.0 and g0 + 0.5 * g1 > 0.0:
-            return -1.0  # Bernstein hull of g positive
+            return NO_STOP  # Bernstein hull of g positive
         x = _first_down(g0, g1, g2, 0.0)
         if x < 0.0 and w1 <= 0.0:
-            return -2.0
+            return CANNOT_MOVE
         return x
     # Bernstein control points of w: all positive proves no zero in the step
     if w0 > 0.0 and w1 > 0.0 and w0 + sig * d0 / 3.0 > 0.0 and w1 - sig * d1 / 3.0 > 0.0:
-        return -1.0
+        return NO_STOP
     return _first_down(w0, sig * d0, sig * C2, sig * C3)
 
 
@@ -244,13 +262,66 @@ def _measure_slip(acc, t0, q0, v0, a0, q1, v1, a1, H, r, c):
             offer_extreme(acc, q + c * math.cos(r * tx), tx)
 
 
+@jit_inline
+def _grid_step_of(t, h, n):
+    """The grid step k, [k h, (k + 1) h], that holds t (guarding int(t / h) against rounding)."""
+    k = min(int(t / h), n - 1)
+    while k + 1 < n and (k + 1) * h <= t:
+        k += 1
+    while k > 0 and k * h > t:
+        k -= 1
+    return k
+
+
+@jit_inline
+def _slip_step(acc, t, q, v, a0, H, sig, A, r, bk, zeta, c, measure, work, budget):
+    """One RK4 step of length H in slip direction sig, cut short at a stop inside it, and measured.
+
+    Returns (q1, v1, a1, theta, status, work): theta the fraction of the step at which a stop falls
+    (then (q1, v1) is the state there), NO_STOP (the whole step, a1 = q'' at its end) or CANNOT_MOVE
+    (a start from rest that never gets moving: nothing is measured).
+    """
+    q1, v1, a1 = _rk4_step(t, q, v, H, sig, A, r, bk, zeta, a0)
+    work += 1
+    if work > budget:
+        return q1, v1, a1, NO_STOP, BUDGET, work
+    theta = _stop_in_step(sig, v, a0, v1, a1, H)
+    if theta == CANNOT_MOVE:
+        return q1, v1, a1, theta, OK, work
+    if theta != NO_STOP and theta < 1.0:
+        # redo the step from its start with the length up to the stop
+        H = theta * H
+        q1, v1, a1 = _rk4_step(t, q, v, H, sig, A, r, bk, zeta, a0)
+        work += 1
+        if work > budget:
+            return q1, v1, a1, theta, BUDGET, work
+    if measure:
+        _measure_slip(acc, t, q, v, a0, q1, v1, a1, H, r, c)
+    return q1, v1, a1, theta, OK, work
+
+
+@jit_inline
+def _rest_to_step_end(acc, q, t, tk1, p, after_stop, measure):
+    """A start from rest that never gets moving inside its step (CANNOT_MOVE): a tie at the band edge
+    decided by rounding (a sliver of a step after a stick exit), or no way to move. The mass rests to
+    the step's end and the mode is decided there, so that the march always moves on (deciding again at
+    the same t could cycle stick -> exit -> stop for ever). Returns the mode at tk1."""
+    acc[ACC_STUCK] += tk1 - t
+    if after_stop:
+        acc[ACC_STOPS] += 1.0  # the stop turned out to be a stick of positive duration
+    if measure:
+        measure_stick(acc, q, t, tk1, p.r, p.c)
+    return decide(tk1, q, p.A, p.r, p.bs)
+
+
 @jit
-def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budget, measure, acc):
+def advance_period_rk4(q, v, mode, p, steps_per_period, budget, measure, acc):
     """March one forcing period from t = 0 to T with fixed-step RK4. Returns (q, v, mode, status, work).
 
-    Same contract and accumulator slots as `event.advance_period`; `steps_per_period` RK4 steps of
+    Same contract and accumulator record as `event.advance_period`; `steps_per_period` RK4 steps of
     T / steps_per_period on a grid aligned with the period.
     """
+    A, r, bk, bs, zeta, c = p
     T = TWO_PI / r
     n = steps_per_period
     h = T / n
@@ -265,7 +336,7 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
     while True:
         if mode == 0:
             have_a = False
-            te = stick_phase(acc, q, t, T, A, r, bs, c, new_stop, measure, False)
+            te = stick_phase(acc, q, t, T, p, new_stop, measure, False)
             new_stop = False
             after_stop = False
             if te >= T:
@@ -274,12 +345,7 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
             v = 0.0
             mode = slip_direction(t, q, A, r)
             work += 1
-            # the grid step that holds t
-            k = min(int(t / h), n - 1)
-            while k + 1 < n and (k + 1) * h <= t:
-                k += 1
-            while k > 0 and k * h > t:
-                k -= 1
+            k = _grid_step_of(t, h, n)
             continue
         tk1 = T if k + 1 >= n else (k + 1) * h
         H = tk1 - t
@@ -289,8 +355,6 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
                 return q, v, mode, OK, work
             continue
         sig = mode
-        q1 = q
-        v1 = v
         have_a = have_a and sig == mode_a
         mode_a = sig
         if sig * v < 0.0:
@@ -299,15 +363,11 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
         else:
             if not have_a:
                 a_next = _accel(t, q, v, sig, A, r, bk, zeta)
-            a0 = a_next
-            q1, v1, a1 = _rk4_step(t, q, v, H, sig, A, r, bk, zeta, a0)
-            work += 1
-            if work > budget:
+            q1, v1, a1, theta, status, work = _slip_step(acc, t, q, v, a_next, H, sig, A, r, bk, zeta, c,
+                                                         measure, work, budget)
+            if status == BUDGET:
                 return q, v, mode, BUDGET, work
-            theta = _stop_in_step(sig, v, a0, v1, a1, H)
-            if theta == -1.0:
-                if measure:
-                    _measure_slip(acc, t, q, v, a0, q1, v1, a1, H, r, c)
+            if theta == NO_STOP:
                 a_next = a1  # q'' at the start of the next step, same state and mode
                 have_a = True
                 t = tk1
@@ -317,36 +377,17 @@ def advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, steps_per_period, budg
                 if k >= n:
                     return q, v, mode, OK, work
                 continue
-            if theta == -2.0:
-                # From rest, sig v never turns positive in the step: a tie at the band edge decided
-                # by rounding (a sliver of a step after a stick exit), or no way to move. Rest to the
-                # step's end and decide there, so that the march always moves on (deciding again at
-                # the same t could cycle stick -> exit -> stop for ever).
-                acc[ACC_STUCK] += H
-                if after_stop:
-                    acc[ACC_STOPS] += 1.0  # the stop turned out to be a stick of positive duration
-                if measure:
-                    _measure_stick(acc, q, t, tk1, A, r, c)
+            if theta == CANNOT_MOVE:
+                mode = _rest_to_step_end(acc, q, t, tk1, p, after_stop, measure)
                 t = tk1
                 v = 0.0
                 have_a = False
-                mode = decide(t, q, A, r, bs)
                 new_stop = False  # a stick from here on is the same one
                 after_stop = False
                 k += 1
                 if k >= n:
                     return q, v, mode, OK, work
                 continue
-            if theta < 1.0:
-                Hs = theta * H
-                q1, v1, a1 = _rk4_step(t, q, v, Hs, sig, A, r, bk, zeta, a0)
-                work += 1
-                if work > budget:
-                    return q, v, mode, BUDGET, work
-                if measure:
-                    _measure_slip(acc, t, q, v, a0, q1, v1, a1, Hs, r, c)
-            elif measure:
-                _measure_slip(acc, t, q, v, a0, q1, v1, a1, H, r, c)
         # a stop at fraction theta of the step
         have_a = False
         if theta >= 1.0:

@@ -1,4 +1,4 @@
-"""Closed-form pieces of the motion between events (DESIGN.md §3).
+"""Closed-form slip segments: the motion between events, and the search for where one ends (DESIGN.md §3).
 
 Equation in slip direction sig = +-1 (period-local time t, forcing phase r t):
 
@@ -21,7 +21,6 @@ from __future__ import annotations
 import math
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.ties import TIE_RTOL
 
 TWO_PI = 2.0 * math.pi
 #: force differences below this fraction of A + friction + |q| are ties that rounding decides: a mass at
@@ -126,9 +125,10 @@ def slip_state(s, q0, v0, sig, A, r, bk, zeta, ca, sa):
 
 
 @jit
-def acceleration(q, v, sig, A, bk, zeta, phase):
-    """q'' in slip direction sig at forcing phase r t = phase."""
-    return A * math.cos(phase) - q - sig * bk - 2.0 * zeta * v
+def acceleration(q, v, sig, A, bk, zeta, cos_phase):
+    """The equation's right-hand side: q'' = A cos(r t) - q - sig bk - 2 zeta q' in slip direction sig,
+    with cos(r t) = cos_phase."""
+    return A * cos_phase - q - sig * bk - 2.0 * zeta * v
 
 
 @jit
@@ -165,7 +165,7 @@ def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
         return 0.0, True, 0
     s = 0.0
     if w <= vtol:
-        a0 = acceleration(q0, v0, sig, A, bk, zeta, r * t0)
+        a0 = acceleration(q0, v0, sig, A, bk, zeta, ca)
         wa = sig * a0
         m2, m3 = curvature_bounds(math.hypot(q0, v0), A, r, bk, zeta, hmax)
         s1 = 0.0
@@ -186,8 +186,7 @@ def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
     while True:
         q, v = slip_state(s, q0, v0, sig, A, r, bk, zeta, ca, sa)
         w = sig * v
-        phase = r * (t0 + s)
-        wa = sig * acceleration(q, v, sig, A, bk, zeta, phase)
+        wa = sig * acceleration(q, v, sig, A, bk, zeta, math.cos(r * (t0 + s)))
         # a stop is the velocity falling to zero: a slow start from rest (w tiny but rising) is not one,
         # or each restart would stop at once and time would creep forward geometrically (Zeno)
         if s > 0.0 and (w <= 0.0 or (w <= vtol and wa <= 0.0)):
@@ -204,43 +203,3 @@ def find_stop(t0, q0, v0, sig, A, r, bk, zeta, s_end, vtol, hmax, budget):
         else:
             d = 2.0 * w / (disc - wa)
         s = min(s + min(d, hmax), s_end)
-
-
-@jit
-def stuck_for_good(qs, A, bs):
-    """A stick at qs never ends: the force's whole swing A + |qs| stays inside the static band bs, to
-    the tie tolerance (friction_sweep.ties: beta = 1 and beta = r*r are ties however they round)."""
-    return A + abs(qs) <= bs * (1.0 + TIE_RTOL)
-
-
-@jit
-def stick_exit(t0, qs, A, r, bs):
-    """First time t >= t0 at which |A cos(r t) - qs| > bs (static friction), or inf if never.
-
-    Closed form: the force leaves the band through cos(r t) = (qs + bs)/A upwards or
-    cos(r t) = (qs - bs)/A downwards; each is an arccos, repeated every forcing period.
-    """
-    if A <= 0.0 or stuck_for_good(qs, A, bs):
-        return math.inf
-    u0 = r * t0
-    f = A * math.cos(u0)
-    fdot = -A * r * math.sin(u0)
-    # on the band edge and moving out: leave now (avoids waiting a period because of rounding)
-    if (f - qs >= bs and fdot > 0.0) or (f - qs <= -bs and fdot < 0.0):
-        return t0
-    best = math.inf
-    c_hi = (qs + bs) / A
-    if c_hi < 1.0:
-        if c_hi < -1.0:
-            return t0
-        al = math.acos(c_hi)
-        k = math.ceil((u0 + al) / TWO_PI)
-        best = min(best, TWO_PI * k - al)
-    c_lo = (qs - bs) / A
-    if c_lo > -1.0:
-        if c_lo > 1.0:
-            return t0
-        al = math.acos(c_lo)
-        k = math.ceil((u0 - al) / TWO_PI)
-        best = min(best, al + TWO_PI * k)
-    return max(best / r, t0)

@@ -1,9 +1,12 @@
-"""Steady state of the event-driven kernel: march the stroboscopic map, shoot, measure.
+"""Steady state of one grid point: march the period map, shoot, recognise growth, measure.
 
-solve_point marches forcing periods from rest until the Poincare map repeats (period 1 or k),
-tries a Newton shooting solve of P(x) = x from the first stop-free period (exact monodromy
-Jacobian; one period per step), recognises steady linear growth (resonance below pi/4) and then
-measures over the k periods of the orbit. Everything is recorded as numbers and codes.
+solve_point marches forcing periods of the period map P (period_map.py) from the settings' start until
+P^k repeats (period 1 or k), tries a Newton shooting solve of P(x) = x (shoot.py) from the first
+stop-free period and again every shoot_every periods, recognises steady linear growth (resonance
+below pi/4) and then measures over the k periods of the orbit. Everything is recorded as numbers and
+codes in one float row per point, whose slots are named in OUTPUT_FIELDS (the cube's variable names
+where the row holds one). A point's parameters travel as one kernels.point.Point; solve_points and its
+variants build it from the parameter arrays the methods pass.
 """
 
 from __future__ import annotations
@@ -13,241 +16,75 @@ import math
 import numpy as np
 
 from friction_sweep.codes import Regime, SteadyState
-from friction_sweep.kernels.event import (
-    ACC_IC, ACC_IS, ACC_JAC, ACC_JOK, ACC_QHI, ACC_QLO, ACC_QMAX, ACC_SIZE, ACC_STOPS, ACC_STUCK, ACC_TMAX, ACC_XMAX,
-    ACC_XMIN, BUDGET,
-    advance_period, decide, reset_accumulator,
+from friction_sweep.kernels.event import advance_period
+from friction_sweep.kernels.jit import jit, jit_inline
+from friction_sweep.kernels.measure import (
+    ACC_IC,
+    ACC_IS,
+    ACC_QHI,
+    ACC_QLO,
+    ACC_QMAX,
+    ACC_SIZE,
+    ACC_STOPS,
+    ACC_STUCK,
+    ACC_TMAX,
+    ACC_XMAX,
+    ACC_XMIN,
+    BUDGET,
+    reset_accumulator,
 )
-from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.rk4 import advance_period_rk4
-from friction_sweep.kernels.segments import TWO_PI, stuck_for_good
+from friction_sweep.kernels.period_map import advance, map_error, mode_of, period
+from friction_sweep.kernels.point import Point
+from friction_sweep.kernels.segments import TWO_PI
+from friction_sweep.kernels.settings import (
+    SET_INITIAL_DISPLACEMENT,
+    SET_INITIAL_VELOCITY,
+    SET_MAX_ORBIT_PERIOD,
+    SET_MAX_PERIODS,
+    SET_SHOOT_AFTER,
+    SET_SHOOT_EVERY,
+    SET_STEADY_TOL,
+    SET_WORK_BUDGET,
+)
+from friction_sweep.kernels.shoot import shoot
+from friction_sweep.kernels.stick import stuck_for_good
+from friction_sweep.theory import phase
 from friction_sweep.ties import RESONANCE_FRICTION_LIMIT, TIE_RTOL
 
+#: what solve_point writes for a point, in slot order
+OUTPUT_FIELDS = (
+    "transmissibility", "peak_transmissibility", "phase", "peak_phase", "stops_per_period", "stuck_fraction",
+    "regime", "periods", "steady_state", "orbit_period",
+    "work",  # stop-search steps, RK4 steps and events spent
+    "end_q", "end_v", "end_mode",  # where the march ended (on the orbit, or where it gave up): a seed
+)
+OUT = {name: i for i, name in enumerate(OUTPUT_FIELDS)}
+OUT_SIZE = len(OUTPUT_FIELDS)
+OUT_TRANSMISSIBILITY = OUT["transmissibility"]
+OUT_PEAK_TRANSMISSIBILITY = OUT["peak_transmissibility"]
+OUT_PHASE = OUT["phase"]
+OUT_PEAK_PHASE = OUT["peak_phase"]
+OUT_STOPS_PER_PERIOD = OUT["stops_per_period"]
+OUT_STUCK_FRACTION = OUT["stuck_fraction"]
+OUT_REGIME = OUT["regime"]
+OUT_PERIODS = OUT["periods"]
+OUT_STEADY_STATE = OUT["steady_state"]
+OUT_ORBIT_PERIOD = OUT["orbit_period"]
+OUT_WORK = OUT["work"]
+OUT_END_Q = OUT["end_q"]
+OUT_END_V = OUT["end_v"]
+OUT_END_MODE = OUT["end_mode"]
 
-# output slots of solve_point
-(OUT_TRANS, OUT_PEAK, OUT_PHASE, OUT_PEAK_PHASE, OUT_STOPS, OUT_STUCK, OUT_REGIME, OUT_PERIODS,
- OUT_STEADY, OUT_ORBIT, OUT_WORK, OUT_Q, OUT_V, OUT_MODE) = range(14)
-OUT_SIZE = 14
-
-# settings slots (one float array, so a new knob never changes a signature)
-(SET_STEADY_TOL, SET_VTOL, SET_MAX_PERIODS, SET_KMAX, SET_BUDGET, SET_SHOOT_AFTER, SET_SHOOT_EVERY, SET_KERNEL,
- SET_STEPS, SET_Q0, SET_V0) = range(11)
-SET_SIZE = 11
-KERNEL_EVENT, KERNEL_RK4 = 0, 1
-DEFAULT_SETTINGS = {
-    "steady_tol": 1e-10,  # |P^k(x) - x| <= steady_tol * |x| on the stroboscopic map
-    "stop_tol": 1e-12,  # a stop is declared when |v| <= stop_tol * max(A, |(q, v)|)
-    "max_periods": 2000,
-    "max_orbit_period": 256,  # period-k orbits detected up to this k (static friction locks onto k up to ~250)
-    "work_budget": 5_000_000,  # stop-search steps and events per point
-    "shoot_after": 1,  # periods marched before the first shooting attempt (1: measured fastest, make bench)
-    "shoot_every": 48,
-    "kernel": KERNEL_EVENT,  # which period integrator the driver marches: event (exact) or rk4
-    "steps_per_period": 256,  # rk4 only
-    "initial_displacement": 0.0,  # the march starts here (in the equation's length unit) at forcing phase 0
-    "initial_velocity": 0.0,
-}
-_ORDER = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after", "shoot_every",
-          "kernel", "steps_per_period", "initial_displacement", "initial_velocity")
-
-
-def settings_array(**overrides) -> np.ndarray:
-    values = dict(DEFAULT_SETTINGS)
-    unknown = set(overrides) - set(values)
-    if unknown:
-        raise KeyError(f"unknown event settings: {sorted(unknown)}")
-    values.update(overrides)
-    return np.array([float(values[k]) for k in _ORDER])
+#: the phase convention of friction_sweep.theory.phase, compiled
+wrap_degrees = jit_inline(phase.wrap_degrees)
 
 
-@jit
-def wrap_lag_degrees(rad):
-    """Lag in degrees wrapped into [-90, 270) (friction_sweep.theory.phase)."""
-    deg = rad * 180.0 / math.pi
-    return (deg + 90.0) % 360.0 - 90.0 - 0.0
-
-
-@jit
-def _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, measure, acc):
-    """One period with the chosen integrator (a runtime switch: cached kernels cannot take functions)."""
-    if settings[SET_KERNEL] == KERNEL_RK4:
-        return advance_period_rk4(q, v, mode, A, r, bk, bs, zeta, c, int(settings[SET_STEPS]), budget, measure, acc)
-    none = np.empty(0)  # no samples (a global array would be a read-only constant to numba)
-    return advance_period(q, v, mode, A, r, bk, bs, zeta, c, settings[SET_VTOL], budget, measure, acc, none, none,
-                          none)
-
-
-@jit
-def _period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, acc):
-    reset_accumulator(acc)
-    return _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget, False, acc)
-
-
-@jit
-def _mode_of(q, v, A, r, bs):
-    if v > 0.0:
-        return 1
-    if v < 0.0:
-        return -1
-    return decide(0.0, q, A, r, bs)
-
-
-@jit
-def _spectral_radius(m11, m12, m21, m22):
-    """Largest |eigenvalue| of a 2 x 2 matrix."""
-    half = 0.5 * (m11 + m22)
-    disc = half * half - (m11 * m22 - m12 * m21)
-    if disc >= 0.0:
-        return abs(half) + math.sqrt(disc)
-    return math.sqrt(m11 * m22 - m12 * m21)
-
-
-#: rounding of one period of the event map, relative to the orbit's size (measured: 5.5e-15 at
-#: r = 1 +- 1e-10)
-MAP_ROUNDING = 32.0 * 2.220446049250313e-16
-#: a solution of P(x) = x is accepted only if the error that the map's own error (rounding, or RK4's
-#: truncation: _map_error) can cause, |(J - I)^-1| times it, is below this relative: near r = 1,
-#: |(J - I)^-1| ~ 0.23/|1 - r|, so
-#: orbits are resolved down to |1 - r| ~ 2e-11; a "solution" of size 1e15 or more at r = 1, where the
-#: map's O(1) drift per period is lost in rounding, has |(J - I)^-1| ~ its size and is refused
-RESOLVABLE = 1e-4
-
-
-@jit
-def _inverse_norm(b11, b12, b21, b22):
-    """|B^-1| (Frobenius: |B| / |det B| for 2 x 2); inf where B is singular."""
-    det = b11 * b22 - b12 * b21
-    if det == 0.0 or not math.isfinite(det):
-        return math.inf
-    return math.sqrt(b11 * b11 + b12 * b12 + b21 * b21 + b22 * b22) / abs(det)
-
-
-@jit
-def _map_error(r, settings):
-    """Relative error of one period of the map: rounding for the event kernel; for RK4 also its
-    truncation over the period, (2 pi / r) h^4 / 120 with h = 2 pi / (r steps_per_period) in natural
-    time (the RK4 map of the oscillator has its resonance detuned by about that much, so at r = 1
-    it has a bounded orbit of size ~1e8 that the true system lacks)."""
-    if settings[SET_KERNEL] != KERNEL_RK4:
-        return MAP_ROUNDING
-    h = TWO_PI / (r * settings[SET_STEPS])
-    return max(MAP_ROUNDING, TWO_PI / r * h ** 4 / 120.0)
-
-
-@jit
-def _resolvable(b11, b12, b21, b22, map_error):
-    """Whether a fixed point of P with Jacobian J = I + B is pinned down by the map despite its own
-    error: |B^-1| times that error (relative to the larger of the orbit and the forcing) is below
-    RESOLVABLE."""
-    return _inverse_norm(b11, b12, b21, b22) * map_error <= RESOLVABLE
-
-
-@jit
-def _within_forced_bound(acc, k, A, r, bk, bs, zeta):
-    """The orbit's first harmonic Q1 (of q over its k measured periods, from ACC_IC/IS) obeys the bound
-    that the equation itself proves: projecting q'' + 2 zeta q' + q + f = A cos(r t) onto the forcing
-    frequency gives (1 - r^2 + 2i zeta r) Q1 = A - F1, and a friction force |f| <= max(bk, bs) has
-    |F1| <= 4 max(bk, bs)/pi. Only a spurious orbit breaks it (always true at r = 1 without damping)."""
-    q1 = r / math.pi * math.hypot(acc[ACC_IC], acc[ACC_IS]) / k
-    gain = math.hypot((1.0 - r) * (1.0 + r), 2.0 * zeta * r)
-    return q1 * gain <= (A + 4.0 / math.pi * max(bk, bs)) * (1.0 + 1e-9)
-
-
-@jit
-def _map(q, v, k, A, r, bk, bs, zeta, c, settings, budget, measure, acc):
-    """P^k(q, v): k periods from (q, v), measured together in `acc` if asked. Returns (q, v, status,
-    work); acc[ACC_JOK] vouches for the monodromy matrix only for k = 1."""
-    reset_accumulator(acc)
-    mode = _mode_of(q, v, A, r, bs)
-    work = 0
-    for _ in range(k):
-        q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, measure, acc)
-        work += w
-        if st != 0:
-            return q, v, st, work
-    if k > 1:
-        acc[ACC_JOK] = 0.0
-    return q, v, 0, work
-
-
-@jit
-def _shoot(q, v, k, A, r, bk, bs, zeta, c, settings, tol, budget, acc):
-    """Newton on F(x) = P^k(x) - x for a period-k orbit. Returns (q, v, ok, work).
-
-    The Jacobian is the event kernel's monodromy matrix (exact, saltation at reversals) wherever it
-    is valid (k = 1), else forward differences (rk4 kernel, periods with a stick). The evaluation that can
-    confirm convergence also measures: on success `acc` holds the measurement of the period from
-    the returned state, exactly as a separate measured pass would. Newton finds unstable orbits as
-    readily as stable ones; only an attracting one (monodromy spectral radius < 1) is a steady state,
-    and only one that rounding cannot move far (_resolvable) and that obeys the forced bound.
-    """
-    work = 0
-    map_error = _map_error(r, settings)
-    # Accept only after a small Newton step: where the map has no fixed point (r = 1, friction
-    # below pi/4) a near-singular Jacobian leaps to a huge state whose relative residual looks tiny.
-    last_step = math.inf
-    prev_step = math.inf
-    radius = math.inf
-    b11 = b12 = b21 = b22 = 0.0  # J - I of the latest Jacobian (exact, or forward differences)
-    size = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
-    for _ in range(40):
-        scale = max(math.hypot(q, v), size)
-        # What the map's own error leaves: it is computed to ~map_error of the larger of the orbit and
-        # the forcing (an orbit far smaller than A, next to the no-motion threshold, is pinned only
-        # absolutely), and Newton's step inherits that times |(J - I)^-1|.
-        noise = map_error * max(scale, A)
-        step_noise = noise * min(_inverse_norm(b11, b12, b21, b22), 1e300) if last_step < math.inf else 0.0
-        # Confirm (and measure) once Newton has hit its floor: a step below 1e-9 of the state, or one
-        # below 1e-6 that no longer shrinks quadratically (rounding next to resonance). Stopping at the
-        # first step below 1e-6 would leave ~1e-12 of the state, all of it in x = z + cos(r t) when x
-        # is tiny (joined scene at high r).
-        measure = (last_step <= 1e-9 * scale + step_noise
-                   or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
-        q1, v1, st, w = _map(q, v, k, A, r, bk, bs, zeta, c, settings, budget - work, measure, acc)
-        work += w
-        if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
-            return q, v, False, work
-        fq = q1 - q
-        fv = v1 - v
-        if abs(fq) + abs(fv) <= tol * scale + noise and measure:
-            if acc[ACC_JOK] == 1.0:
-                radius = _spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3])
-                b11, b12 = acc[ACC_JAC] - 1.0, acc[ACC_JAC + 1]
-                b21, b22 = acc[ACC_JAC + 2], acc[ACC_JAC + 3] - 1.0
-            ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, map_error)
-                  and _within_forced_bound(acc, k, A, r, bk, bs, zeta))
-            return q, v, ok, work
-        if acc[ACC_JOK] == 1.0:
-            j11 = acc[ACC_JAC] - 1.0
-            j12 = acc[ACC_JAC + 1]
-            j21 = acc[ACC_JAC + 2]
-            j22 = acc[ACC_JAC + 3] - 1.0
-        else:
-            # a step of 1e-6 of the orbit, or more where that would drown in the forcing's rounding
-            h = max(1e-6 * scale, 1e-8 * math.sqrt(A * scale))
-            qa, va, st1, w1 = _map(q + h, v, k, A, r, bk, bs, zeta, c, settings, budget - work, False, acc)
-            qb, vb, st2, w2 = _map(q, v + h, k, A, r, bk, bs, zeta, c, settings, budget - work, False, acc)
-            work += w1 + w2
-            if st1 != 0 or st2 != 0:
-                return q, v, False, work
-            j11 = (qa - q1) / h - 1.0
-            j21 = (va - v1) / h
-            j12 = (qb - q1) / h
-            j22 = (vb - v1) / h - 1.0
-        radius = _spectral_radius(j11 + 1.0, j12, j21, j22 + 1.0)
-        b11, b12, b21, b22 = j11, j12, j21, j22
-        det = j11 * j22 - j12 * j21
-        if det == 0.0 or not math.isfinite(det):
-            return q, v, False, work
-        dq = (j22 * fq - j12 * fv) / det
-        dv = (-j21 * fq + j11 * fv) / det
-        q -= dq
-        v -= dv
-        prev_step = last_step
-        last_step = abs(dq) + abs(dv)
-        if not (math.isfinite(q) and math.isfinite(v)):
-            return q, v, False, work
-    return q, v, False, work
+@jit_inline
+def lag_degrees(radians):
+    """A lag in radians as degrees in [-90, 270). The conversion rounds twice, (x 180) / pi, where
+    np.degrees multiplies by 180 / pi once; the two differ by an ulp in a quarter of the values, so each
+    side keeps its own to keep its results (an ulp of 90 degrees is half of a phase near 0)."""
+    return wrap_degrees(radians * 180.0 / math.pi)
 
 
 #: A march that found no period-k orbit (k <= max_orbit_period) is `aperiodic` when its largest
@@ -267,6 +104,34 @@ LAG_SHOT = 1e-3
 APERIODIC_WINDOW = 256
 
 
+#: a state |(q, v)| beyond this multiple of max(A, 1) has grown without bound, whatever the rate
+RUNAWAY = 1e12
+#: Steady linear growth is looked for only GROWTH_AFTER periods into the march, every
+#: GROWTH_CHECK_EVERY periods, and only within GROWTH_DETUNING of r = 1 (|1 - r^2|)
+GROWTH_AFTER = 128
+GROWTH_CHECK_EVERY = 16
+GROWTH_DETUNING = 1e-6
+#: growth is GROWTH_WINDOW periods in which |(q, v)| rises every period, with the rise over the window's last
+#: third at least GROWTH_KEPT of that over its first third (a rate that does not decay)
+GROWTH_WINDOW = 48
+GROWTH_KEPT = 0.9
+#: |(q, v)| at the section is kept for this many periods (a ring; at least GROWTH_WINDOW + 1)
+RHO_HISTORY = 64
+
+
+@jit_inline
+def _start(p, settings):
+    """The state the march starts from: the settings' start, except where nothing dissipates.
+
+    Without friction or damping a transient from any start would never decay, and the orbit would be
+    forced plus free motion forever. The steady state meant is the forced one (the limit of vanishing
+    damping): start on it, q = A/(1 - r^2), v = 0 at the excitation's maximum, whatever the given start.
+    """
+    if p.bk == 0.0 and p.bs == 0.0 and p.zeta == 0.0 and abs(1.0 - p.r) > TIE_RTOL:
+        return p.A / ((1.0 - p.r) * (1.0 + p.r)), 0.0
+    return settings[SET_INITIAL_DISPLACEMENT], settings[SET_INITIAL_VELOCITY]
+
+
 @jit
 def _subharmonic(r):
     """r = 1/(2n) to the tie tolerance (friction_sweep.ties.subharmonic_order)."""
@@ -274,127 +139,169 @@ def _subharmonic(r):
     return n >= 1.0 and abs(2.0 * n * r - 1.0) <= TIE_RTOL
 
 
-@jit
-def solve_point(A, r, bk, bs, zeta, c, settings, out):
-    """Steady state and measurements of one grid point; results in `out` (OUT_* slots)."""
+@jit_inline
+def _in_family(q, v, p):
+    """Whether the point lies on a stick-free family: r = 1/(2n), static = kinetic friction, no damping.
+
+    At r = 1/(2n) stick-free orbits form a continuum (DESIGN.md §6), so the map has no isolated fixed
+    point to march to or shoot for. Its half-wave symmetric member is Den Hartog's, which at U(r) = 0
+    starts from q = A/(1 - r^2), v = 0 at the excitation's maximum (_family_start); one exact, measured
+    period confirms it (_returns_to_start). With static = kinetic friction the fixed points form one
+    convex set, here the family, so this holds whatever the start (a swept start too), unless the start
+    is held.
+    """
+    held = v == 0.0 and stuck_for_good(q, p.A, p.bs)
+    return p.bk > 0.0 and p.bs == p.bk and p.zeta == 0.0 and not held and _subharmonic(p.r)
+
+
+@jit_inline
+def _family_start(p):
+    """Den Hartog's member of the family: q = A/(1 - r^2) at rest, and the mode it starts in."""
+    qf = p.A / ((1.0 - p.r) * (1.0 + p.r))
+    return qf, mode_of(qf, 0.0, p)
+
+
+@jit_inline
+def _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
+    """One period from (qf, 0) in mode mf, measured in `acc`, ended at (q1, v1) with status st: an orbit
+    of the family if it moved, never stopped, and came back to its start within the steady tolerance
+    (plus the map's own error)."""
+    scale = max(abs(qf), acc[ACC_QMAX])
+    return (st == 0 and mf != 0 and acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
+            and abs(q1 - qf) + abs(v1) <= settings[SET_STEADY_TOL] * scale + map_error(p.r, settings) * max(scale, p.A))
+
+
+@jit_inline
+def _repeat_lag(q, v, mode, n, hq, hv, hm, kmax, tol, size, floor):
+    """The smallest k <= kmax at which the state repeats the one k periods back (0 if none): within
+    tol of the orbit's size plus `floor`, in the same mode (or at rest on both sides of a decision tie)."""
+    for k in range(1, min(kmax, n) + 1):
+        j = (n - k) % (kmax + 1)
+        scale = max(size, math.hypot(hq[j], hv[j]))
+        near = abs(q - hq[j]) + abs(v - hv[j]) <= tol * scale + floor
+        same = hm[j] == mode or (abs(v) <= tol * scale and abs(hv[j]) <= tol * scale)
+        if near and same:
+            return k
+    return 0
+
+
+@jit_inline
+def _closest_lag(q, v, n, hq, hv, kmax):
+    """The lag k (1 <= k < n, k <= kmax) at which the state comes closest to the one k periods back,
+    and that distance (|dq| + |dv|)."""
+    best = math.inf
+    lag = 0
+    for k in range(1, min(kmax, n - 1) + 1):
+        j = (n - k) % (kmax + 1)
+        d = abs(q - hq[j]) + abs(v - hv[j])
+        if d < best:
+            best, lag = d, k
+    return lag, best
+
+
+@jit_inline
+def _growing(rho_hist, n, p):
+    """Steady linear growth (resonance with friction below pi/4): GROWTH_WINDOW rising periods at a rate
+    that does not decay, after shooting had its chances. Only next to r = 1, without damping and with
+    friction up to pi/4 of the force: a pure sinusoid pumps without bound only there (paper Eqs.
+    14-15), while Coulomb transients elsewhere also approach their (bounded) steady state at a
+    constant rate, which must not be mistaken for growth."""
+    A, r, bk, _, zeta, _ = p
+    if not (n >= GROWTH_AFTER and n % GROWTH_CHECK_EVERY == 0 and abs(1.0 - r) * (1.0 + r) < GROWTH_DETUNING
+            and zeta == 0.0 and bk <= RESONANCE_FRICTION_LIMIT * A * (1.0 + TIE_RTOL)):
+        return False
+    for m in range(n - GROWTH_WINDOW + 1, n + 1):
+        if rho_hist[m % RHO_HISTORY] <= rho_hist[(m - 1) % RHO_HISTORY]:
+            return False
+    third = GROWTH_WINDOW // 3
+    d_old = rho_hist[(n - 2 * third) % RHO_HISTORY] - rho_hist[(n - 3 * third + 1) % RHO_HISTORY]
+    d_new = rho_hist[n % RHO_HISTORY] - rho_hist[(n - third + 1) % RHO_HISTORY]
+    return d_new >= GROWTH_KEPT * d_old
+
+
+@jit_inline
+def _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p):
+    """Account for one period of the companion state that measures the largest Lyapunov exponent
+    (Benettin: at relative distance 1e-7 from the march, renormalised along the current separation
+    after every period; along q to start). (yq, yv): the companion after the period (unused on the
+    first, tracked = 0). Returns the companion's next start (yq, yv, ym), delta and log_growth."""
+    if tracked > 0:
+        d = math.hypot(yq - q, yv - v)
+        log_growth += math.log(d / delta) if d > 0.0 else -math.inf
+    else:
+        delta = 1e-7 * max(size, p.A)
+        yq, yv = q, v
+        d = 0.0
+    if d > 0.0 and math.isfinite(d):
+        yq = q + delta * (yq - q) / d
+        yv = v + delta * (yv - v) / d
+    else:
+        yq = q + delta
+        yv = v
+    return yq, yv, mode_of(yq, yv, p), delta, log_growth
+
+
+@jit_inline
+def _march(q, v, mode, p, settings, work, acc):
+    """March the period map from (q, v, mode) until it repeats, a shooting solve lands on the orbit, the
+    motion grows without bound, or the periods or the work run out; at the cap, shoot for the orbit
+    of the lag the march repeats best at, else tell an aperiodic motion from a cut-short transient.
+    Returns (q, v, mode, status, orbit, n, work, shot): shot when `acc` holds the orbit's measurement."""
+    A, bk, bs = p.A, p.bk, p.bs
     tol = settings[SET_STEADY_TOL]
     max_periods = int(settings[SET_MAX_PERIODS])
-    kmax = int(settings[SET_KMAX])
-    budget = int(settings[SET_BUDGET])
-    shoot_after = int(settings[SET_SHOOT_AFTER])
+    kmax = int(settings[SET_MAX_ORBIT_PERIOD])
+    budget = int(settings[SET_WORK_BUDGET])
     shoot_every = int(settings[SET_SHOOT_EVERY])
-    out[:] = math.nan
-    acc = np.empty(ACC_SIZE)
+    error = map_error(p.r, settings)
     hq = np.empty(kmax + 1)
     hv = np.empty(kmax + 1)
     hm = np.empty(kmax + 1, dtype=np.int64)
-    rho_hist = np.empty(64)
+    rho_hist = np.empty(RHO_HISTORY)
     acc_y = np.empty(ACC_SIZE)
-    map_error = _map_error(r, settings)
-
-    q = settings[SET_Q0]
-    v = settings[SET_V0]
-    off_resonance = abs(1.0 - r) > TIE_RTOL
-    if bk == 0.0 and bs == 0.0 and zeta == 0.0 and off_resonance:
-        # Nothing dissipates: a transient from any start would never decay, and the orbit would be forced
-        # plus free motion forever. The steady state meant is the forced one (the limit of vanishing
-        # damping): start on it, q = A/(1 - r^2), v = 0 at the excitation's maximum, whatever the given start.
-        q = A / ((1.0 - r) * (1.0 + r))
-        v = 0.0
-    mode = _mode_of(q, v, A, r, bs)
     hq[0], hv[0], hm[0] = q, v, mode
-    work = 0
-    status = SteadyState.PERIOD_CAP
-    orbit = 0
-    shot = False
     n = 0
-    held = v == 0.0 and stuck_for_good(q, A, bs)
-    if bk > 0.0 and bs == bk and zeta == 0.0 and not held and _subharmonic(r):
-        # r = 1/(2n): stick-free orbits form a continuum (DESIGN.md §6), so the map has no isolated
-        # fixed point to march to or shoot for. Its half-wave symmetric member is Den Hartog's, which
-        # at U(r) = 0 starts from q = A/(1 - r^2), v = 0 at the excitation's maximum; one exact period
-        # confirms it (no stop, back to the start). With static = kinetic friction the fixed points
-        # form one convex set, here the family, so this holds whatever the start (a swept start too).
-        qf = A / ((1.0 - r) * (1.0 + r))
-        mf = _mode_of(qf, 0.0, A, r, bs)
-        reset_accumulator(acc)
-        q1, v1, _, st, w = _advance(qf, 0.0, mf, A, r, bk, bs, zeta, c, settings, budget, True, acc)
-        work += w
-        scale = max(abs(qf), acc[ACC_QMAX])
-        if (st == 0 and mf != 0 and acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
-                and abs(q1 - qf) + abs(v1) <= tol * scale + map_error * max(scale, A)):
-            q, v, mode = qf, 0.0, mf
-            orbit = 1
-            status = SteadyState.FAMILY
-            shot = True  # measured already
-            n = 1
     # shoot at the first stop-free period from shoot_after on, and again shoot_every periods after a miss
-    next_shot = shoot_after
-    # Over the march's second half a companion state at relative distance 1e-7 measures the largest
-    # Lyapunov exponent (Benettin: renormalised after every period), to tell a motion that never
-    # repeats from one that is still settling when the periods run out.
+    next_shot = int(settings[SET_SHOOT_AFTER])
+    # the Lyapunov exponent is measured over the march's second half (only static friction can keep a
+    # motion from settling: with bs == bk the period map does not expand distances)
     lyap_from = max(1, max_periods - max(LYAPUNOV_PERIODS, max_periods // 2))
     yq = yv = delta = log_growth = 0.0
     ym = 0
     tracked = 0
-    while n < max_periods and status == SteadyState.PERIOD_CAP:
+    while n < max_periods:
         n += 1
-        q, v, mode, st, w = _period(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, acc)
+        q, v, mode, st, w = period(q, v, mode, p, settings, budget - work, acc)
         work += w
         if st == BUDGET or work > budget:
-            status = SteadyState.EVENT_BUDGET
-            break
+            return q, v, mode, SteadyState.EVENT_BUDGET, 0, n, work, False
         if not (math.isfinite(q) and math.isfinite(v)):
-            status = SteadyState.NONFINITE
-            break
+            return q, v, mode, SteadyState.NONFINITE, 0, n, work, False
         rho = math.hypot(q, v)
-        rho_hist[n % 64] = rho
+        rho_hist[n % RHO_HISTORY] = rho
         # the orbit's size, not the state at the section, which may sit near (0, 0)
         size = max(rho, acc[ACC_QMAX])
-        if rho > 1e12 * max(A, 1.0):
-            status = SteadyState.GROWING
-            break
+        if rho > RUNAWAY * max(A, 1.0):
+            return q, v, mode, SteadyState.GROWING, 0, n, work, False
         # Once shooting has had its chance, a state that moves by no more than the map's own rounding
         # (relative to the forcing: a motion far smaller than A just below the no-motion threshold
         # jitters at ~1e-17) has settled as far as double precision can tell.
-        floor = map_error * max(size, A) if n > shoot_every else 0.0
-        for k in range(1, min(kmax, n) + 1):
-            j = (n - k) % (kmax + 1)
-            scale = max(size, math.hypot(hq[j], hv[j]))
-            near = abs(q - hq[j]) + abs(v - hv[j]) <= tol * scale + floor
-            # modes must agree, except at rest on both sides of a decision tie
-            same = hm[j] == mode or (abs(v) <= tol * scale and abs(hv[j]) <= tol * scale)
-            if near and same:
-                orbit = k
-                break
+        floor = error * max(size, A) if n > shoot_every else 0.0
+        orbit = _repeat_lag(q, v, mode, n, hq, hv, hm, kmax, tol, size, floor)
         if orbit > 0:
-            status = SteadyState.CONVERGED
-            break
+            return q, v, mode, SteadyState.CONVERGED, orbit, n, work, False
         i = n % (kmax + 1)
         hq[i], hv[i], hm[i] = q, v, mode
-        if bs > bk and n >= lyap_from:  # only static friction can keep a motion from settling (below)
+        if bs > bk and n >= lyap_from:
             if tracked > 0:
-                yq, yv, ym, st, w = _period(yq, yv, ym, A, r, bk, bs, zeta, c, settings, budget - work, acc_y)
+                yq, yv, ym, _, w = period(yq, yv, ym, p, settings, budget - work, acc_y)
                 work += w
-                d = math.hypot(yq - q, yv - v)
-                log_growth += math.log(d / delta) if d > 0.0 else -math.inf
-            else:
-                delta = 1e-7 * max(size, A)
-                yq, yv = q, v
-                d = 0.0
-            # renormalise along the current separation (or along q to start)
-            if d > 0.0 and math.isfinite(d):
-                yq = q + delta * (yq - q) / d
-                yv = v + delta * (yv - v) / d
-            else:
-                yq = q + delta
-                yv = v
-            ym = _mode_of(yq, yv, A, r, bs)
+            yq, yv, ym, delta, log_growth = _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p)
             tracked += 1
         no_stops = acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
         # a march that still has not settled after shoot_every periods shoots through its sticks too
         if n >= next_shot and (no_stops or n >= shoot_every):
-            qs, vs, ok, w = _shoot(q, v, 1, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
+            qs, vs, ok, w = shoot(q, v, 1, p, settings, tol, budget - work, acc)
             work += w
             next_shot = n + shoot_every
             # Through sticks the map is only piecewise smooth and Newton may land on another orbit than
@@ -403,103 +310,67 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
             if ok and not no_stops:
                 ok = math.hypot(qs - q, vs - v) <= STICK_SHOT_REACH * max(size, A)
             if ok:
-                q, v = qs, vs
-                mode = _mode_of(q, v, A, r, bs)
-                orbit = 1
-                status = SteadyState.CONVERGED
-                shot = True
-                break
-        # Steady linear growth (resonance with friction below pi/4): 48 rising periods at a rate that
-        # does not decay, after shooting had its chances. Only next to r = 1, without damping and with
-        # friction up to pi/4 of the force: a pure sinusoid pumps without bound only there (paper
-        # Eqs. 14-15), while Coulomb transients elsewhere also approach their (bounded) steady state
-        # at a constant rate, which must not be mistaken for growth.
-        if (n >= 128 and n % 16 == 0 and abs(1.0 - r) * (1.0 + r) < 1e-6 and zeta == 0.0
-                and bk <= RESONANCE_FRICTION_LIMIT * A * (1.0 + TIE_RTOL)):
-            rising = True
-            for m in range(n - 47, n + 1):
-                if rho_hist[m % 64] <= rho_hist[(m - 1) % 64]:
-                    rising = False
-                    break
-            if rising:
-                d_old = rho_hist[(n - 32) % 64] - rho_hist[(n - 47) % 64]
-                d_new = rho_hist[n % 64] - rho_hist[(n - 15) % 64]
-                if d_new >= 0.9 * d_old:
-                    status = SteadyState.GROWING
-                    break
-    if status == SteadyState.PERIOD_CAP and n >= 2:
+                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, 1, n, work, True
+        if _growing(rho_hist, n, p):
+            return q, v, mode, SteadyState.GROWING, 0, n, work, False
+    if n >= 2:
         # Out of periods: a period-k orbit that the march approaches too slowly (static friction locks
         # onto long periods) is solved for directly, from the lag at which the march repeats best.
-        best = math.inf
-        lag = 0
-        for k in range(1, min(kmax, n - 1) + 1):
-            j = (n - k) % (kmax + 1)
-            d = abs(q - hq[j]) + abs(v - hv[j])
-            if d < best:
-                best, lag = d, k
+        lag, best = _closest_lag(q, v, n, hq, hv, kmax)
         if lag > 0 and best <= LAG_SHOT * max(math.hypot(q, v), acc[ACC_QMAX], A):
-            qs, vs, ok, w = _shoot(q, v, lag, A, r, bk, bs, zeta, c, settings, tol, budget - work, acc)
+            qs, vs, ok, w = shoot(q, v, lag, p, settings, tol, budget - work, acc)
             work += w
             if ok:
-                q, v = qs, vs
-                mode = _mode_of(q, v, A, r, bs)
-                orbit = lag
-                status = SteadyState.CONVERGED
-                shot = True
+                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, lag, n, work, True
     # only static friction above kinetic can keep a motion from settling: with bs == bk the friction
     # law is monotone and the period map does not expand distances (README, "Where the physics gets
     # hard"), so there a motion that has not repeated is a transient the budget cut short
-    if (status == SteadyState.PERIOD_CAP and bs > bk and tracked > LYAPUNOV_PERIODS // 2
-            and log_growth > -(tracked - 1) / kmax):
-        status = SteadyState.APERIODIC
-        orbit = APERIODIC_WINDOW
-    out[OUT_PERIODS] = n
-    out[OUT_STEADY] = status.value  # a float slot: numba casts no IntEnum to float
-    out[OUT_WORK] = work
-    # where the march ends (on the orbit, or where it gave up): a seed for another solve
-    out[OUT_Q], out[OUT_V], out[OUT_MODE] = q, v, mode
-    if status == SteadyState.GROWING:
-        out[OUT_REGIME] = Regime.UNBOUNDED.value
-        return
-    if status != SteadyState.CONVERGED and status != SteadyState.FAMILY and status != SteadyState.APERIODIC:
-        out[OUT_REGIME] = Regime.UNSETTLED.value
-        return
-    # measure over the k periods of the orbit (the state on the orbit, kept above, starts replays); a
-    # shooting solve measured its confirming period already
-    if not shot:
-        reset_accumulator(acc)
-        for _ in range(orbit):
-            q, v, mode, st, w = _advance(q, v, mode, A, r, bk, bs, zeta, c, settings, budget - work, True, acc)
-            work += w
-            if st == BUDGET or work > budget:  # the measurement is part of the point's budget
-                out[OUT_STEADY] = SteadyState.EVENT_BUDGET.value
-                out[OUT_WORK] = work
-                out[OUT_REGIME] = Regime.UNSETTLED.value
-                return
-    T = TWO_PI / r
-    total = orbit * T
+    if bs > bk and tracked > LYAPUNOV_PERIODS // 2 and log_growth > -(tracked - 1) / kmax:
+        return q, v, mode, SteadyState.APERIODIC, APERIODIC_WINDOW, n, work, False
+    return q, v, mode, SteadyState.PERIOD_CAP, 0, n, work, False
+
+
+@jit_inline
+def _measure_orbit(q, v, mode, orbit, p, settings, work, acc):
+    """Measure the k = orbit periods from a state on the orbit into `acc`. Returns (work, done): not
+    done when the point's work budget (which the measurement is part of) runs out."""
+    budget = int(settings[SET_WORK_BUDGET])
+    reset_accumulator(acc)
+    for _ in range(orbit):
+        q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, True, acc)
+        work += w
+        if st == BUDGET or work > budget:
+            return work, False
+    return work, True
+
+
+@jit_inline
+def _record_measurement(out, acc, orbit, p, tol):
+    """The outputs of the orbit measured in `acc` over `orbit` periods from the state out[end_q]."""
+    A, r, c = p.A, p.r, p.c
+    q0 = out[OUT_END_Q]
+    total = orbit * (TWO_PI / r)
     stuck_fraction = acc[ACC_STUCK] / total
     # No motion: stuck the whole time, or sticking and slipping by less than the steady-state
     # tolerance (a start beyond the edge of the stuck band creeps towards it, ever more slowly: the
     # limit is stuck at the edge, and the orbit accepted within tolerance moves by less than that)
-    moved = max(acc[ACC_QHI], out[OUT_Q]) - min(acc[ACC_QLO], out[OUT_Q])
+    moved = max(acc[ACC_QHI], q0) - min(acc[ACC_QLO], q0)
     all_stuck = acc[ACC_STUCK] >= total * (1.0 - 1e-15) or (
-        acc[ACC_STOPS] > 0.0 and moved <= tol * max(A, abs(out[OUT_Q])))
+        acc[ACC_STOPS] > 0.0 and moved <= tol * max(A, abs(q0)))
     ic = 0.0 if all_stuck else acc[ACC_IC]
     is_ = 0.0 if all_stuck else acc[ACC_IS]
     a1 = r / math.pi * ic / orbit + c  # the c cos(r t) part of x projects exactly onto (c, 0)
     b1 = r / math.pi * is_ / orbit
     amp = math.hypot(a1, b1)
-    out[OUT_TRANS] = amp
-    out[OUT_PEAK] = max(acc[ACC_XMAX], -acc[ACC_XMIN])
+    out[OUT_TRANSMISSIBILITY] = amp
+    out[OUT_PEAK_TRANSMISSIBILITY] = max(acc[ACC_XMAX], -acc[ACC_XMIN])
     if amp > 0.0:
-        out[OUT_PHASE] = wrap_lag_degrees(math.atan2(b1, a1))
-    if out[OUT_PEAK] > 0.0:
-        out[OUT_PEAK_PHASE] = wrap_lag_degrees(r * acc[ACC_TMAX])
-    out[OUT_STOPS] = 0.0 if all_stuck else acc[ACC_STOPS] / orbit
-    out[OUT_STUCK] = 1.0 if all_stuck else stuck_fraction
-    out[OUT_ORBIT] = orbit
-    out[OUT_WORK] = work
+        out[OUT_PHASE] = lag_degrees(math.atan2(b1, a1))
+    if out[OUT_PEAK_TRANSMISSIBILITY] > 0.0:
+        out[OUT_PEAK_PHASE] = lag_degrees(r * acc[ACC_TMAX])
+    out[OUT_STOPS_PER_PERIOD] = 0.0 if all_stuck else acc[ACC_STOPS] / orbit
+    out[OUT_STUCK_FRACTION] = 1.0 if all_stuck else stuck_fraction
+    out[OUT_ORBIT_PERIOD] = orbit
     if all_stuck:
         out[OUT_REGIME] = Regime.STUCK.value
     elif acc[ACC_STOPS] > 0.0:
@@ -509,7 +380,47 @@ def solve_point(A, r, bk, bs, zeta, c, settings, out):
 
 
 @jit
-def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, sq, sv):
+def solve_point(p, settings, out):
+    """Steady state and measurements of one grid point; results in `out` (slots of OUTPUT_FIELDS): from
+    the start, the family's member or the march's end, then the orbit's measurement."""
+    out[:] = math.nan
+    acc = np.empty(ACC_SIZE)
+    q, v = _start(p, settings)
+    mode = mode_of(q, v, p)
+    status = SteadyState.PERIOD_CAP
+    work = 0
+    if _in_family(q, v, p):
+        # Den Hartog's member of the family, confirmed (and measured) by one exact period
+        qf, mf = _family_start(p)
+        reset_accumulator(acc)
+        q1, v1, _, st, work = advance(qf, 0.0, mf, p, settings, int(settings[SET_WORK_BUDGET]), True, acc)
+        if _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
+            q, v, mode, status, orbit, n, shot = qf, 0.0, mf, SteadyState.FAMILY, 1, 1, True
+    if status != SteadyState.FAMILY:
+        q, v, mode, status, orbit, n, work, shot = _march(q, v, mode, p, settings, work, acc)
+    out[OUT_PERIODS] = n
+    out[OUT_STEADY_STATE] = status.value  # a float slot: numba casts no IntEnum to float
+    out[OUT_WORK] = work
+    out[OUT_END_Q], out[OUT_END_V], out[OUT_END_MODE] = q, v, mode
+    if status == SteadyState.GROWING:
+        out[OUT_REGIME] = Regime.UNBOUNDED.value
+        return
+    if status != SteadyState.CONVERGED and status != SteadyState.FAMILY and status != SteadyState.APERIODIC:
+        out[OUT_REGIME] = Regime.UNSETTLED.value
+        return
+    # a shooting solve (or the family's check) measured its orbit already
+    if not shot:
+        work, done = _measure_orbit(q, v, mode, orbit, p, settings, work, acc)
+        out[OUT_WORK] = work
+        if not done:
+            out[OUT_STEADY_STATE] = SteadyState.EVENT_BUDGET.value
+            out[OUT_REGIME] = Regime.UNSETTLED.value
+            return
+    _record_measurement(out, acc, orbit, p, settings[SET_STEADY_TOL])
+
+
+@jit
+def sample_orbit(q, v, mode, p, vtol, budget, periods, ts, sq, sv):
     """Replay `periods` forcing periods from a state on the orbit, sampling q, v at the local
     times ts (sorted, in [0, T)) of every period; sq, sv have shape (periods, ts.size). Returns
     BUDGET if the replay ran out of `budget` (the samples are then incomplete), else 0."""
@@ -517,8 +428,7 @@ def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, s
     work = 0
     for k in range(periods):
         reset_accumulator(acc)
-        q, v, mode, st, w = advance_period(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget - work, False, acc,
-                                           ts, sq[k], sv[k])
+        q, v, mode, st, w = advance_period(q, v, mode, p, vtol, budget - work, False, acc, ts, sq[k], sv[k])
         work += w
         if st == BUDGET or work > budget:
             return BUDGET
@@ -529,7 +439,7 @@ def sample_orbit(q, v, mode, A, r, bk, bs, zeta, c, vtol, budget, periods, ts, s
 def solve_points(A, r, bk, bs, zeta, c, settings, out):
     """solve_point over 1-D arrays of points; out has shape (n, OUT_SIZE)."""
     for i in range(r.size):
-        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], settings, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), settings, out[i])
 
 
 @jit
@@ -537,9 +447,9 @@ def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, out):
     """solve_points with a start (q0[i], v0[i]) of its own for each point (at the excitation's maximum)."""
     own = settings.copy()
     for i in range(r.size):
-        own[SET_Q0] = q0[i]
-        own[SET_V0] = v0[i]
-        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
+        own[SET_INITIAL_DISPLACEMENT] = q0[i]
+        own[SET_INITIAL_VELOCITY] = v0[i]
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, out[i])
 
 
 @jit
@@ -550,11 +460,12 @@ def solve_sweep(A, r, bk, bs, zeta, c, settings, out):
     state (unbounded, unsettled) the next starts afresh from the settings' start."""
     own = settings.copy()
     for i in range(r.size):
-        solve_point(A[i], r[i], bk[i], bs[i], zeta[i], c[i], own, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, out[i])
         regime = out[i, OUT_REGIME]
+        # a float slot against the codes' values: numba casts no IntEnum to float
         if regime == Regime.UNBOUNDED.value or regime == Regime.UNSETTLED.value:
-            own[SET_Q0] = settings[SET_Q0]
-            own[SET_V0] = settings[SET_V0]
+            own[SET_INITIAL_DISPLACEMENT] = settings[SET_INITIAL_DISPLACEMENT]
+            own[SET_INITIAL_VELOCITY] = settings[SET_INITIAL_VELOCITY]
         else:
-            own[SET_Q0] = out[i, OUT_Q]
-            own[SET_V0] = out[i, OUT_V]
+            own[SET_INITIAL_DISPLACEMENT] = out[i, OUT_END_Q]
+            own[SET_INITIAL_VELOCITY] = out[i, OUT_END_V]

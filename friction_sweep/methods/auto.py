@@ -13,6 +13,7 @@ import numpy as np
 
 from friction_sweep import catalogue, ties
 from friction_sweep.codes import MethodUsed, Regime, SteadyState
+from friction_sweep.kernels import steady
 from friction_sweep.methods import event, theory
 
 CATALOGUE = catalogue.method("auto")  # no effects: the theory models none; a scene with them uses `event`
@@ -64,9 +65,8 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
         sim = ~use_theory
         raw = event.solve_flat(excitation, R[sim], B[sim], None, **settings)
         for name in names:
-            slot = event._SLOTS.get(name)
-            if slot is not None:
-                out[name][sim] = raw[:, slot]
+            if name in steady.OUT:
+                out[name][sim] = raw[:, steady.OUT[name]]
     for name, dtype in (("regime", np.int8), ("steady_state", np.int8)):
         if name in out:
             out[name] = out[name].astype(dtype)

@@ -20,6 +20,8 @@ import numpy as np
 from friction_sweep import catalogue
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import steady
+from friction_sweep.kernels.point import Point
+from friction_sweep.kernels.settings import KERNEL_EVENT, SET_STOP_TOL, SET_WORK_BUDGET, settings_record
 from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
 from friction_sweep.theory import scenes
@@ -30,18 +32,6 @@ VARIABLES = {
     "transmissibility": ("transmissibility", "peak_transmissibility"),
     "phase": ("phase", "peak_phase"),
     "regime": ("regime", "stops_per_period", "stuck_fraction", "periods", "steady_state", "orbit_period"),
-}
-_SLOTS = {
-    "transmissibility": steady.OUT_TRANS,
-    "peak_transmissibility": steady.OUT_PEAK,
-    "phase": steady.OUT_PHASE,
-    "peak_phase": steady.OUT_PEAK_PHASE,
-    "regime": steady.OUT_REGIME,
-    "stops_per_period": steady.OUT_STOPS,
-    "stuck_fraction": steady.OUT_STUCK,
-    "periods": steady.OUT_PERIODS,
-    "steady_state": steady.OUT_STEADY,
-    "orbit_period": steady.OUT_ORBIT,
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
 
@@ -70,12 +60,13 @@ def point_parameters(excitation: str, r, beta, effects=None):
     return A, c, bk, bs, zeta
 
 
-def kernel_settings(settings: dict) -> np.ndarray:
-    """The steady-state kernel's settings: `settings` over the catalogue's defaults (the event kernel
-    ignores rk4's steps_per_period; `starts` is this module's business, not the kernel's)."""
-    values = {**CATALOGUE.defaults, **catalogue.method("rk4").defaults, **settings}
+def kernel_settings(settings: dict | None = None) -> np.ndarray:
+    """The steady-state kernel's settings record: `settings` (kernel: KERNEL_RK4 for method rk4) over the
+    catalogue's defaults, the event kernel's (which ignores rk4's steps_per_period); `starts` is this
+    module's business, not the kernel's."""
+    values = {**CATALOGUE.defaults, **catalogue.method("rk4").defaults, "kernel": KERNEL_EVENT, **(settings or {})}
     values.pop("starts")
-    return steady.settings_array(**values)
+    return settings_record(values)
 
 
 def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
@@ -104,8 +95,8 @@ def solve_moving(excitation, r, beta, effects=None, **settings):
     the state where its march gave up (a start that the model with static friction then follows)."""
     kinetic = {k: v for k, v in (effects or {}).items() if k != "static_friction_ratio"}
     seed = solve_flat(excitation, r, beta, kinetic, **settings)
-    start = (np.nan_to_num(seed[:, steady.OUT_Q], nan=0.0, posinf=0.0, neginf=0.0),
-             np.nan_to_num(seed[:, steady.OUT_V], nan=0.0, posinf=0.0, neginf=0.0))
+    start = (np.nan_to_num(seed[:, steady.OUT_END_Q], nan=0.0, posinf=0.0, neginf=0.0),
+             np.nan_to_num(seed[:, steady.OUT_END_V], nan=0.0, posinf=0.0, neginf=0.0))
     return solve_flat(excitation, r, beta, effects, start, **settings)
 
 
@@ -117,10 +108,10 @@ def count_states(first, second):
     for raw in (first, second):
         codes.append(raw[:, steady.OUT_REGIME])
     answered = [c != Regime.UNSETTLED for c in codes]
-    t1, t2 = first[:, steady.OUT_TRANS], second[:, steady.OUT_TRANS]
-    s1, s2 = first[:, steady.OUT_STEADY], second[:, steady.OUT_STEADY]
+    t1, t2 = first[:, steady.OUT_TRANSMISSIBILITY], second[:, steady.OUT_TRANSMISSIBILITY]
+    s1, s2 = first[:, steady.OUT_STEADY_STATE], second[:, steady.OUT_STEADY_STATE]
     same_kind = codes[0] == codes[1]
-    moving_alike = (same_kind & (first[:, steady.OUT_STOPS] == second[:, steady.OUT_STOPS])
+    moving_alike = (same_kind & (first[:, steady.OUT_STOPS_PER_PERIOD] == second[:, steady.OUT_STOPS_PER_PERIOD])
                     & (np.abs(t1 - t2) <= SAME_STATE_RTOL * np.maximum(np.abs(t1), np.abs(t2))))
     same = same_kind & ((codes[0] == Regime.STUCK) | (codes[0] == Regime.UNBOUNDED)
                         | ((s1 == SteadyState.APERIODIC) & (s2 == SteadyState.APERIODIC)) | moving_alike)
@@ -173,7 +164,7 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
 def _per_point(raw, names, shape) -> dict[str, np.ndarray]:
     result = {}
     for name in names:
-        values = raw[:, _SLOTS[name]].reshape(shape)
+        values = raw[:, steady.OUT[name]].reshape(shape)
         if name in _INTEGER:
             values = values.astype(_INTEGER[name])
         result[name] = values
@@ -194,7 +185,7 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     raw = solve_flat(excitation, r, beta, effects, **settings)
     sett = kernel_settings(settings)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
-    orbit = np.where(np.isfinite(raw[:, steady.OUT_ORBIT]), raw[:, steady.OUT_ORBIT], 0).astype(int)
+    orbit = np.where(np.isfinite(raw[:, steady.OUT_ORBIT_PERIOD]), raw[:, steady.OUT_ORBIT_PERIOD], 0).astype(int)
     n = samples_per_period * max(1, int(orbit.max(initial=1)))
     shape = (pts.shape[0], n)
     out = {name: np.full(shape, np.nan) for name in
@@ -209,9 +200,10 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         ts = frac * T
         sq = np.empty((k, samples_per_period))
         sv = np.empty((k, samples_per_period))
-        status = steady.sample_orbit(raw[i, steady.OUT_Q], raw[i, steady.OUT_V], int(raw[i, steady.OUT_MODE]), A[i],
-                                     r[i], bk[i], bs[i], zeta[i], c[i], sett[steady.SET_VTOL],
-                                     int(sett[steady.SET_BUDGET]), k, ts, sq, sv)
+        point = Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i])
+        status = steady.sample_orbit(raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V],
+                                     int(raw[i, steady.OUT_END_MODE]), point, sett[SET_STOP_TOL],
+                                     int(sett[SET_WORK_BUDGET]), k, ts, sq, sv)
         if status != 0:  # the replay ran out of budget: incomplete samples are not shown
             continue
         m = k * samples_per_period

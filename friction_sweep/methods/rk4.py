@@ -6,7 +6,7 @@ is integrated by classical fixed-step Runge-Kutta (`steps_per_period`) with a re
 from __future__ import annotations
 
 from friction_sweep import catalogue
-from friction_sweep.kernels import steady
+from friction_sweep.kernels.settings import KERNEL_RK4
 from friction_sweep.methods import event
 
 CATALOGUE = catalogue.method("rk4")
@@ -15,10 +15,10 @@ variables_for = event.variables_for
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None):
-    settings = {**(settings or {}), "kernel": steady.KERNEL_RK4}
+    settings = {**(settings or {}), "kernel": KERNEL_RK4}
     return event.compute_tile(excitation, r, beta, outputs, effects, settings)
 
 
 def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings=None, direction: str = "up"):
-    settings = {**(settings or {}), "kernel": steady.KERNEL_RK4}
+    settings = {**(settings or {}), "kernel": KERNEL_RK4}
     return event.compute_sweep_tile(excitation, r, beta, outputs, effects, settings, direction)

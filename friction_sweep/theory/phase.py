@@ -10,7 +10,12 @@ import numpy as np
 PHASE_RANGE_DEG = (-90.0, 270.0)
 
 
+def wrap_degrees(degrees):
+    """A lag in degrees wrapped into [-90, 270): the convention itself, plain arithmetic for floats and
+    arrays alike, so that the kernels jit this same function (kernels/steady.py)."""
+    return (degrees + 90.0) % 360.0 - 90.0
+
+
 def wrap_lag_degrees(radians):
-    """Convert a lag in radians to degrees in [-90, 270)."""
-    deg = np.degrees(np.asarray(radians, dtype=float))
-    return np.mod(deg + 90.0, 360.0) - 90.0
+    """Convert a lag in radians (anything array-like) to degrees in [-90, 270)."""
+    return wrap_degrees(np.degrees(np.asarray(radians, dtype=float)))

@@ -1,0 +1,143 @@
+"""Newton shooting for a period-k orbit of the period map, and the tests that make one a steady state.
+
+Solves F(x) = P^k(x) - x with the event kernel's exact monodromy matrix where it is valid (k = 1, slip
+only) and forward differences elsewhere. Newton finds unstable orbits as readily as stable ones, so a
+solution counts only if it attracts (spectral radius of the monodromy matrix below 1), if the map's own
+error cannot move it far (resolvable) and if it obeys the bound the equation proves for the first
+harmonic (within the forced bound).
+"""
+
+from __future__ import annotations
+
+import math
+
+from friction_sweep.kernels.jit import jit
+from friction_sweep.kernels.measure import ACC_IC, ACC_IS, ACC_JAC, ACC_JAC_OK, ACC_QMAX
+from friction_sweep.kernels.period_map import map_error, map_k
+
+
+@jit
+def _spectral_radius(m11, m12, m21, m22):
+    """Largest |eigenvalue| of a 2 x 2 matrix."""
+    half = 0.5 * (m11 + m22)
+    disc = half * half - (m11 * m22 - m12 * m21)
+    if disc >= 0.0:
+        return abs(half) + math.sqrt(disc)
+    return math.sqrt(m11 * m22 - m12 * m21)
+
+
+#: a solution of P(x) = x is accepted only if the error that the map's own error (rounding, or RK4's
+#: truncation: period_map.map_error) can cause, |(J - I)^-1| times it, is below this relative: near
+#: r = 1, |(J - I)^-1| ~ 0.23/|1 - r|, so orbits are resolved down to |1 - r| ~ 2e-11; a "solution" of
+#: size 1e15 or more at r = 1, where the map's O(1) drift per period is lost in rounding, has
+#: |(J - I)^-1| ~ its size and is refused
+RESOLVABLE = 1e-4
+
+
+@jit
+def _inverse_norm(b11, b12, b21, b22):
+    """|B^-1| (Frobenius: |B| / |det B| for 2 x 2); inf where B is singular."""
+    det = b11 * b22 - b12 * b21
+    if det == 0.0 or not math.isfinite(det):
+        return math.inf
+    return math.sqrt(b11 * b11 + b12 * b12 + b21 * b21 + b22 * b22) / abs(det)
+
+
+@jit
+def _resolvable(b11, b12, b21, b22, error):
+    """Whether a fixed point of P with Jacobian J = I + B is pinned down by the map despite its own
+    error: |B^-1| times that error (relative to the larger of the orbit and the forcing) is below
+    RESOLVABLE."""
+    return _inverse_norm(b11, b12, b21, b22) * error <= RESOLVABLE
+
+
+@jit
+def _within_forced_bound(acc, k, p):
+    """The orbit's first harmonic Q1 (of q over its k measured periods, from the slots ic, is) obeys the
+    bound that the equation itself proves: projecting q'' + 2 zeta q' + q + f = A cos(r t) onto the forcing
+    frequency gives (1 - r^2 + 2i zeta r) Q1 = A - F1, and a friction force |f| <= max(bk, bs) has
+    |F1| <= 4 max(bk, bs)/pi. Only a spurious orbit breaks it (always true at r = 1 without damping)."""
+    A, r, bk, bs, zeta, _ = p
+    q1 = r / math.pi * math.hypot(acc[ACC_IC], acc[ACC_IS]) / k
+    gain = math.hypot((1.0 - r) * (1.0 + r), 2.0 * zeta * r)
+    return q1 * gain <= (A + 4.0 / math.pi * max(bk, bs)) * (1.0 + 1e-9)
+
+
+@jit
+def shoot(q, v, k, p, settings, tol, budget, acc):
+    """Newton on F(x) = P^k(x) - x for a period-k orbit. Returns (q, v, ok, work).
+
+    The Jacobian is the event kernel's monodromy matrix (exact, saltation at reversals) wherever it
+    is valid (k = 1), else forward differences (rk4 kernel, periods with a stick). The evaluation that can
+    confirm convergence also measures: on success `acc` holds the measurement of the period from
+    the returned state, exactly as a separate measured pass would. Newton finds unstable orbits as
+    readily as stable ones; only an attracting one (monodromy spectral radius < 1) is a steady state,
+    and only one that rounding cannot move far (_resolvable) and that obeys the forced bound.
+    """
+    work = 0
+    error = map_error(p.r, settings)
+    # Accept only after a small Newton step: where the map has no fixed point (r = 1, friction
+    # below pi/4) a near-singular Jacobian leaps to a huge state whose relative residual looks tiny.
+    last_step = math.inf
+    prev_step = math.inf
+    radius = math.inf
+    b11 = b12 = b21 = b22 = 0.0  # J - I of the latest Jacobian (exact, or forward differences)
+    size = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
+    for _ in range(40):
+        scale = max(math.hypot(q, v), size)
+        # What the map's own error leaves: it is computed to ~map_error of the larger of the orbit and
+        # the forcing (an orbit far smaller than A, next to the no-motion threshold, is pinned only
+        # absolutely), and Newton's step inherits that times |(J - I)^-1|.
+        noise = error * max(scale, p.A)
+        step_noise = noise * min(_inverse_norm(b11, b12, b21, b22), 1e300) if last_step < math.inf else 0.0
+        # Confirm (and measure) once Newton has hit its floor: a step below 1e-9 of the state, or one
+        # below 1e-6 that no longer shrinks quadratically (rounding next to resonance). Stopping at the
+        # first step below 1e-6 would leave ~1e-12 of the state, all of it in x = z + cos(r t) when x
+        # is tiny (joined scene at high r).
+        measure = (last_step <= 1e-9 * scale + step_noise
+                   or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
+        q1, v1, st, w = map_k(q, v, k, p, settings, budget - work, measure, acc)
+        work += w
+        if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
+            return q, v, False, work
+        fq = q1 - q
+        fv = v1 - v
+        if abs(fq) + abs(fv) <= tol * scale + noise and measure:
+            if acc[ACC_JAC_OK] == 1.0:
+                radius = _spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3])
+                b11, b12 = acc[ACC_JAC] - 1.0, acc[ACC_JAC + 1]
+                b21, b22 = acc[ACC_JAC + 2], acc[ACC_JAC + 3] - 1.0
+            ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, error)
+                  and _within_forced_bound(acc, k, p))
+            return q, v, ok, work
+        if acc[ACC_JAC_OK] == 1.0:
+            j11 = acc[ACC_JAC] - 1.0
+            j12 = acc[ACC_JAC + 1]
+            j21 = acc[ACC_JAC + 2]
+            j22 = acc[ACC_JAC + 3] - 1.0
+        else:
+            # a step of 1e-6 of the orbit, or more where that would drown in the forcing's rounding
+            h = max(1e-6 * scale, 1e-8 * math.sqrt(p.A * scale))
+            qa, va, st1, w1 = map_k(q + h, v, k, p, settings, budget - work, False, acc)
+            qb, vb, st2, w2 = map_k(q, v + h, k, p, settings, budget - work, False, acc)
+            work += w1 + w2
+            if st1 != 0 or st2 != 0:
+                return q, v, False, work
+            j11 = (qa - q1) / h - 1.0
+            j21 = (va - v1) / h
+            j12 = (qb - q1) / h
+            j22 = (vb - v1) / h - 1.0
+        radius = _spectral_radius(j11 + 1.0, j12, j21, j22 + 1.0)
+        b11, b12, b21, b22 = j11, j12, j21, j22
+        det = j11 * j22 - j12 * j21
+        if det == 0.0 or not math.isfinite(det):
+            return q, v, False, work
+        dq = (j22 * fq - j12 * fv) / det
+        dv = (-j21 * fq + j11 * fv) / det
+        q -= dq
+        v -= dv
+        prev_step = last_step
+        last_step = abs(dq) + abs(dv)
+        if not (math.isfinite(q) and math.isfinite(v)):
+            return q, v, False, work
+    return q, v, False, work
