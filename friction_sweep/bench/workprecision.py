@@ -21,9 +21,10 @@ from friction_sweep import catalogue
 from friction_sweep.kernels import steady
 from friction_sweep.kernels.settings import KERNEL_RK4
 from friction_sweep.methods import event, paper, rk4, theory
+from friction_sweep.theory import scenes
 
-OUTPUTS = ("transmissibility", "phase", "regime")
-EXCITATIONS = ("base", "joined")
+OUTPUTS = catalogue.GRID_OUTPUTS
+EXCITATIONS = ("base", "joined")  # the two walls: fixed (base) and moving with the base (joined)
 REGIONS = {
     "continuous": {"base": [(1.5, 0.3), (2.5, 0.4), (0.8, 0.2)], "joined": [(2.0, 0.8), (1.5, 0.4), (3.0, 1.0)]},
     "two_stops": {"base": [(0.7, 0.8), (1.5, 0.7), (3.0, 0.6)], "joined": [(0.95, 0.8), (1.2, 1.1), (2.0, 2.5)]},
@@ -67,7 +68,7 @@ def reference(region, excitation, quick):
 
     worst = 0.0
     for i, (rr, bb) in enumerate(pts[:1] if quick else pts):  # DOP853 is slow: one point per region in quick
-        A, c = (rr * rr, 1.0) if excitation == "joined" else (1.0, 0.0)
+        A, c = scenes.forcing_amplitude(excitation, rr), scenes.response_offset(excitation)
         t_dop, _ = measure(A, rr, bb, bb, int(raw[i, steady.OUT_PERIODS]) + 20, c)
         worst = max(worst, abs(t_dop / ref[i] - 1))
     return ref, worst

@@ -1,6 +1,6 @@
 """One grid point's parameters as the kernels take them: a NamedTuple of floats.
 
-The equation of every scene, in slip direction sig = +-1 (DESIGN.md §1):
+The equation of every scene, in slip direction sig = +-1 (docs/equations.md §1):
 
     q'' + 2 zeta q' + q + sig bk = A cos(r t),    response x = q + c cos(r t),
 

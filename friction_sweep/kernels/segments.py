@@ -1,4 +1,4 @@
-"""Closed-form slip segments: the motion between events, and the search for where one ends (DESIGN.md §3).
+"""Closed-form slip segments: the motion between events, and the search for where one ends (docs/equations.md §3).
 
 Equation in slip direction sig = +-1 (period-local time t, forcing phase r t):
 

@@ -143,7 +143,7 @@ def _subharmonic(r):
 def _in_family(q, v, p):
     """Whether the point lies on a stick-free family: r = 1/(2n), static = kinetic friction, no damping.
 
-    At r = 1/(2n) stick-free orbits form a continuum (DESIGN.md §6), so the map has no isolated fixed
+    At r = 1/(2n) stick-free orbits form a continuum (docs/equations.md §6), so the map has no isolated fixed
     point to march to or shoot for. Its half-wave symmetric member is Den Hartog's, which at U(r) = 0
     starts from q = A/(1 - r^2), v = 0 at the excitation's maximum (_family_start); one exact, measured
     period confirms it (_returns_to_start). With static = kinetic friction the fixed points form one
