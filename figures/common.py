@@ -15,17 +15,15 @@ import json
 import sys
 from pathlib import Path
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+from matplotlib.patches import Patch
 
-matplotlib.use("Agg")
+from friction_sweep.codes import Regime
+from friction_sweep.storage.atomic import save_figure
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-from matplotlib.patches import Patch  # noqa: E402
-
-from friction_sweep.codes import Regime  # noqa: E402
-from friction_sweep.storage.atomic import save_figure  # noqa: E402
+plt.switch_backend("Agg")  # no display: every figure is written to a file
 
 # --- labels ---------------------------------------------------------------------------------------------
 

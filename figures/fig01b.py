@@ -6,14 +6,11 @@ a check). All curves pass through 1 at r = sqrt(2), where damping stops reducing
     python figures/fig01b.py results/numerical/fig01b_viscous_zeta005.h5 ... figures/out/fig01b.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
+import common as C
+import numpy as np
 
-from friction_sweep.catalogue import effect_value  # noqa: E402
+from friction_sweep.catalogue import effect_value
 
 
 def classical(r, zeta):

@@ -4,11 +4,8 @@ per force ratio muN/F0, and the limit of continuous motion (dotted, Eq. 13).
     python figures/fig04.py results/fig04_force_amplitude.h5 figures/out/fig04.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 
 def main(argv=None):

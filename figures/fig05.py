@@ -5,11 +5,8 @@ on: below, the limit is tiny and swings at r = 1/3, 1/5, ... where U(r) is singu
     python figures/fig05.py results/fig05_force_phase.h5 figures/out/fig05.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 
 def main(argv=None):

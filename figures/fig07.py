@@ -4,11 +4,8 @@
     python figures/fig07.py results/fig07_base_transmissibility.h5 figures/out/fig07.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 
 def main(argv=None):

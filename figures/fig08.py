@@ -5,12 +5,9 @@ for r -> infinity (Eq. 25) and its maximum (Eq. 26) marked; above beta = 1 the m
     python figures/fig08.py results/fig08_transition_force_ratio.h5 figures/out/fig08.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
+import common as C
+import numpy as np
 
 ASYMPTOTE = 2.0 / np.sqrt(4.0 + np.pi**2)  # 0.5370
 

@@ -4,11 +4,8 @@ excitation (Eq. 34), one curve per force ratio, and the limit of continuous moti
     python figures/fig10.py results/fig10_joined_relative_amplitude.h5 figures/out/fig10.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 
 def main(argv=None):

@@ -6,11 +6,8 @@ continuous motion (dotted, drawn from r = 0.5 on: below, the limit is tiny and s
     python figures/fig11.py results/fig11_joined_relative_phase.h5 figures/out/fig11.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 
 def main(argv=None):

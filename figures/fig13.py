@@ -7,15 +7,12 @@ continuous.
     python figures/fig13.py results/fig13_joined_regime_map.h5 figures/out/fig13.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
-from matplotlib.colors import BoundaryNorm, ListedColormap  # noqa: E402
+import common as C
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
 
-from friction_sweep.codes import Regime  # noqa: E402
+from friction_sweep.codes import Regime
 
 #: regime code -> face colour (white where the motion is continuous)
 MAP_COLORS = ["0.55", "0.85", "white", "tab:red", "tab:orange"]

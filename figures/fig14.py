@@ -7,12 +7,9 @@ of adjacent force ratios are marked.
         results/fig14b_joined_inversion.h5 figures/out/fig14.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
+import common as C
+import numpy as np
 
 VAR = "peak_transmissibility"
 

@@ -4,11 +4,8 @@ motion x, between maxima (Eq. 44), joined base-wall excitation, one curve per fo
     python figures/fig16.py results/fig11_joined_relative_phase.h5 figures/out/fig16.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 
 def main(argv=None):

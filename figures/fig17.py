@@ -9,11 +9,8 @@ and small force ratios just below r = 1/3, 0.41, 0.48, where the orbit creeps to
         results/numerical/fig17b_base_numerical_low_r.h5 figures/out/fig17.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 VAR = "transmissibility"
 

@@ -7,12 +7,9 @@ paper's FFT definition). The simulated regime is shaded (stick-slip light grey).
         results/fig07_base_transmissibility.h5 figures/out/fig18.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
+import common as C
+import numpy as np
 
 PREFERRED = (0.2, 0.4, 0.6, 0.8)
 

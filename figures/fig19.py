@@ -9,14 +9,11 @@ by default) over 40 forcing periods, computed here with the exact event kernel.
     python figures/fig19.py results/numerical/fig19_base_time_histories.h5 figures/out/fig19.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
+import common as C
+import numpy as np
 
-from friction_sweep.codes import Regime  # noqa: E402
+from friction_sweep.codes import Regime
 
 BEATING = {"r": 0.95, "beta": 0.05, "periods": 40}
 

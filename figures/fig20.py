@@ -6,11 +6,8 @@ transmissibility is the first harmonic |X(r)|/|Y(r)| (the paper's FFT definition
     python figures/fig20.py results/numerical/fig20_joined_numerical.h5 figures/out/fig20.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
+import common as C
 
 
 def main(argv=None):

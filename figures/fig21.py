@@ -8,12 +8,9 @@ stick-slip, white continuous (sliding), as in the paper.
         results/fig21_joined_theory.h5 figures/out/fig21.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
+import common as C
+import numpy as np
 
 PREFERRED = (0.2, 0.6, 1.0, 1.4, 2.0, 3.0)
 

@@ -7,14 +7,11 @@ mass motion x against the base and wall motion y.
     python figures/fig22.py results/numerical/fig22_joined_stick_slip_history.h5 figures/out/fig22.png
 """
 
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-import numpy as np  # noqa: E402
+import common as C
+import numpy as np
 
-from friction_sweep.codes import Regime  # noqa: E402
+from friction_sweep.codes import Regime
 
 
 def main(argv=None):

@@ -6,16 +6,12 @@ Where the sweeps differ (shaded) the damper has two steady states: the band a ri
     python figures/hysteresis.py UP.h5 DOWN.h5 STARTS.h5 OUT.png
 """
 
-import sys
-from pathlib import Path
 
+import common as C
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-import common as C  # noqa: E402
-
-from friction_sweep.catalogue import effect_value  # noqa: E402
-from friction_sweep.methods.event import SAME_STATE_RTOL  # noqa: E402
+from friction_sweep.catalogue import effect_value
+from friction_sweep.methods.event import SAME_STATE_RTOL
 
 
 def main(argv=None):

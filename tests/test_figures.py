@@ -135,6 +135,9 @@ def cubes(tmp_path_factory):
 
 
 def load_script(name):
+    """A figure script as a module; its folder on sys.path, as when it runs as `python figures/X.py`."""
+    if str(FIGURES) not in sys.path:
+        sys.path.insert(0, str(FIGURES))
     spec = importlib.util.spec_from_file_location(f"figure_script_{name}", FIGURES / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

@@ -369,7 +369,7 @@ def _sizes(text: str) -> tuple[int, int] | None:
         s = parse_spec_text(text)
     except SpecError:
         return None
-    except Exception:  # noqa: BLE001 - reported by the CLI assertions below, with the output
+    except Exception:  # reported by the CLI assertions below, with the output
         return None
     return s.frequency_ratio.size, s.force_ratio.size
 
@@ -379,7 +379,7 @@ def _cheap(text: str) -> bool:
     not `paper`, which simulates from rest with ode45 for minutes a point)."""
     try:
         s = parse_spec_text(text)
-    except Exception:  # noqa: BLE001 - refused (or failing: the CLI's assertions report that)
+    except Exception:  # refused (or failing: the CLI's assertions report that)
         return True
     points = s.frequency_ratio.size * s.force_ratio.size
     return s.method != "paper" and points <= (MAX_THEORY_POINTS if s.method == "theory" else MAX_SIMULATED_POINTS)

@@ -10,6 +10,7 @@ its files with `write_all`, so that a full disk leaves the previous outputs as t
 
 from __future__ import annotations
 
+import importlib
 import os
 import stat
 from collections.abc import Callable, Iterable
@@ -104,8 +105,8 @@ def missing_figures_extra() -> str | None:
         # both imports, explicitly: pyplot is what draws, and a broken install (a missing backend
         # dependency) fails only there; `import matplotlib` first so that a matplotlib blocked in
         # sys.modules is noticed even when pyplot was imported earlier
-        import matplotlib  # noqa: F401
-        import matplotlib.pyplot  # noqa: F401
+        for module in ("matplotlib", "matplotlib.pyplot"):
+            importlib.import_module(module)
     except ImportError as err:
         return f"this command draws figures, which need matplotlib ({err}): {FIGURES_EXTRA}"
     return None
