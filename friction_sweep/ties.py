@@ -7,7 +7,7 @@ therefore decided as if the two numbers were equal whenever they agree to TIE_RT
 tolerance is wider than rounding alone needs, so that it also covers what no method resolves: a force
 that leaves the band by a fraction e of itself moves the mass by ~e^1.5 (below 1e-18 of the
 excitation here, under the simulation's rounding), and within 1e-12 of r = 1 the resonant amplitude
-(~1/(2|1 - r|) > 5e11) is beyond what the stroboscopic map can pin down (see kernels/steady.py
+(~1/(2|1 - r|) > 5e11) is beyond what the stroboscopic map can pin down (see kernels/shoot.py
 RESOLVABLE), so the simulation reports `unbounded` there too.
 
     no motion from rest   A <= bs (1 + TIE_RTOL): the whole swing of the force stays inside the static
@@ -19,7 +19,7 @@ RESOLVABLE), so the simulation reports `unbounded` there too.
     subharmonic family    |2 n r - 1| <= TIE_RTOL counts as r = 1/(2n) (docs/equations.md §6).
 
 The continuous limit beta*(r) keeps its own band: a stick shorter than 1e-10 of a period is a grazing
-contact (kernels/event.py GRAZING_STICK), so within ~1e-10 of beta* rounding of the simulation decides.
+contact (kernels/stick.py GRAZING_STICK), so within ~1e-10 of beta* rounding of the simulation decides.
 """
 
 from __future__ import annotations

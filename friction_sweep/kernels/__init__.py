@@ -1,1 +1,2 @@
-"""numba kernels: pure functions of floats and arrays, status codes instead of exceptions."""
+"""numba kernels: functions of floats, Point records and arrays (results written into caller-owned
+arrays), status codes instead of exceptions."""

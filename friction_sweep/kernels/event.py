@@ -7,10 +7,11 @@ however many periods are marched. At every stop the next mode is decided from th
 
 Measurement goes into the accumulator record of kernels/measure.py. On slip pieces the first-harmonic
 integrals are closed form (or Gauss-Legendre near resonance and with damping), sticks are measured
-exactly (kernels/stick.py). For c = 0 the extremes of the response x = q + c cos(r t) sit at events
-(q is monotone between velocity zeros); for c != 0 (joined: x = z + cos r t) each slip piece is sampled
-and its best samples refined by Newton on x' = 0. Along the way the period map's monodromy matrix
-(slots jac11..jac22, for shooting) is built from the flow of slip pieces and the saltation at reversals.
+exactly (measure.measure_stick, called from stick.stick_phase). For c = 0 the extremes of the
+response x = q + c cos(r t) sit at events (q is monotone between velocity zeros); for c != 0 (joined:
+x = z + cos r t) each slip piece is sampled and its best samples refined by Newton on x' = 0. Along
+the way the period map's monodromy matrix (slots jac11..jac22, for shooting) is built from the flow of
+slip pieces and the saltation at reversals.
 """
 
 from __future__ import annotations

@@ -46,6 +46,7 @@ ACC_QHI = ACC["qhi"]
 
 
 def new_accumulator():
+    """A fresh, reset accumulator (for callers from Python: tests)."""
     acc = np.zeros(ACC_SIZE)
     reset_accumulator(acc)
     return acc

@@ -331,7 +331,7 @@ def advance_period_rk4(q, v, mode, p, steps_per_period, budget, measure, acc):
         have_a = have_a and sig == mode_a
         mode_a = sig
         if sig * v < 0.0:
-            theta = 0.0  # moving against the mode: a stop right here (as event.find_stop)
+            theta = 0.0  # moving against the mode: a stop right here (as segments.find_stop)
             q1 = q
         else:
             if not have_a:

@@ -87,12 +87,12 @@ def lag_degrees(radians):
     return wrap_degrees(radians * 180.0 / math.pi)
 
 
-#: A march that found no period-k orbit (k <= max_orbit_period) is `aperiodic` when its largest
-#: Lyapunov exponent (per forcing period, over the march's second half) is above -1/max_orbit_period:
-#: nearby states draw together by less than a factor e over the longest period looked for, so the
-#: motion is chaotic (exponent > 0), quasi-periodic (~0) or locked onto a longer period (static
-#: friction at r = 0.33, beta = 0.08: 1222 periods, exponent -1.3e-3). A motion that contracts faster
-#: and still has not repeated is a transient the budget cut short: `period_cap`.
+# A march that found no period-k orbit (k <= max_orbit_period) is `aperiodic` when its largest
+# Lyapunov exponent (per forcing period, over the march's second half) is above -1/max_orbit_period:
+# nearby states draw together by less than a factor e over the longest period looked for, so the
+# motion is chaotic (exponent > 0), quasi-periodic (~0) or locked onto a longer period (static
+# friction at r = 0.33, beta = 0.08: 1222 periods, exponent -1.3e-3). A motion that contracts faster
+# and still has not repeated is a transient the budget cut short: `period_cap`.
 #: periods over which the exponent is averaged (the second half of the march, at least this many)
 LYAPUNOV_PERIODS = 256
 #: shooting through sticks accepts only an orbit within this fraction of the orbit's size from the march

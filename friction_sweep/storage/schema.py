@@ -32,7 +32,7 @@ CONVENTIONS = "CF-1.10"
 #: Largest amplitude a method can write (transmissibilities, peaks, time histories, in units of the
 #: excitation): every finite one obeys (A + 4/pi max(beta, beta_s)) / |1 - r^2 + 2i zeta r| (+1 joined,
 #: `fsweep check` rule `bound`), motion needs A > beta_s, and no method resolves |1 - r| below ~1e-12
-#: (theory: the resonance tie; simulations: kernels.steady.RESOLVABLE), so real values stay below
+#: (theory: the resonance tie; simulations: kernels.shoot.RESOLVABLE), so real values stay below
 #: ~1e12. Far above that, a value is garbage (a flipped exponent bit), not physics.
 AMPLITUDE_MAX = 1e15
 #: Counts stored as float64 are exact whole numbers only up to 2^53.
