@@ -217,11 +217,11 @@ def method(name: str) -> Method:
 
 
 def able(capability: str) -> tuple[str, ...]:
-    """Methods with a capability: an effect or output name, 'sweep' or 'accuracy'."""
+    """Methods with a capability: an excitation, effect or output name, 'sweep' or 'accuracy'."""
     def has(m: Method) -> bool:
         if capability == "sweep":
             return m.sweep
         if capability == "accuracy":
             return bool(m.accuracy_knobs)
-        return capability in m.effects or capability in m.outputs
+        return capability in m.excitations or capability in m.effects or capability in m.outputs
     return tuple(m.name for m in _METHODS if has(m))

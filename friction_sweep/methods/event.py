@@ -141,8 +141,8 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
                        direction: str = "up") -> dict[str, np.ndarray]:
     """A tile of a swept run: for each force ratio, the frequency ratios in sweep order (ascending for
     `up`, descending for `down`), each point started from the orbit of the one before
-    (kernels.steady.solve_sweep). The sweep is the start, so there is no second one (`starts`)."""
-    settings = {k: v for k, v in (settings or {}).items() if k != "starts"}
+    (kernels.steady.solve_sweep). The sweep is the start, so there is no second one (`starts`, which
+    kernel_settings leaves out)."""
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
     order = np.argsort(r, kind="stable")
@@ -181,7 +181,7 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     """
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     r, beta = pts[:, 0], pts[:, 1]
-    settings = {k: v for k, v in (settings or {}).items() if k != "starts"}
+    settings = dict(settings or {})  # one solve from the settings' start (kernel_settings drops `starts`)
     raw = solve_flat(excitation, r, beta, effects, **settings)
     sett = kernel_settings(settings)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)

@@ -409,10 +409,10 @@ class Spec(_Model):
         return self
 
     def _excitation_problems(self):
-        if self.scene.excitation not in METHODS[self.method].excitations:
-            able = [m.name for m in METHODS.values() if self.scene.excitation in m.excitations]
+        excitation = self.scene.excitation
+        if excitation not in METHODS[self.method].excitations:
             yield _error("excitation_method", f"method {self.method!r} does not simulate excitation "
-                         f"{self.scene.excitation!r} (methods that do: {', '.join(able)})", ("scene", "excitation"))
+                         f"{excitation!r} (methods that do: {', '.join(able(excitation))})", ("scene", "excitation"))
 
     def _output_problems(self):
         for name in self.outputs:
