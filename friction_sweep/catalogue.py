@@ -133,8 +133,8 @@ _STEADY = {
                              "~250; each period's cost grows with it)"),
     "work_budget": _int(5_000_000, 1, 10**8, "stop searches and events per point at most: 0.1-0.3 us each, so at "
                         "most about 30 s a point"),
-    "shoot_after": _int(1, 1, 1_000_000, "periods marched before the first shooting attempt (1: measured "
-                        "fastest, make bench)"),
+    "shoot_after": _int(0, 0, 1_000_000, "periods marched before the first shooting attempt; 0: first from "
+                        "Den Hartog's orbit where the steady state is unique, before any march (fastest, make bench)"),
     "shoot_every": _int(48, 1, 1_000_000, "periods between shooting attempts"),
     "initial_displacement": _float(0.0, -2.0, 2.0, "start of the march at forcing phase 0, in the equation's "
                                    "length unit: farther starts settle on wrong or no orbits within the budget"),

@@ -597,8 +597,10 @@ def test_no_point_exceeds_its_work_budget_and_calls_itself_converged(compiled, r
 
     def solve(budget):
         out = np.empty((1, steady.OUT_SIZE))
-        steady.solve_points(np.array([1.0]), np.array([r]), np.array([beta]), np.array([beta * static]),
-                            np.array([0.0]), np.array([0.0]), event.kernel_settings({"work_budget": budget}), out)
+        A, rr, bk, bs, zeta = (np.array([x]) for x in (1.0, r, beta, beta * static, 0.0))
+        settings = event.kernel_settings({"work_budget": budget})
+        steady.solve_points(A, rr, bk, bs, zeta, np.array([0.0]), settings,
+                            *event.newton_guess(A, rr, bk, bs, zeta, settings), out)
         return out[0]
 
     full = solve(5_000_000)

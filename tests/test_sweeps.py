@@ -60,7 +60,8 @@ def test_a_state_that_only_a_sweep_finds_is_a_real_orbit():
     r = np.round(np.arange(1, 57) * 0.01, 12)  # up to 0.56
     A, c, bk, bs, zeta = event.point_parameters("base", r, np.full(r.shape, 0.3), STATIC)
     raw = np.empty((r.size, steady.OUT_SIZE))
-    steady.solve_sweep(A, r, bk, bs, zeta, c, event.kernel_settings(), raw)
+    settings = event.kernel_settings()
+    steady.solve_sweep(A, r, bk, bs, zeta, c, settings, *event.newton_guess(A, r, bk, bs, zeta, settings), raw)
     last = raw[-1]
     default = event.compute_tile("base", r[-1:], np.array([0.3]), OUTPUTS, STATIC)
     assert default["steady_states"][0, 0] == 1

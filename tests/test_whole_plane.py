@@ -66,7 +66,7 @@ def test_damped_resonance_stays_finite_and_within_the_proven_bound():
     # at beta = 0 the linear damped response 1/(2 zeta); friction only lowers it here
     assert out["transmissibility"][0, 0] == pytest.approx(1 / (2 * 0.05), rel=1e-9)
     bound = (1 + 4 * beta / np.pi) / (2 * 0.05)
-    assert np.all(out["transmissibility"][:, 0] <= bound)
+    assert np.all(out["transmissibility"][:, 0] <= bound * (1 + 1e-14))  # at beta = 0 the bound is the answer
 
 
 def test_damped_linear_response_is_found_at_once_and_exact():
@@ -76,7 +76,8 @@ def test_damped_linear_response_is_found_at_once_and_exact():
     out = tile("base", r, 0.0, DAMPED)
     exact = 1 / np.abs(1 - r * r + 2j * 0.05 * r)
     np.testing.assert_allclose(out["transmissibility"][0], exact, rtol=1e-10)
-    assert np.all(out["periods"][0] <= 2) and np.all(out["orbit_period"][0] == 1)
+    # every period counted: the one marched, Newton's step from it confirmed by one measured period
+    assert np.all(out["periods"][0] <= 3) and np.all(out["orbit_period"][0] == 1)
 
 
 @pytest.mark.parametrize("detuning", [1e-8, 1e-6, 1e-4])

@@ -11,7 +11,7 @@ exactly (measure.measure_stick, called from stick.stick_phase). For c = 0 the ex
 response x = q + c cos(r t) sit at events (q is monotone between velocity zeros); for c != 0 (joined:
 x = z + cos r t) each slip piece is sampled and its best samples refined by Newton on x' = 0. Along
 the way the period map's monodromy matrix (slots jac11..jac22, for shooting) is built from the flow of
-slip pieces and the saltation at reversals.
+slip pieces and the saltations at reversals, into sticks and at releases.
 """
 
 from __future__ import annotations
@@ -266,12 +266,40 @@ def _jac_reversal(acc, a_before, a_after):
 
 
 @jit
+def _jac_stick(acc):
+    """Saltation into a stick: the mass is held at rest whatever the perturbation, so the velocity row
+    of J is zeroed (the stop's position moves with q alone, as v = 0 there)."""
+    acc[ACC_JAC + 2] = 0.0
+    acc[ACC_JAC + 3] = 0.0
+
+
+@jit
+def _jac_release(acc, te, sig, p):
+    """Saltation at the end of a stick at te, slipping in direction sig (docs/equations.md §3).
+
+    The stick ends where the net force d = A cos(r t) - q_s reaches sig bs, so te moves with the stop
+    as dte = dq_s / d'(te), d' = -A r sin(r te); a later release leaves the mass slower by a+ dte, a+ =
+    sig (bs - bk) the acceleration at release. The velocity row (zero through the stick) becomes
+    -a+/d' times the position row: nothing for bs = bk, where the release is tangential in velocity. A
+    force that only touches the band edge (d' = 0) makes te non-smooth in q_s: no Jacobian then."""
+    ddot = -p.A * p.r * math.sin(p.r * te)
+    if ddot == 0.0 or sig * ddot <= 0.0:
+        acc[ACC_JAC_OK] = 0.0
+        return
+    g = -sig * (p.bs - p.bk) / ddot
+    acc[ACC_JAC + 2] = g * acc[ACC_JAC]
+    acc[ACC_JAC + 3] = g * acc[ACC_JAC + 1]
+
+
+@jit
 def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work).
 
     ts: sorted period-local sample times (empty when not sampling); q, v there go to sq, sv.
     Along the way acc[ACC_JAC:ACC_JAC + 4] gets the monodromy matrix d(q, v)(T)/d(q, v)(0) and
-    acc[ACC_JAC_OK] = 1 when it is valid (slip only; the map is not smooth through a stick).
+    acc[ACC_JAC_OK] = 1 when it is valid: through reversals and sticks, not where the map is not smooth
+    (a stop that neither reverses nor sticks, a stick that ends as it starts or where the force only
+    touches the band edge, a slip that could not start).
     """
     A, r, bk, bs, zeta, c = p
     T = TWO_PI / r
@@ -281,13 +309,19 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     t = 0.0
     work = 0
     new_stop = False
-    from_stick = False
+    # a period that starts at rest in a slip mode (the force at the band edge) is a slip from rest too:
+    # where it cannot start, the mass stays stuck (without this, joined r = 0.2, beta = 0.02 from
+    # q = A - bs found a stop 1e-14 later without moving, again and again, and spent the whole work
+    # budget in one period)
+    from_stick = v == 0.0
     j = 0
     stalled = False  # the last slip could not start from its stick exit
     while True:
         if mode == 0:
-            acc[ACC_JAC_OK] = 0.0
+            _jac_stick(acc)
             te = stick_phase(acc, q, t, T, p, new_stop, measure, stalled)
+            if stalled or te <= t:
+                acc[ACC_JAC_OK] = 0.0
             new_stop = False
             stalled = False
             if ts.size:
@@ -297,6 +331,7 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
             t = te
             v = 0.0
             mode = slip_direction(t, q, A, r)
+            _jac_release(acc, t, mode, p)
             work += 1
             from_stick = True
         else:
@@ -305,16 +340,17 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
             work += w + 1
             if work > budget:
                 return q, v, mode, BUDGET, work
-            if found and s == 0.0 and from_stick:
-                # the force touched the band edge and turned back: the mass stays stuck
+            ca = math.cos(r * t)
+            sa = math.sin(r * t)
+            q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, ca, sa)
+            if found and from_stick and (s == 0.0 or q1 == q):
+                # the force touched the band edge and turned back, or pushes past it by less than
+                # rounding (the slip stops before the mass has moved at all): the mass stays stuck
                 mode = 0
                 stalled = True
                 from_stick = False
                 continue
             from_stick = False
-            ca = math.cos(r * t)
-            sa = math.sin(r * t)
-            q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, ca, sa)
             if measure:
                 _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
             if ts.size:
@@ -333,8 +369,8 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
                 cp = math.cos(r * t)
                 _jac_reversal(acc, acceleration(q, 0.0, old, A, bk, zeta, cp),
                               acceleration(q, 0.0, mode, A, bk, zeta, cp))
-            else:
-                acc[ACC_JAC_OK] = 0.0
+            elif mode != 0:
+                acc[ACC_JAC_OK] = 0.0  # touched v = 0 and went on: not smooth there
             new_stop = mode == 0
             if t >= T:
                 return q, v, mode, OK, work

@@ -17,7 +17,7 @@ SETTING_FIELDS = (
     "max_periods",  # forcing periods marched at most
     "max_orbit_period",  # period-k orbits are detected up to this k
     "work_budget",  # stop-search steps, RK4 steps and events per point
-    "shoot_after",  # periods marched before the first shooting attempt
+    "shoot_after",  # periods marched before the first shooting attempt (0: from the guess, before marching)
     "shoot_every",  # periods between shooting attempts after a miss
     "kernel",  # which period integrator the driver marches: KERNEL_EVENT or KERNEL_RK4
     "steps_per_period",  # RK4 steps per forcing period (rk4 kernel only)

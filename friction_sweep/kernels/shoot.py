@@ -1,10 +1,10 @@
 """Newton shooting for a period-k orbit of the period map, and the tests that make one a steady state.
 
-Solves F(x) = P^k(x) - x with the event kernel's exact monodromy matrix where it is valid (k = 1, slip
-only) and forward differences elsewhere. Newton finds unstable orbits as readily as stable ones, so a
-solution counts only if it attracts (spectral radius of the monodromy matrix below 1), if the map's own
-error cannot move it far (resolvable) and if it obeys the bound the equation proves for the first
-harmonic (within the forced bound).
+Solves F(x) = P^k(x) - x with the event kernel's exact monodromy matrix where it is valid (k = 1, a
+period where the map is smooth, sticks included) and forward differences elsewhere. Newton finds
+unstable orbits as readily as stable ones, so a solution counts only if it attracts (spectral radius
+of the monodromy matrix below 1), if the map's own error cannot move it far (resolvable) and if it
+obeys the bound the equation proves for the first harmonic (within the forced bound).
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.measure import ACC_IC, ACC_IS, ACC_JAC, ACC_JAC_OK, ACC_QMAX
+from friction_sweep.kernels.measure import ACC_IC, ACC_IS, ACC_JAC, ACC_JAC_OK, ACC_QMAX, ACC_STOPS
 from friction_sweep.kernels.period_map import map_error, map_k
 
 
@@ -63,27 +63,53 @@ def _within_forced_bound(acc, k, p):
     return q1 * gain <= (A + 4.0 / math.pi * max(bk, bs)) * (1.0 + 1e-9)
 
 
-@jit
-def shoot(q, v, k, p, settings, tol, budget, acc):
-    """Newton on F(x) = P^k(x) - x for a period-k orbit. Returns (q, v, ok, work).
+#: a Newton step below this fraction of the state, or below ROUNDING_NOISE times the step that the
+#: map's own error causes, is at the floor of double precision: the state it starts from is the fixed
+#: point, as far as the map can tell
+ROUNDING_STEP = 1e-12
+ROUNDING_NOISE = 4.0
+#: through sticks, a Newton step is at most this multiple of the larger of the orbit and the forcing
+TRUST = 1.0
 
-    The Jacobian is the event kernel's monodromy matrix (exact, saltation at reversals) wherever it
-    is valid (k = 1), else forward differences (rk4 kernel, periods with a stick). The evaluation that can
-    confirm convergence also measures: on success `acc` holds the measurement of the period from
-    the returned state, exactly as a separate measured pass would. Newton finds unstable orbits as
-    readily as stable ones; only an attracting one (monodromy spectral radius < 1) is a steady state,
-    and only one that rounding cannot move far (_resolvable) and that obeys the forced bound.
+
+#: how shoot's first evaluation goes: integrated plainly; given (the caller's last period, unmeasured,
+#: its monodromy matrix in acc); integrated and measured (a start expected on the orbit already)
+FIRST_PLAIN, FIRST_GIVEN, FIRST_MEASURED = 0, 1, 2
+
+
+@jit
+def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, iterations):
+    """Newton on F(x) = P^k(x) - x for a period-k orbit, at most `iterations` evaluations of P^k (finite
+    differences aside). Returns (q, v, ok, work, periods): periods the forcing periods integrated (every
+    evaluation of P^k, finite differences included).
+
+    first: FIRST_GIVEN where (q1, v1) = P^k(q, v) is in hand already, unmeasured, with its monodromy
+    matrix in `acc` (the march's last period): Newton's first step is taken from it instead of
+    integrating it again; FIRST_MEASURED where (q, v) is expected on the orbit (a closed-form guess):
+    the first evaluation measures, so that one period settles it if its own Newton step is at rounding.
+
+    The Jacobian is the event kernel's monodromy matrix (exact, with the saltations at reversals,
+    sticks and releases) wherever it is valid (k = 1, a smooth period), else forward differences (rk4
+    kernel, a period where the map is not smooth). Through a stick that matrix has rank 1 (the stop
+    forgets the velocity), which Newton on P - I does not mind. The evaluation that can confirm
+    convergence also measures: on success `acc` holds the measurement of the period from the returned
+    state, exactly as a separate measured pass would. Newton finds unstable orbits as readily as stable
+    ones; only an attracting one (monodromy spectral radius < 1) is a steady state, and only one that
+    rounding cannot move far (_resolvable) and that obeys the forced bound.
     """
     work = 0
+    periods = 0
     error = map_error(p.r, settings)
-    # Accept only after a small Newton step: where the map has no fixed point (r = 1, friction
-    # below pi/4) a near-singular Jacobian leaps to a huge state whose relative residual looks tiny.
+    # Accept only at Newton's floor, reached by shrinking steps: where the map has no fixed point
+    # (r = 1, friction below pi/4) a near-singular Jacobian leaps to a huge state whose relative
+    # residual looks tiny.
     last_step = math.inf
     prev_step = math.inf
     radius = math.inf
     b11 = b12 = b21 = b22 = 0.0  # J - I of the latest Jacobian (exact, or forward differences)
     size = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
-    for _ in range(40):
+    exact = False  # whether the latest Jacobian was the exact one
+    for _ in range(iterations):
         scale = max(math.hypot(q, v), size)
         # What the map's own error leaves: it is computed to ~map_error of the larger of the orbit and
         # the forcing (an orbit far smaller than A, next to the no-motion threshold, is pinned only
@@ -94,23 +120,36 @@ def shoot(q, v, k, p, settings, tol, budget, acc):
         # below 1e-6 that no longer shrinks quadratically (rounding next to resonance). Stopping at the
         # first step below 1e-6 would leave ~1e-12 of the state, all of it in x = z + cos(r t) when x
         # is tiny (joined scene at high r).
-        measure = (last_step <= 1e-9 * scale + step_noise
-                   or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
-        q1, v1, st, w = map_k(q, v, k, p, settings, budget - work, measure, acc)
-        work += w
-        if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
-            return q, v, False, work
+        floor = (last_step <= 1e-9 * scale + step_noise
+                 or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
+        # With the exact Jacobian, measure as well where quadratic convergence (from the last two steps)
+        # predicts that the step from this state will be at rounding: that step then decides (below).
+        rounding = max(ROUNDING_STEP * max(scale, p.A), ROUNDING_NOISE * step_noise)
+        predicted = (exact and last_step < 0.5 * prev_step < math.inf
+                     and last_step ** 3 <= rounding * prev_step ** 2)
+        measure = floor or predicted or first == FIRST_MEASURED
+        if first == FIRST_GIVEN:
+            measure = False
+        else:
+            q1, v1, st, w = map_k(q, v, k, p, settings, budget - work, measure, acc)
+            work += w
+            periods += k
+            if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
+                return q, v, False, work, periods
+        first = FIRST_PLAIN
         fq = q1 - q
         fv = v1 - v
-        if abs(fq) + abs(fv) <= tol * scale + noise and measure:
+        settled = measure and abs(fq) + abs(fv) <= tol * scale + noise
+        if settled and floor:
             if acc[ACC_JAC_OK] == 1.0:
                 radius = _spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3])
                 b11, b12 = acc[ACC_JAC] - 1.0, acc[ACC_JAC + 1]
                 b21, b22 = acc[ACC_JAC + 2], acc[ACC_JAC + 3] - 1.0
             ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, error)
                   and _within_forced_bound(acc, k, p))
-            return q, v, ok, work
-        if acc[ACC_JAC_OK] == 1.0:
+            return q, v, ok, work, periods
+        exact = acc[ACC_JAC_OK] == 1.0
+        if exact:
             j11 = acc[ACC_JAC] - 1.0
             j12 = acc[ACC_JAC + 1]
             j21 = acc[ACC_JAC + 2]
@@ -121,8 +160,9 @@ def shoot(q, v, k, p, settings, tol, budget, acc):
             qa, va, st1, w1 = map_k(q + h, v, k, p, settings, budget - work, False, acc)
             qb, vb, st2, w2 = map_k(q, v + h, k, p, settings, budget - work, False, acc)
             work += w1 + w2
+            periods += 2 * k
             if st1 != 0 or st2 != 0:
-                return q, v, False, work
+                return q, v, False, work, periods
             j11 = (qa - q1) / h - 1.0
             j21 = (va - v1) / h
             j12 = (qb - q1) / h
@@ -131,13 +171,29 @@ def shoot(q, v, k, p, settings, tol, budget, acc):
         b11, b12, b21, b22 = j11, j12, j21, j22
         det = j11 * j22 - j12 * j21
         if det == 0.0 or not math.isfinite(det):
-            return q, v, False, work
+            return q, v, False, work, periods
         dq = (j22 * fq - j12 * fv) / det
         dv = (-j21 * fq + j11 * fv) / det
+        step = abs(dq) + abs(dv)
+        # The predicted floor, confirmed by this state's own Newton step: it is the fixed point to
+        # within that step, which is at rounding (and the steps shrank into it: no leap).
+        if settled and exact and step <= max(ROUNDING_STEP * max(scale, p.A),
+                                             ROUNDING_NOISE * noise * min(_inverse_norm(b11, b12, b21, b22), 1e300)):
+            ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, error)
+                  and _within_forced_bound(acc, k, p))
+            return q, v, ok, work, periods
+        # Through sticks the map is only piecewise smooth: a step longer than the motion itself
+        # leaves the piece whose Jacobian proposed it, and Newton wanders between stop patterns
+        # (joined, r = 0.79, beta = 0.54: a leap to v = -1.95 from an orbit of size 0.6).
+        reach = TRUST * max(scale, p.A)
+        if acc[ACC_STOPS] > 0.0 and step > reach:
+            dq *= reach / step
+            dv *= reach / step
+            step = reach
         q -= dq
         v -= dv
         prev_step = last_step
-        last_step = abs(dq) + abs(dv)
+        last_step = step
         if not (math.isfinite(q) and math.isfinite(v)):
-            return q, v, False, work
-    return q, v, False, work
+            return q, v, False, work, periods
+    return q, v, False, work, periods

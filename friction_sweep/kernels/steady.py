@@ -1,9 +1,12 @@
 """Steady state of one grid point: march the period map, shoot, recognise growth, measure.
 
-solve_point marches forcing periods of the period map P (period_map.py) from the settings' start until
-P^k repeats (period 1 or k), tries a Newton shooting solve of P(x) = x (shoot.py) from the first
-stop-free period and again every shoot_every periods, recognises steady linear growth (resonance
-below pi/4) and then measures over the k periods of the orbit. Everything is recorded as numbers and
+Where the steady state is unique (_unique), solve_point first solves P(x) = x by Newton shooting
+(shoot.py) from a guess the method passes (Den Hartog's orbit): one measured period settles a
+continuous point. Otherwise, or where that fails, it marches forcing periods of the period map P
+(period_map.py) from the settings' start until P^k repeats (period 1 or k), shooting from the first
+smooth period (through sticks where the steady state is unique) and again every shoot_every periods,
+recognises steady linear growth (resonance below pi/4) and then measures over the k periods of the
+orbit. Everything is recorded as numbers and
 codes in one float row per point, whose slots are named in OUTPUT_FIELDS (the cube's variable names
 where the row holds one). A point's parameters travel as one kernels.point.Point; solve_points and its
 variants build it from the parameter arrays the methods pass.
@@ -21,6 +24,7 @@ from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
     ACC_IC,
     ACC_IS,
+    ACC_JAC_OK,
     ACC_QHI,
     ACC_QLO,
     ACC_QMAX,
@@ -46,7 +50,7 @@ from friction_sweep.kernels.settings import (
     SET_STEADY_TOL,
     SET_WORK_BUDGET,
 )
-from friction_sweep.kernels.shoot import shoot
+from friction_sweep.kernels.shoot import FIRST_GIVEN, FIRST_MEASURED, FIRST_PLAIN, shoot
 from friction_sweep.kernels.stick import stuck_for_good
 from friction_sweep.theory import phase
 from friction_sweep.ties import RESONANCE_FRICTION_LIMIT, TIE_RTOL
@@ -102,6 +106,11 @@ STICK_SHOT_REACH = 0.05
 LAG_SHOT = 1e-3
 #: an aperiodic motion is measured as the average over this many forcing periods
 APERIODIC_WINDOW = 256
+#: Newton iterations (evaluations of P^k) a shooting solve may take; from the closed-form guess fewer:
+#: where it is not close (the motion sticks) the march from rest with its own shots is cheaper than a
+#: long Newton walk from it
+NEWTON_ITERATIONS = 40
+GUESS_ITERATIONS = 40
 
 
 #: a state |(q, v)| beyond this multiple of max(A, 1) has grown without bound, whatever the rate
@@ -200,15 +209,21 @@ def _closest_lag(q, v, n, hq, hv, kmax):
 
 
 @jit_inline
+def _may_grow(p):
+    """Whether the motion can grow without bound: next to r = 1, without damping, with friction up to
+    pi/4 of the force (a pure sinusoid pumps without bound only there, paper Eqs. 14-15)."""
+    return (abs(1.0 - p.r) * (1.0 + p.r) < GROWTH_DETUNING and p.zeta == 0.0
+            and p.bk <= RESONANCE_FRICTION_LIMIT * p.A * (1.0 + TIE_RTOL))
+
+
+@jit_inline
 def _growing(rho_hist, n, p):
     """Steady linear growth (resonance with friction below pi/4): GROWTH_WINDOW rising periods at a rate
     that does not decay, after shooting had its chances. Only next to r = 1, without damping and with
     friction up to pi/4 of the force: a pure sinusoid pumps without bound only there (paper Eqs.
     14-15), while Coulomb transients elsewhere also approach their (bounded) steady state at a
     constant rate, which must not be mistaken for growth."""
-    A, r, bk, _, zeta, _ = p
-    if not (n >= GROWTH_AFTER and n % GROWTH_CHECK_EVERY == 0 and abs(1.0 - r) * (1.0 + r) < GROWTH_DETUNING
-            and zeta == 0.0 and bk <= RESONANCE_FRICTION_LIMIT * A * (1.0 + TIE_RTOL)):
+    if not (n >= GROWTH_AFTER and n % GROWTH_CHECK_EVERY == 0 and _may_grow(p)):
         return False
     for m in range(n - GROWTH_WINDOW + 1, n + 1):
         if rho_hist[m % RHO_HISTORY] <= rho_hist[(m - 1) % RHO_HISTORY]:
@@ -217,6 +232,19 @@ def _growing(rho_hist, n, p):
     d_old = rho_hist[(n - 2 * third) % RHO_HISTORY] - rho_hist[(n - 3 * third + 1) % RHO_HISTORY]
     d_new = rho_hist[n % RHO_HISTORY] - rho_hist[(n - third + 1) % RHO_HISTORY]
     return d_new >= GROWTH_KEPT * d_old
+
+
+@jit_inline
+def _unique(p):
+    """Whether the point has one steady state whatever the start, so that Newton may start anywhere
+    (and through sticks): something that dissipates; kinetic friction equal to static (the friction
+    law is then monotone and the period map does not expand distances in the energy norm, so its fixed
+    points form one convex set, and an attracting one is the only one); the force able to move the
+    mass (no continuum of stuck states); and no resonance that can grow without bound (_may_grow: at
+    r = 1, b = pi/4, the tie the tool calls unbounded (friction_sweep.ties), Newton finds a stick-slip
+    orbit of amplitude 0.8)."""
+    return ((p.bk > 0.0 or p.zeta > 0.0) and p.bs == p.bk and not stuck_for_good(0.0, p.A, p.bs)
+            and not _may_grow(p))
 
 
 @jit_inline
@@ -246,7 +274,9 @@ def _march(q, v, mode, p, settings, work, acc):
     """March the period map from (q, v, mode) until it repeats, a shooting solve lands on the orbit, the
     motion grows without bound, or the periods or the work run out; at the cap, shoot for the orbit
     of the lag the march repeats best at, else tell an aperiodic motion from a cut-short transient.
-    Returns (q, v, mode, status, orbit, n, work, shot): shot when `acc` holds the orbit's measurement."""
+    Returns (q, v, mode, status, orbit, periods, work, shot): periods every forcing period integrated
+    (marched, shooting's evaluations, the Lyapunov companion's); shot when `acc` holds the orbit's
+    measurement."""
     A, bk, bs = p.A, p.bk, p.bs
     tol = settings[SET_STEADY_TOL]
     max_periods = int(settings[SET_MAX_PERIODS])
@@ -261,8 +291,10 @@ def _march(q, v, mode, p, settings, work, acc):
     acc_y = np.empty(ACC_SIZE)
     hq[0], hv[0], hm[0] = q, v, mode
     n = 0
-    # shoot at the first stop-free period from shoot_after on, and again shoot_every periods after a miss
-    next_shot = int(settings[SET_SHOOT_AFTER])
+    periods = 0
+    # shoot at the first smooth period from shoot_after on (1 where it is 0: the guess had its shot before
+    # the march), and again shoot_every periods after a miss
+    next_shot = max(1, int(settings[SET_SHOOT_AFTER]))
     # the Lyapunov exponent is measured over the march's second half (only static friction can keep a
     # motion from settling: with bs == bk the period map does not expand distances)
     lyap_from = max(1, max_periods - max(LYAPUNOV_PERIODS, max_periods // 2))
@@ -271,63 +303,80 @@ def _march(q, v, mode, p, settings, work, acc):
     tracked = 0
     while n < max_periods:
         n += 1
+        periods += 1
+        q0, v0 = q, v
         q, v, mode, st, w = period(q, v, mode, p, settings, budget - work, acc)
         work += w
         if st == BUDGET or work > budget:
-            return q, v, mode, SteadyState.EVENT_BUDGET, 0, n, work, False
+            return q, v, mode, SteadyState.EVENT_BUDGET, 0, periods, work, False
         if not (math.isfinite(q) and math.isfinite(v)):
-            return q, v, mode, SteadyState.NONFINITE, 0, n, work, False
+            return q, v, mode, SteadyState.NONFINITE, 0, periods, work, False
         rho = math.hypot(q, v)
         rho_hist[n % RHO_HISTORY] = rho
         # the orbit's size, not the state at the section, which may sit near (0, 0)
         size = max(rho, acc[ACC_QMAX])
         if rho > RUNAWAY * max(A, 1.0):
-            return q, v, mode, SteadyState.GROWING, 0, n, work, False
+            return q, v, mode, SteadyState.GROWING, 0, periods, work, False
         # Once shooting has had its chance, a state that moves by no more than the map's own rounding
         # (relative to the forcing: a motion far smaller than A just below the no-motion threshold
         # jitters at ~1e-17) has settled as far as double precision can tell.
         floor = error * max(size, A) if n > shoot_every else 0.0
         orbit = _repeat_lag(q, v, mode, n, hq, hv, hm, kmax, tol, size, floor)
         if orbit > 0:
-            return q, v, mode, SteadyState.CONVERGED, orbit, n, work, False
+            return q, v, mode, SteadyState.CONVERGED, orbit, periods, work, False
         i = n % (kmax + 1)
         hq[i], hv[i], hm[i] = q, v, mode
         if bs > bk and n >= lyap_from:
             if tracked > 0:
                 yq, yv, ym, _, w = period(yq, yv, ym, p, settings, budget - work, acc_y)
                 work += w
+                periods += 1
             yq, yv, ym, delta, log_growth = _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p)
             tracked += 1
+        # Shoot from a period over which the map is smooth: stop-free, or (event kernel) through sticks
+        # where the period map has its exact Jacobian and the steady state is unique (_unique).
         no_stops = acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
+        smooth = no_stops or (acc[ACC_JAC_OK] == 1.0 and _unique(p))
         # a march that still has not settled after shoot_every periods shoots through its sticks too
-        if n >= next_shot and (no_stops or n >= shoot_every):
-            qs, vs, ok, w = shoot(q, v, 1, p, settings, tol, budget - work, acc)
+        if n >= next_shot and (smooth or n >= shoot_every):
+            # Where the steady state is unique, the period just marched is Newton's first evaluation, from
+            # where it began; elsewhere Newton starts where the march is (it lands on the orbit nearest
+            # its start, and the march from the settings' start decides which of several that is).
+            if _unique(p):
+                qs, vs, ok, w, k = shoot(q0, v0, 1, p, settings, tol, budget - work, acc, q, v, FIRST_GIVEN,
+                                         NEWTON_ITERATIONS)
+            else:
+                qs, vs, ok, w, k = shoot(q, v, 1, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN,
+                                         NEWTON_ITERATIONS)
             work += w
+            periods += k
             next_shot = n + shoot_every
-            # Through sticks the map is only piecewise smooth and Newton may land on another orbit than
-            # the one the march approaches (at r = 1, b = pi/4 a stick-slip orbit of amplitude 0.8 while
-            # the march from rest grows): accept only an orbit next to the march's state.
-            if ok and not no_stops:
+            # Where static friction exceeds kinetic, or the map is not smooth, Newton may land on another
+            # orbit than the one the march approaches (static friction holds several): accept only an
+            # orbit next to the march's state.
+            if ok and not smooth:
                 ok = math.hypot(qs - q, vs - v) <= STICK_SHOT_REACH * max(size, A)
             if ok:
-                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, 1, n, work, True
+                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, 1, periods, work, True
         if _growing(rho_hist, n, p):
-            return q, v, mode, SteadyState.GROWING, 0, n, work, False
+            return q, v, mode, SteadyState.GROWING, 0, periods, work, False
     if n >= 2:
         # Out of periods: a period-k orbit that the march approaches too slowly (static friction locks
         # onto long periods) is solved for directly, from the lag at which the march repeats best.
         lag, best = _closest_lag(q, v, n, hq, hv, kmax)
         if lag > 0 and best <= LAG_SHOT * max(math.hypot(q, v), acc[ACC_QMAX], A):
-            qs, vs, ok, w = shoot(q, v, lag, p, settings, tol, budget - work, acc)
+            qs, vs, ok, w, k = shoot(q, v, lag, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN,
+                                     NEWTON_ITERATIONS)
             work += w
+            periods += k
             if ok:
-                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, lag, n, work, True
+                return qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, lag, periods, work, True
     # only static friction above kinetic can keep a motion from settling: with bs == bk the friction
     # law is monotone and the period map does not expand distances (README, "Where the physics gets
     # hard"), so there a motion that has not repeated is a transient the budget cut short
     if bs > bk and tracked > LYAPUNOV_PERIODS // 2 and log_growth > -(tracked - 1) / kmax:
-        return q, v, mode, SteadyState.APERIODIC, APERIODIC_WINDOW, n, work, False
-    return q, v, mode, SteadyState.PERIOD_CAP, 0, n, work, False
+        return q, v, mode, SteadyState.APERIODIC, APERIODIC_WINDOW, periods, work, False
+    return q, v, mode, SteadyState.PERIOD_CAP, 0, periods, work, False
 
 
 @jit_inline
@@ -380,25 +429,37 @@ def _record_measurement(out, acc, orbit, p, tol):
 
 
 @jit
-def solve_point(p, settings, out):
-    """Steady state and measurements of one grid point; results in `out` (slots of OUTPUT_FIELDS): from
-    the start, the family's member or the march's end, then the orbit's measurement."""
+def solve_point(p, settings, guess_q, guess_v, out):
+    """Steady state and measurements of one grid point; results in `out` (slots of OUTPUT_FIELDS): the
+    family's member, the orbit Newton finds from the guess (guess_q, guess_v) at the excitation's
+    maximum (NaN: none) where the steady state is unique and shoot_after is 0, or the march's end from
+    the settings' start; then the orbit's measurement."""
     out[:] = math.nan
     acc = np.empty(ACC_SIZE)
     q, v = _start(p, settings)
     mode = mode_of(q, v, p)
     status = SteadyState.PERIOD_CAP
     work = 0
+    periods = 0  # every forcing period integrated for the point
     if _in_family(q, v, p):
         # Den Hartog's member of the family, confirmed (and measured) by one exact period
         qf, mf = _family_start(p)
         reset_accumulator(acc)
         q1, v1, _, st, work = advance(qf, 0.0, mf, p, settings, int(settings[SET_WORK_BUDGET]), True, acc)
+        periods = 1
         if _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
-            q, v, mode, status, orbit, n, shot = qf, 0.0, mf, SteadyState.FAMILY, 1, 1, True
-    if status != SteadyState.FAMILY:
-        q, v, mode, status, orbit, n, work, shot = _march(q, v, mode, p, settings, work, acc)
-    out[OUT_PERIODS] = n
+            q, v, mode, status, orbit, shot = qf, 0.0, mf, SteadyState.FAMILY, 1, True
+    elif settings[SET_SHOOT_AFTER] == 0 and math.isfinite(guess_q) and math.isfinite(guess_v) and _unique(p):
+        reset_accumulator(acc)
+        qs, vs, ok, work, periods = shoot(guess_q, guess_v, 1, p, settings, settings[SET_STEADY_TOL],
+                                          int(settings[SET_WORK_BUDGET]), acc, 0.0, 0.0, FIRST_MEASURED,
+                                          GUESS_ITERATIONS)
+        if ok:
+            q, v, mode, status, orbit, shot = qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, 1, True
+    if status != SteadyState.FAMILY and status != SteadyState.CONVERGED:
+        q, v, mode, status, orbit, marched, work, shot = _march(q, v, mode, p, settings, work, acc)
+        periods += marched
+    out[OUT_PERIODS] = periods
     out[OUT_STEADY_STATE] = status.value  # a float slot: numba casts no IntEnum to float
     out[OUT_WORK] = work
     out[OUT_END_Q], out[OUT_END_V], out[OUT_END_MODE] = q, v, mode
@@ -412,6 +473,7 @@ def solve_point(p, settings, out):
     if not shot:
         work, done = _measure_orbit(q, v, mode, orbit, p, settings, work, acc)
         out[OUT_WORK] = work
+        out[OUT_PERIODS] = periods + orbit
         if not done:
             out[OUT_STEADY_STATE] = SteadyState.EVENT_BUDGET.value
             out[OUT_REGIME] = Regime.UNSETTLED.value
@@ -436,31 +498,31 @@ def sample_orbit(q, v, mode, p, vtol, budget, periods, ts, sq, sv):
 
 
 @jit
-def solve_points(A, r, bk, bs, zeta, c, settings, out):
-    """solve_point over 1-D arrays of points; out has shape (n, OUT_SIZE)."""
+def solve_points(A, r, bk, bs, zeta, c, settings, gq, gv, out):
+    """solve_point over 1-D arrays of points, with guesses (gq[i], gv[i]); out has shape (n, OUT_SIZE)."""
     for i in range(r.size):
-        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), settings, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), settings, gq[i], gv[i], out[i])
 
 
 @jit
-def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, out):
+def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, gq, gv, out):
     """solve_points with a start (q0[i], v0[i]) of its own for each point (at the excitation's maximum)."""
     own = settings.copy()
     for i in range(r.size):
         own[SET_INITIAL_DISPLACEMENT] = q0[i]
         own[SET_INITIAL_VELOCITY] = v0[i]
-        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, gq[i], gv[i], out[i])
 
 
 @jit
-def solve_sweep(A, r, bk, bs, zeta, c, settings, out):
+def solve_sweep(A, r, bk, bs, zeta, c, settings, gq, gv, out):
     """A stepped-sine sweep over the points in the order given (one force ratio): each point starts
     from the state, at the excitation's maximum, of the orbit the previous point settled on, as a rig
     stepping its frequency does; the first from the settings' start. After a point with no steady
     state (unbounded, unsettled) the next starts afresh from the settings' start."""
     own = settings.copy()
     for i in range(r.size):
-        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, gq[i], gv[i], out[i])
         regime = out[i, OUT_REGIME]
         # a float slot against the codes' values: numba casts no IntEnum to float
         if regime == Regime.UNBOUNDED.value or regime == Regime.UNSETTLED.value:

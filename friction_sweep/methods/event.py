@@ -1,8 +1,11 @@
 """The exact event-driven simulation as a sweep method (kernels in friction_sweep.kernels).
 
 Per grid point: from rest, march the stroboscopic map with closed-form slip and stick segments
-until it repeats (or shoot for the periodic orbit), then measure over whole periods. Valid in every
-regime; the theory's continuous limit is written alongside for reference.
+until it repeats (or shoot for the periodic orbit), then measure over whole periods. Where the steady
+state is unique (static = kinetic friction), Newton shooting starts from Den Hartog's continuous orbit
+instead, where that exists: one exact period confirms it where the motion is continuous, and it is a
+close start where the motion sticks. Valid in every regime; the theory's continuous limit is written
+alongside for reference.
 
 With static above kinetic friction a point can hold two steady states (a mass stopped at a reversal
 stays stuck if the force there is below the static friction), so each point is also solved from a
@@ -21,10 +24,16 @@ from friction_sweep import catalogue
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import steady
 from friction_sweep.kernels.point import Point
-from friction_sweep.kernels.settings import KERNEL_EVENT, SET_STOP_TOL, SET_WORK_BUDGET, settings_record
+from friction_sweep.kernels.settings import (
+    KERNEL_EVENT,
+    SET_KERNEL,
+    SET_STOP_TOL,
+    SET_WORK_BUDGET,
+    settings_record,
+)
 from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
-from friction_sweep.theory import scenes
+from friction_sweep.theory import den_hartog, scenes
 
 CATALOGUE = catalogue.method("event")
 
@@ -60,6 +69,25 @@ def point_parameters(excitation: str, r, beta, effects=None):
     return A, c, bk, bs, zeta
 
 
+def newton_guess(A, r, bk, bs, zeta, settings: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Newton's start per point: Den Hartog's continuous orbit at the excitation's maximum
+    (theory.den_hartog.section_state), in the kernel's units (times A), where its model is the point's
+    (no damping, static = kinetic friction) and the kernel has the exact Jacobian that settles it in one
+    period where the motion is continuous (the event kernel); NaN elsewhere, and where the closed form
+    has no solution. Where the motion sticks it is still a closer start than rest (measured on the
+    paper planes: 4.7 periods a stick-slip point against 5.0 base, 5.1 against 5.4 joined). The kernel
+    uses a guess only where the steady state is unique (kernels.steady._unique), so it changes how fast
+    the answer comes, not the answer."""
+    use = (zeta == 0.0) & (bs == bk) & (bk > 0.0) & (settings[SET_KERNEL] == KERNEL_EVENT)
+    q = np.full(r.shape, np.nan)
+    v = np.full(r.shape, np.nan)
+    if use.any():
+        with np.errstate(divide="ignore", invalid="ignore"):
+            qd, vd = den_hartog.section_state(r[use], bk[use] / A[use])
+        q[use], v[use] = A[use] * qd, A[use] * vd
+    return q, v
+
+
 def kernel_settings(settings: dict | None = None) -> np.ndarray:
     """The steady-state kernel's settings record: `settings` (kernel: KERNEL_RK4 for method rk4) over the
     catalogue's defaults, the event kernel's (which ignores rk4's steps_per_period); `starts` is this
@@ -76,11 +104,13 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
     out = np.empty((r.size, steady.OUT_SIZE))
+    sett = kernel_settings(settings)
+    gq, gv = newton_guess(A, r, bk, bs, zeta, sett)
     if start is None:
-        steady.solve_points(A, r, bk, bs, zeta, c, kernel_settings(settings), out)
+        steady.solve_points(A, r, bk, bs, zeta, c, sett, gq, gv, out)
     else:
         q0, v0 = (np.ascontiguousarray(s, dtype=float) for s in start)
-        steady.solve_points_from(A, r, bk, bs, zeta, c, kernel_settings(settings), q0, v0, out)
+        steady.solve_points_from(A, r, bk, bs, zeta, c, sett, q0, v0, gq, gv, out)
     return out
 
 
@@ -149,12 +179,12 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
     if direction == "down":
         order = order[::-1]
     sett = kernel_settings(settings)
-    raw = np.empty((beta.size, r.size, steady.OUT_SIZE))
     rs = np.ascontiguousarray(r[order])
+    raw = np.empty((beta.size, r.size, steady.OUT_SIZE))
     for j, b in enumerate(beta):
         A, c, bk, bs, zeta = point_parameters(excitation, rs, np.full(rs.shape, b), effects)
         row = np.empty((r.size, steady.OUT_SIZE))
-        steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, row)
+        steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row)
         raw[j, order] = row
     result = _per_point(raw.reshape(-1, steady.OUT_SIZE), variables_for(excitation, outputs), (beta.size, r.size))
     result["continuous_limit"] = theory.continuous_limit(excitation, r)

@@ -145,7 +145,9 @@ VARIABLES = {
     ),
     "stuck_fraction": Variable(GRID_DIMS, np.float64, "fraction of the steady-state period spent stuck", "1",
                                valid_range=FRACTION_VALID),
-    "periods": Variable(GRID_DIMS, np.float64, "forcing periods simulated before the steady state was measured", "1",
+    "periods": Variable(GRID_DIMS, np.float64,
+                        "forcing periods integrated for the point, all told: marched, shooting's evaluations, measured",
+                        "1",
                         valid_range=COUNT_VALID),  # not whole: method paper records where a failed solve stopped
     "steady_state": Variable(
         GRID_DIMS,

@@ -17,22 +17,14 @@ import numpy as np
 from friction_sweep.theory import den_hartog as dh
 
 
-def _periodic(fun, r, b, tau):
-    """Evaluate a half-period waveform function anywhere, using q(tau + pi/r) = -q(tau)."""
-    half = np.pi / r
-    k = np.floor(tau / half)
-    sign = np.where(np.mod(k, 2.0) == 0.0, 1.0, -1.0)
-    return sign * fun(r, b, tau - k * half)
-
-
 def absolute_displacement(r, b, phi, tau):
     """x(tau) of Eq. (39), any tau; b is the friction ratio against the apparent force (beta/r^2)."""
-    return r * r * _periodic(dh.waveform, r, b, tau) + np.cos(r * tau + phi)
+    return r * r * dh.periodic(dh.waveform, r, b, tau) + np.cos(r * tau + phi)
 
 
 def absolute_velocity(r, b, phi, tau):
     """x'(tau) = r^2 q'(tau) - r sin(r tau + phi)."""
-    return r * r * _periodic(dh.waveform_velocity, r, b, tau) - r * np.sin(r * tau + phi)
+    return r * r * dh.periodic(dh.waveform_velocity, r, b, tau) - r * np.sin(r * tau + phi)
 
 
 def peak_of_absolute(r, b, phi, samples=None, iterations=64):
