@@ -339,3 +339,83 @@ def test_joined_extremes_against_a_dense_replay(r, beta):
     i = np.argmax(x)  # the peak phase is that of the maximum
     lag = (h["history_time"][0, i] * 360 + 90) % 360 - 90
     assert abs((g["peak_phase"][0, 0] - lag + 180) % 360 - 180) <= 2 * 360 / n
+
+
+# --- shooting through sticks, and from Den Hartog's orbit ------------------------------------------
+
+
+def _period(p, q, v):
+    acc = rec.new_accumulator()
+    from friction_sweep.kernels.period_map import map_k
+
+    q1, v1, st, _ = map_k(q, v, 1, p, event.kernel_settings(), 10**7, False, acc)
+    assert st == 0
+    return np.array([q1, v1]), acc
+
+
+@pytest.mark.parametrize("A, r, bk, bs, c", [
+    (1.0, 0.3, 0.5, 0.5, 0.0),  # two sticks, stuck at the section
+    (1.0, 0.6, 0.7, 0.7, 0.0),  # two sticks, moving at the section
+    (1.0, 0.2, 0.3, 0.3, 0.0),  # four stops
+    (1.0, 0.45, 0.3, 0.45, 0.0),  # static friction: the release saltation is not zero
+    (0.64, 0.8, 0.55, 0.55, 1.0),  # joined
+])
+def test_monodromy_through_sticks_is_the_derivative_of_the_period_map(A, r, bk, bs, c):
+    """The exact Jacobian across sticks (saltation into the stick, release time moving with the stop)
+    against central differences of the period map, on the orbit the march reaches."""
+    p = Point(A, r, bk, bs, 0.0, c)
+    x = np.zeros(2)
+    for _ in range(300):
+        x, _ = _period(p, *x)
+    _, acc = _period(p, *x)
+    assert acc[rec.ACC_STUCK] > 0 and acc[rec.ACC_JAC_OK] == 1.0
+    exact = acc[rec.ACC_JAC:rec.ACC_JAC + 4].reshape(2, 2)
+    h = 1e-6 * max(1.0, np.hypot(*x))
+    fd = np.column_stack([(_period(p, *(x + d))[0] - _period(p, *(x - d))[0]) / (2 * h)
+                          for d in (np.array([h, 0.0]), np.array([0.0, h]))])
+    atol = np.full((2, 2), 1e-6 * max(1.0, np.abs(exact).max()))
+    if x[1] == 0.0:
+        atol[:, 1] = 10 * h  # stuck at the section: a push of dv slides dv^2/(2|a|), a kink of size O(h)
+    assert np.all(np.abs(exact - fd) <= atol), (exact, fd)
+    if bs == bk:
+        assert abs(np.linalg.det(exact)) < 1e-12  # a stick forgets the velocity: rank 1
+
+
+@pytest.mark.parametrize("excitation", ["force", "base", "joined"])
+def test_den_hartogs_section_state_is_the_simulated_orbit(excitation):
+    """theory.den_hartog.section_state, the continuous orbit at the force's maximum, is where the
+    simulation's orbit crosses the section (found here by the march alone, shooting off)."""
+    r = np.array([0.8, 1.5, 3.0])
+    beta = np.array([0.2, 0.3, 0.4]) * (r * r if excitation == "joined" else 1.0)
+    A, _, bk, _, _ = event.point_parameters(excitation, r, beta)
+    q, v = dh.section_state(r, bk / A)
+    marched = event.solve_flat(excitation, r, beta, shoot_after=10**6, max_periods=20_000, steady_tol=1e-13)
+    assert np.all(marched[:, steady.OUT_REGIME] == Regime.CONTINUOUS)
+    np.testing.assert_allclose(A * q, marched[:, steady.OUT_END_Q], rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(A * v, marched[:, steady.OUT_END_V], rtol=1e-9, atol=1e-12)
+
+
+def test_the_guess_changes_the_cost_not_the_answer():
+    """Where the steady state is unique the start does not matter: from Den Hartog's orbit (shoot_after
+    0, the default) and from the march from rest (shoot_after 1) the same regimes, stops and values,
+    continuous and stick-slip points alike, and the guess settles continuous points in one period."""
+    r = np.array([0.3, 0.55, 0.8, 0.97, 1.2, 2.0, 4.0])
+    beta = np.array([0.05, 0.2, 0.4, 0.7, 1.1])
+    for excitation in ("base", "joined"):
+        guess = event.compute_tile(excitation, r, beta, OUTPUTS)
+        march = event.compute_tile(excitation, r, beta, OUTPUTS, settings={"shoot_after": 1})
+        for name in ("regime", "stops_per_period", "steady_state"):
+            np.testing.assert_array_equal(guess[name], march[name], err_msg=name)
+        np.testing.assert_allclose(guess["transmissibility"], march["transmissibility"], rtol=1e-11, atol=1e-13)
+        moving = guess["regime"] == Regime.CONTINUOUS
+        assert moving.sum() >= 8 and np.all(guess["periods"][moving] == 1)
+        assert np.all(guess["periods"] <= march["periods"] + 1)
+
+
+def test_a_slip_from_rest_that_cannot_move_the_mass_is_a_stick():
+    """Joined, r = 0.2, beta = 0.02, at rest at q = A - bs where the force peaks: the force exceeds the
+    band by less than rounding, so the slip stops 1e-14 later without moving. The kernel used to find
+    that stop again and again and spend the whole work budget in one period."""
+    A = 0.2 * 0.2
+    out = solve("joined", 0.2, 0.02, initial_displacement=A - 0.02, shoot_after=10**6, work_budget=100_000)
+    assert out["steady_state"][0, 0] == SteadyState.CONVERGED and out["regime"][0, 0] == Regime.STICK_SLIP
