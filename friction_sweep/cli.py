@@ -294,16 +294,16 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     elapsed = time.perf_counter() - start
 
     command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)])
-    ds = pipeline.dataset(s, arrays, settings, command, extra_attrs)
+    parts = pipeline.cube(s, arrays, settings, command, extra_attrs)
     if done:  # tiles read back from disk: a tampered or damaged one must not reach the result
         from friction_sweep.storage import audit
 
-        problems = audit.audit(ds)
+        problems = audit.audit(cube.as_dataset(parts))
         if problems:
             fail(f"the finished tiles in {store.dir} hold values no run writes ({problems[0]}); nothing was "
                   f"written: clear them with {store.clear_command} and run again", EXIT_RUNTIME)
     try:
-        cube.write_atomic(ds, out, overwrite=overwrite or resume)
+        cube.write_atomic(parts, out, overwrite=overwrite or resume)
     except FileExistsError:
         fail(f"{out} appeared while the sweep ran; nothing was replaced (pass --overwrite)")
     except OSError as err:
@@ -317,7 +317,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         f"  {s.scene.excitation} excitation, method {s.method}: {beta.size} force ratios x "
         f"{r.size} frequency ratios = {beta.size * r.size} points in {elapsed:.2f} s"
     )
-    _echo_regimes(ds)
+    _echo_regimes({name: values for name, (_, values, _) in parts.data_vars.items()})
 
 
 def _stopped(store, why: str, code: int):
@@ -350,17 +350,17 @@ def _check_writable(out: Path) -> None:
         fail(f"cannot write the output {out}: {err.strerror or err}")
 
 
-def _echo_regimes(ds) -> None:
+def _echo_regimes(arrays) -> None:
     """Regime counts; where static friction gave points two steady states, how many, and the regimes
-    from the moving start."""
-    if "regime" in ds:
-        click.echo("  regimes: " + _regime_summary(ds["regime"].values))
-    if "steady_states" in ds:
-        n = ds["steady_states"].values
+    from the moving start. arrays: the cube's variables by name."""
+    if "regime" in arrays:
+        click.echo("  regimes: " + _regime_summary(arrays["regime"]))
+    if "steady_states" in arrays:
+        n = arrays["steady_states"]
         click.echo(f"  two steady states (from rest and from a moving start): {int((n >= 2).sum())} of {n.size} "
                    "points (a lower bound)")
-    if "regime_moving" in ds:
-        click.echo("  regimes from a moving start: " + _regime_summary(ds["regime_moving"].values))
+    if "regime_moving" in arrays:
+        click.echo("  regimes from a moving start: " + _regime_summary(arrays["regime_moving"]))
 
 
 def _regime_summary(values) -> str:
@@ -437,7 +437,7 @@ def info(result: Path | None, show_methods: bool):
     )
     click.echo(f"  versions: {versions}")
     click.echo(f"  spec: {a.get('spec_path')}")
-    _echo_regimes(ds)
+    _echo_regimes({name: ds[name].values for name in ds.data_vars})
     for name in ("transmissibility", "peak_transmissibility"):
         if name in ds:
             v = ds[name].values

@@ -94,7 +94,7 @@ def test_failed_write_leaves_target_and_no_temporary(tmp_path, monkeypatch):
     def boom(self, *a, **k):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", boom)
+    monkeypatch.setattr(cube, "netcdf_bytes", boom)
     with pytest.raises(OSError):
         cube.write_atomic(ds, target, overwrite=True)
     assert target.read_bytes() == b"old result"
@@ -216,6 +216,46 @@ def test_run_spec_returns_the_cube_that_run_writes(runner, tmp_path):
     assert returned.attrs["method_settings"] == written.attrs["method_settings"]
 
 
+@pytest.mark.parametrize("text", [
+    "scene: {excitation: base, effects: {static_friction_ratio: 1.5}}\n"
+    "grid: {frequency_ratio: [0.5, 1.0, 2.0], force_ratio: [0.0, 0.3]}\nmethod: event\n"
+    "outputs: [transmissibility, phase, regime, time_history]\n"
+    "time_history: {points: [[0.95, 0.3]], samples_per_period: 8}\n",
+    "scene: {excitation: joined}\ngrid: {frequency_ratio: [0.5, 2.0], force_ratio: [0.1]}\nmethod: theory\n",
+])
+def test_the_cube_file_reads_back_as_the_dataset(tmp_path, text):
+    """`fsweep run` writes the cube's parts through h5netcdf, not through xarray (which would import
+    dask): xarray reads the file back identical to the Dataset of the same parts, with the encodings
+    xarray itself would have chosen (NaN fill for float variables, none for coordinates and flags)."""
+    from friction_sweep.spec import load_spec
+    from friction_sweep.sweep import pipeline
+
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(text)
+    s = load_spec(spec)
+    arrays = pipeline.compute(s, dict(s.settings))
+    parts = pipeline.cube(s, arrays, dict(s.settings), "test")
+    path = tmp_path / "c.h5"
+    cube.write_atomic(parts, path, overwrite=False)
+    with xr.open_dataset(path, engine="h5netcdf") as back:
+        xr.testing.assert_identical(back.load(), cube.as_dataset(parts))
+        for name, var in back.variables.items():
+            fill = var.encoding.get("_FillValue")
+            if np.issubdtype(var.dtype, np.floating) and name not in back.coords:
+                assert fill is not None and np.isnan(fill), name
+            else:
+                assert fill is None, name
+
+
+def test_a_dataset_with_string_coordinates_is_written_as_xarray_reads_it(tmp_path):
+    """The benchmark's dataset (method, region names as coordinates) goes through the same writer."""
+    ds = xr.Dataset({"error": (("method", "region"), np.array([[1e-9, np.nan]]), {"units": "1"})},
+                    coords={"method": ["event"], "region": ["continuous", "two stops"]}, attrs={"title": "t"})
+    cube.write_atomic(ds, tmp_path / "w.h5", overwrite=False)
+    with xr.open_dataset(tmp_path / "w.h5", engine="h5netcdf") as back:
+        xr.testing.assert_identical(back.load(), ds)
+
+
 def test_info_refuses_a_foreign_file(runner, tmp_path):
     junk = tmp_path / "junk.h5"
     junk.write_bytes(b"not hdf5")
@@ -324,7 +364,7 @@ def test_full_disk_at_the_end_keeps_the_old_result(runner, tmp_path, monkeypatch
     def no_space(self, *a, **k):
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", no_space)
+    monkeypatch.setattr(cube, "netcdf_bytes", no_space)
     with in_dir(tmp_path):
         res = runner.invoke(main, ["run", str(spec), "--overwrite"])
     assert res.exit_code == 1

@@ -64,12 +64,14 @@ def reference(region, excitation, quick):
         return np.asarray(th), 0.0
     raw = event.solve_flat(excitation, r, b, **REFERENCE_SETTINGS)
     ref = raw[:, steady.OUT_TRANSMISSIBILITY]
+    # DOP853 marches from rest as long as the kernel's own march (shooting off) needs to settle
+    marched = event.solve_flat(excitation, r, b, **{**REFERENCE_SETTINGS, "shoot_after": 10**9})
     from friction_sweep.bench.reference import measure
 
     worst = 0.0
     for i, (rr, bb) in enumerate(pts[:1] if quick else pts):  # DOP853 is slow: one point per region in quick
         A, c = scenes.forcing_amplitude(excitation, rr), scenes.response_offset(excitation)
-        t_dop, _ = measure(A, rr, bb, bb, int(raw[i, steady.OUT_PERIODS]) + 20, c)
+        t_dop, _ = measure(A, rr, bb, bb, int(marched[i, steady.OUT_PERIODS]) + 20, c)
         worst = max(worst, abs(t_dop / ref[i] - 1))
     return ref, worst
 

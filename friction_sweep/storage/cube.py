@@ -1,59 +1,115 @@
-"""Assemble method outputs into the labelled cube, and write/read it (netCDF4 via h5netcdf)."""
+"""Assemble method outputs into the labelled cube, and write/read it (netCDF4 via h5netcdf).
+
+A cube is built from its parts (cube_parts: every variable's dims, values and CF attributes from the
+schema table, and the global attributes). `fsweep run` writes the parts straight through h5netcdf
+(netcdf_bytes): building an xarray Dataset makes xarray import dask to ask whether any array is a
+dask array, and writing one imports dask.distributed to pick a lock, ~0.5 s of a one-point run (issue
+16's import floor). The Python API gets a Dataset of the same parts (build_dataset), and a Dataset is
+written by the same writer; a test holds the file read back by xarray identical to the Dataset.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Hashable
+import io
 from pathlib import Path
-from typing import Any, Final
+from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
 import numpy as np
-import xarray as xr
 
 from friction_sweep.storage import atomic, provenance
 from friction_sweep.storage.schema import CONVENTIONS, COORDS, VARIABLES
 
+if TYPE_CHECKING:
+    import xarray as xr
+
 ENGINE: Final = "h5netcdf"
+
+#: name -> (dims, values, attributes)
+Entries = dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, Any]]]
+
+
+class CubeParts(NamedTuple):
+    coords: Entries
+    data_vars: Entries
+    attrs: dict[str, Any]
+
+
+def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
+               history: str) -> CubeParts:
+    """The given arrays, each labelled and given CF attributes from the schema table."""
+    coords: Entries = {}
+    for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio)):
+        var = COORDS[name]
+        coords[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+    data_vars: Entries = {}
+    for name, values in arrays.items():
+        var = VARIABLES[name]  # KeyError here means a method produced an undeclared variable
+        data_vars[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+    return CubeParts(coords, data_vars, {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
 
 
 def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
                   history: str) -> xr.Dataset:
-    """A Dataset of the given arrays, each labelled and given CF attributes from the schema table."""
-    coords: dict[str, tuple] = {}
-    for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio)):
-        var = COORDS[name]
-        coords[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
-    data_vars: dict[str, tuple] = {}
-    for name, values in arrays.items():
-        var = VARIABLES[name]  # KeyError here means a method produced an undeclared variable
-        data_vars[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
-    ds = xr.Dataset(data_vars, coords=coords)
-    ds.attrs.update({"Conventions": CONVENTIONS, "title": title, "history": history})
-    ds.attrs.update(attrs)
-    return ds
+    """A Dataset of the given arrays (cube_parts)."""
+    return as_dataset(cube_parts(arrays, frequency_ratio=frequency_ratio, force_ratio=force_ratio,
+                                 excitation=excitation, title=title, attrs=attrs, history=history))
 
 
-def _encoding(ds: xr.Dataset) -> dict[Hashable, dict[str, Any]]:
-    # explicit fill values: NaN for floats, none for the flag variable (every code is meaningful)
-    enc: dict[Hashable, dict[str, Any]] = {}
-    for name, var in ds.variables.items():
-        if np.issubdtype(var.dtype, np.floating):
-            enc[name] = {"_FillValue": np.nan if name not in ds.coords else None}
-        else:
-            enc[name] = {"_FillValue": None}
-    return enc
+def as_dataset(parts: CubeParts) -> xr.Dataset:
+    import xarray as xr
+
+    return xr.Dataset(parts.data_vars, coords=parts.coords, attrs=parts.attrs)
 
 
-def write_atomic(ds: xr.Dataset, path: Path, *, overwrite: bool) -> None:
-    """Write the cube whole or not at all (storage.atomic); without `overwrite` an existing target is
-    never replaced. Serialised in memory first: h5py writing straight to a full disk crashes the
-    process, where writing its bytes fails cleanly with OSError."""
-    atomic.write_bytes(path, ds.to_netcdf(engine=ENGINE, encoding=_encoding(ds)), overwrite=overwrite)
+def _parts_of(ds: xr.Dataset) -> CubeParts:
+    def entries(variables) -> Entries:
+        return {str(name): (tuple(map(str, v.dims)), v.values, dict(v.attrs)) for name, v in variables.items()}
+
+    return CubeParts(entries(ds.coords), entries(ds.data_vars), dict(ds.attrs))
+
+
+def netcdf_bytes(parts: CubeParts) -> bytes:
+    """The cube as netCDF4 bytes, as xarray would write it: floats get _FillValue NaN (none on
+    coordinates), integers none (every flag code is meaningful); strings as variable-length."""
+    import h5netcdf
+    import h5py
+
+    buffer = io.BytesIO()
+    with h5netcdf.File(buffer, "w") as f:
+        sizes: dict[str, int] = {}
+        for dims, values, _ in (*parts.coords.values(), *parts.data_vars.values()):
+            sizes.update(zip(dims, values.shape, strict=True))
+        f.dimensions = sizes
+        for is_coord, entries in ((True, parts.coords), (False, parts.data_vars)):
+            for name, (dims, values, attrs) in entries.items():
+                dtype: Any = values.dtype
+                if values.dtype.kind in "UO":
+                    dtype, values = h5py.string_dtype(), values.astype(object)
+                float_ = np.issubdtype(values.dtype, np.floating)
+                var = f.create_variable(name, dims, dtype, fillvalue=np.nan if float_ and not is_coord else None)
+                var[...] = values
+                for key, value in attrs.items():
+                    var.attrs[key] = value
+        for key, value in parts.attrs.items():
+            f.attrs[key] = value
+    return buffer.getvalue()
+
+
+def write_atomic(cube: CubeParts | xr.Dataset, path: Path, *, overwrite: bool) -> None:
+    """Write the cube (its parts, or a Dataset) whole or not at all (storage.atomic); without `overwrite`
+    an existing target is never replaced. Serialised in memory first: h5py writing straight to a full
+    disk crashes the process, where writing its bytes fails cleanly with OSError."""
+    parts = cube if isinstance(cube, CubeParts) else _parts_of(cube)
+    atomic.write_bytes(path, netcdf_bytes(parts), overwrite=overwrite)
 
 
 def open_cube(path) -> xr.Dataset:
     """Open a result cube (loaded into memory, the file closed)."""
+    import xarray as xr
+
     with xr.open_dataset(path, engine=ENGINE) as ds:
         return ds.load()
 
 
-__all__ = ["ENGINE", "build_dataset", "write_atomic", "open_cube", "provenance"]
+__all__ = ["ENGINE", "CubeParts", "cube_parts", "build_dataset", "as_dataset", "netcdf_bytes", "write_atomic",
+           "open_cube", "provenance"]

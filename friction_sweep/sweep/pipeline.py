@@ -66,23 +66,33 @@ def recorded_settings(spec: Spec, settings: dict[str, Any]) -> dict[str, Any]:
     return recorded
 
 
-def dataset(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
-            extra_attrs: dict[str, Any] | None = None) -> xr.Dataset:
-    """The labelled cube of a run's arrays, with its provenance (`command` opens its history)."""
-    from friction_sweep.storage import cube, provenance
+def cube(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
+         extra_attrs: dict[str, Any] | None = None):
+    """The parts of the labelled cube of a run's arrays (storage.cube.CubeParts), with its provenance
+    (`command` opens its history)."""
+    from friction_sweep.storage import cube as cubes
+    from friction_sweep.storage import provenance
 
-    ds = cube.build_dataset(
+    return cubes.cube_parts(
         arrays,
         frequency_ratio=spec.frequency_ratio,
         force_ratio=spec.force_ratio,
         excitation=spec.scene.excitation,
         title=f"friction_sweep: {spec.scene.excitation} excitation, method {spec.method}",
         history=provenance.history_line(command),
-        attrs=provenance.attributes(spec_text=spec.text, spec_path=spec.source_path, excitation=spec.scene.excitation,
-                                    method=spec.method, settings=recorded_settings(spec, settings)),
+        attrs={**provenance.attributes(spec_text=spec.text, spec_path=spec.source_path,
+                                       excitation=spec.scene.excitation, method=spec.method,
+                                       settings=recorded_settings(spec, settings)),
+               **(extra_attrs or {})},
     )
-    ds.attrs.update(extra_attrs or {})
-    return ds
+
+
+def dataset(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
+            extra_attrs: dict[str, Any] | None = None) -> xr.Dataset:
+    """The labelled cube of a run's arrays as a Dataset (cube)."""
+    from friction_sweep.storage.cube import as_dataset
+
+    return as_dataset(cube(spec, arrays, settings, command, extra_attrs))
 
 
 def run_spec(spec: Spec, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR, scheduler: str | None = None,
