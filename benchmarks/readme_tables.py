@@ -4,6 +4,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 TABLES = {"bench-scale": ROOT / "results/bench/scale.md",
+          "bench-imports": ROOT / "results/bench/imports.md",
           "bench-workprecision": ROOT / "results/bench/workprecision.md"}
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import re
 import resource
 import subprocess
 import sys
@@ -24,17 +25,158 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "bench"
 
 
-def run_cube(spec: Path, executor: str, jobs: int) -> tuple[float, float]:
-    """Wall seconds and peak RSS (MiB) of one `fsweep run` in a fresh process."""
-    out = OUT / f"{spec.stem}.{executor}.h5"
+def run_cube(spec: Path, executor: str, jobs: int, out: Path | None = None) -> tuple[float, float, float]:
+    """Wall seconds, compute seconds as `fsweep run` prints them, and peak RSS (MiB) of one run in a
+    fresh process."""
+    out = out or OUT / f"{spec.stem}.{executor}.h5"
     cmd = [sys.executable, "-m", "friction_sweep", "run", str(spec), "-o", str(out), "--overwrite", "--quiet",
            "-j", str(jobs), "--executor", executor]
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     t = time.perf_counter()
-    subprocess.run(cmd, check=True, capture_output=True)
+    done = subprocess.run(cmd, check=True, capture_output=True, text=True)
     wall = time.perf_counter() - t
     peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
-    return wall, max(peak, before) / 1024
+    compute = float(re.search(r"points in ([0-9.]+) s", done.stdout).group(1))
+    return wall, compute, max(peak, before) / 1024
+
+
+def paper_planes(quick: bool) -> list[str]:
+    """The paper's two planes: compute as printed, whole process, memory; periods integrated per point."""
+    rows = ["| executor | base compute s | base whole s | joined compute s | joined whole s | both whole s | "
+            "peak RSS MiB |", "|---|---|---|---|---|---|---|"]
+    cubes = {}
+    for executor in ("threads",) if quick else ("threads", "processes"):
+        runs = {}
+        for scene in ("base", "joined"):
+            spec = ROOT / f"configs/bench/paper_cube_{scene}.yaml"
+            cubes[scene] = OUT / f"{spec.stem}.{executor}.h5"
+            runs[scene] = run_cube(spec, executor, 2, cubes[scene])
+        (wb, cb, mb), (wj, cj, mj) = runs["base"], runs["joined"]
+        rows.append(f"| {executor} | {cb:.2f} | {wb:.2f} | {cj:.2f} | {wj:.2f} | {wb + wj:.2f} | {max(mb, mj):.0f} |")
+    rows += ["", "Forcing periods integrated per point (marched, shooting's evaluations, measured), mean by regime:",
+             "", "| scene | stick-slip | continuous | stuck | all points |", "|---|---|---|---|---|"]
+    from friction_sweep.codes import Regime
+    from friction_sweep.storage.cube import open_cube
+
+    for scene, path in cubes.items():
+        ds = open_cube(path)
+        reg, per = ds["regime"].values, ds["periods"].values
+        mean = {k: per[reg == k].mean() for k in (Regime.STICK_SLIP, Regime.CONTINUOUS, Regime.STUCK)}
+        rows.append(f"| {scene} | {mean[Regime.STICK_SLIP]:.2f} | {mean[Regime.CONTINUOUS]:.2f} | "
+                    f"{mean[Regime.STUCK]:.2f} | {np.nanmean(per):.2f} |")
+    return rows
+
+
+FLOOR = "import xarray, numba, h5py, h5netcdf, pydantic, ruamel.yaml, click"
+ONE_POINT = """\
+scene: {excitation: base}
+grid: {frequency_ratio: [1.5], force_ratio: [0.3]}
+method: event
+"""
+
+
+def one_point(quick: bool) -> tuple[list[str], list[str]]:
+    """A one-point `event` run, whole process, against the import floor of its own dependencies,
+    alternating, median of each; and where the time above the floor goes (-X importtime)."""
+    spec = OUT / "one_point.yaml"
+    spec.write_text(ONE_POINT)
+    out = OUT / "one_point.h5"
+    run = [sys.executable, "-m", "friction_sweep", "run", str(spec), "-o", str(out), "--overwrite", "--quiet"]
+    floor = [sys.executable, "-c", FLOOR]
+    subprocess.run(run, check=True, capture_output=True)  # the numba cache is warm from here on
+    times: dict[str, list[float]] = {"floor": [], "run": []}
+    for _ in range(3 if quick else 7):
+        for name, cmd in (("floor", floor), ("run", run)):
+            t = time.perf_counter()
+            subprocess.run(cmd, check=True, capture_output=True)
+            times[name].append(time.perf_counter() - t)
+    f, r = np.median(times["floor"]), np.median(times["run"])
+    rows = ["| import floor s | one-point run s | above the floor s |", "|---|---|---|",
+            f"| {f:.2f} | {r:.2f} | {r - f:.2f} |", "",
+            f"Floor: `python -c \"{FLOOR}\"`; run: `fsweep run` of a one-point `event` spec (r = 1.5, "
+            "β = 0.3), medians of alternating runs."]
+    return rows, import_table(run, floor)
+
+
+def _import_times(cmd) -> dict[str, int]:
+    err = subprocess.run([cmd[0], "-X", "importtime", *cmd[1:]], check=True, capture_output=True, text=True).stderr
+    own = {}
+    for line in err.splitlines():
+        m = re.match(r"import time:\s+(\d+) \|\s+\d+ \|\s*(\S+)", line)
+        if m:
+            own[m.group(2)] = int(m.group(1))
+    return own
+
+
+def import_table(run, floor) -> list[str]:
+    """Self import time of the modules the run imports beyond the floor, by top-level package."""
+    beyond = {k: v for k, v in _import_times(run).items() if k not in _import_times(floor)}
+    packages: dict[str, int] = {}
+    for name, us in beyond.items():
+        packages[name.split(".")[0]] = packages.get(name.split(".")[0], 0) + us
+    rows = ["| package | ms |", "|---|---|"]
+    rows += [f"| {k} | {v / 1e3:.0f} |" for k, v in sorted(packages.items(), key=lambda kv: -kv[1]) if v >= 2000]
+    rows.append(f"| all beyond the floor | {sum(packages.values()) / 1e3:.0f} |")
+    return rows
+
+
+GRID_SPEC = """\
+scene: {excitation: base}
+grid:
+  frequency_ratio: {start: 0.1, stop: 4.0, num: 200}
+  force_ratio: {start: 0.0, stop: 1.2, num: 50}
+method: event
+"""
+
+
+def grid_against_paper(quick: bool) -> list[str]:
+    """A 200 x 50 grid, whole process, against the paper's method per point (ode45 tolerances) over
+    the same number of points, its time per point measured on points spread over the grid."""
+    spec = OUT / "grid_200x50.yaml"
+    spec.write_text(GRID_SPEC)
+    run_cube(spec, "threads", 1)  # warm the cache
+    wall, compute, _ = run_cube(spec, "threads", 1)
+    picks = [(0.3, 0.1), (0.8, 0.5), (1.5, 0.3), (2.5, 0.9)] if quick else \
+        [(0.3, 0.1), (0.5, 0.6), (0.8, 0.5), (1.2, 0.2), (1.5, 0.3), (2.0, 1.0), (2.5, 0.9), (3.5, 0.05)]
+    t = time.perf_counter()
+    for r, b in picks:
+        paper.solve_point("base", r, b)
+    t_paper = (time.perf_counter() - t) / len(picks)
+    n = 200 * 50
+    return [f"| grid | event, whole process s | paper's method s/point (mean of {len(picks)}) | "
+            "paper's method, all points s | speed-up |", "|---|---|---|---|---|",
+            f"| 200 × 50 base, 1 worker | {wall:.2f} | {t_paper:.3f} | {t_paper * n:,.0f} | "
+            f"{t_paper * n / wall:,.0f}× |"]
+
+
+def against_dop853(quick: bool) -> list[str]:
+    """The same kernel in-process against the best a SciPy user would write: DOP853 with event
+    switching (bench.reference, rtol 1e-9), marching from rest as long as the kernel's own march needs
+    to settle; both errors against `event` at stop_tol 1e-13, steady_tol 1e-13."""
+    from friction_sweep.bench.reference import measure
+    from friction_sweep.kernels import steady
+
+    pts = [("base", 0.5, 0.5), ("base", 1.5, 0.3), ("base", 0.3, 0.3), ("base", 2.5, 0.9),
+           ("joined", 0.95, 0.8), ("joined", 1.5, 0.5), ("joined", 0.8, 0.55), ("joined", 3.0, 1.0)]
+    if quick:
+        pts = pts[:3]
+    rows = ["| point (scene, r, β) | DOP853 s/point | event µs/point | speed-up | DOP853 error | event error |",
+            "|---|---|---|---|---|---|"]
+    ratios = []
+    for exc, r, b in pts:
+        tight = event.solve_flat(exc, np.array([r]), np.array([b]), stop_tol=1e-13, steady_tol=1e-13)[0]
+        settle = event.solve_flat(exc, np.array([r]), np.array([b]), shoot_after=10**9)[0, steady.OUT_PERIODS]
+        ref = tight[steady.OUT_TRANSMISSIBILITY]
+        A, c = (r * r, 1.0) if exc == "joined" else (1.0, 0.0)
+        t = time.perf_counter()
+        t_dop, _ = measure(A, r, b, b, int(settle) + 3, c, rtol=1e-9, atol=1e-12)
+        dop = time.perf_counter() - t
+        t_event, raw = per_point_event(exc, r, b)
+        ratios.append(dop / t_event)
+        rows.append(f"| {exc}, {r:g}, {b:g} | {dop:.3f} | {t_event * 1e6:.1f} | {dop / t_event:,.0f}× | "
+                    f"{abs(t_dop / ref - 1):.1e} | {abs(raw[steady.OUT_TRANSMISSIBILITY] / ref - 1):.1e} |")
+    rows.append(f"\nGeometric mean speed-up {np.exp(np.mean(np.log(ratios))):,.0f}×, smallest {min(ratios):,.0f}×.")
+    return rows
 
 
 def per_point_event(excitation, r, beta, repeat=200):
@@ -80,17 +222,24 @@ def growth_tables(quick: bool) -> list[str]:
         event.compute_tile("base", r, b, OUTPUTS)
         dt = time.perf_counter() - t
         rows.append(f"| {nr * nb} | {dt:.2f} | {dt / (nr * nb) * 1e6:.0f} |")
-    rows += ["", "| point (base) | periods marched | µs/point | with shooting off: periods | µs/point |",
-             "|---|---|---|---|---|"]
-    cases = [(2.0, b) for b in (0.3, 0.03, 0.003, 3e-4)] + [(1 + e, 0.3) for e in (1e-2, 1e-4, 1e-6)]
-    for r, b in cases:
+    rows += ["", "| point (base) | regime | periods | µs/point | with shooting off: periods | µs/point |",
+             "|---|---|---|---|---|---|"]
+    from friction_sweep.codes import Regime
+    from friction_sweep.kernels import steady
+
+    continuous = [(2.0, b) for b in (0.3, 0.03, 0.003, 3e-4)] + [(1 + e, 0.3) for e in (1e-2, 1e-4, 1e-6)]
+    # stick-slip: two stops; next to the stick-slip limit (slow approach); many stops at low r
+    stick_slip = [(1.5, 0.9), (0.5, 0.5), (0.45, 0.25), (0.3, 0.3), (0.1, 0.5)]
+    for r, b in continuous + ([] if quick else stick_slip):
         t1, raw1 = per_point_event("base", r, b, repeat=20)
         rr = np.full(5, r)
         event.solve_flat("base", rr[:1], b, shoot_after=10**9, max_periods=200_000)
         t = time.perf_counter()
         raw2 = event.solve_flat("base", rr, np.full(5, b), shoot_after=10**9, max_periods=200_000)[0]
         t2 = (time.perf_counter() - t) / 5
-        rows.append(f"| r = {r:.7g}, β = {b:g} | {raw1[7]:.0f} | {t1 * 1e6:.0f} | {raw2[7]:.0f} | {t2 * 1e6:,.0f} |")
+        regime = Regime(int(raw1[steady.OUT_REGIME])).name.lower()
+        rows.append(f"| r = {r:.7g}, β = {b:g} | {regime} | {raw1[steady.OUT_PERIODS]:.0f} | {t1 * 1e6:.0f} | "
+                    f"{raw2[steady.OUT_PERIODS]:.0f} | {t2 * 1e6:,.0f} |")
     return rows
 
 
@@ -101,21 +250,26 @@ def main():
     OUT.mkdir(parents=True, exist_ok=True)
     lines = [f"# Sweeps at scale ({platform.processor() or platform.machine()}, {os.cpu_count()} cores)", "",
              f"Command: `python benchmarks/scale.py{' --quick' if args.quick else ''}` (`make bench`)", ""]
-    if not args.quick:
-        lines += ["## The paper cube: both scenes, r 0.05–5 step 0.01, β 0–1.5 step 0.01 (149,792 points), "
-                  "method event, 2 workers", "", "| executor | base s | joined s | total s | peak RSS MiB |",
-                  "|---|---|---|---|---|"]
-        for executor in ("threads", "processes"):
-            wb, mb = run_cube(ROOT / "configs/bench/paper_cube_base.yaml", executor, 2)
-            wj, mj = run_cube(ROOT / "configs/bench/paper_cube_joined.yaml", executor, 2)
-            lines.append(f"| {executor} | {wb:.1f} | {wj:.1f} | {wb + wj:.1f} | {max(mb, mj):.0f} |")
-        lines.append("")
-    lines += ["## Per point against the paper's method (200 periods, 64 samples a period, ode45 tolerances)",
+    one, imports = one_point(args.quick)
+    lines += ["## The paper's planes: r 0.05–5 step 0.01, β 0–1.5 step 0.01 (74,896 points each), method event, "
+              "2 workers", "", *paper_planes(args.quick), "",
+              "## A one-point run against its import floor", "", *one, "",
+              "## A 200 × 50 grid against the paper's method (ode45 tolerances, 200 periods, 64 samples a period)",
+              "", *grid_against_paper(args.quick), "",
+              "## Per point against the paper's method (200 periods, 64 samples a period, ode45 tolerances)",
               "", *speedup_table(args.quick), "", "Errors: relative error of the first-harmonic transmissibility "
-              "against Den Hartog's closed form (continuous region).", "", "## How cost grows", "",
-              *growth_tables(args.quick), ""]
+              "against Den Hartog's closed form (continuous region).", "",
+              "## Per point against SciPy's DOP853 with event switching (rtol 1e-9)", "", *against_dop853(args.quick),
+              "", "Errors: relative error of the first-harmonic transmissibility against `event` at stop_tol 1e-13, "
+              "steady_tol 1e-13. DOP853 marches from rest as many periods as the kernel's own march needs.", "",
+              "## How cost grows", "", *growth_tables(args.quick), ""]
     text = "\n".join(lines)
-    (OUT / ("scale-quick.md" if args.quick else "scale.md")).write_text(text)
+    suffix = "-quick" if args.quick else ""
+    (OUT / f"scale{suffix}.md").write_text(text)
+    (OUT / f"imports{suffix}.md").write_text("\n".join(
+        ["# Where a one-point run's time above the import floor goes", "",
+         "Self import time (`python -X importtime`) of the modules a one-point `event` run imports beyond "
+         "the floor, by package:", "", *imports, ""]))
     print(text)
 
 

@@ -63,9 +63,9 @@ def simulate(A, r, bk, bs, periods, c=0.0, rtol=1e-12, atol=1e-13, w2=1.0):
     return pieces, T, t_end
 
 
-def measure(A, r, bk, bs, periods, c=0.0, w2=1.0):
+def measure(A, r, bk, bs, periods, c=0.0, w2=1.0, rtol=1e-12, atol=1e-13):
     """First-harmonic amplitude and peak over the last period (response x = q + c cos r t)."""
-    pieces, T, t_end = simulate(A, r, bk, bs, periods, c, w2=w2)
+    pieces, T, t_end = simulate(A, r, bk, bs, periods, c, rtol=rtol, atol=atol, w2=w2)
     t0 = t_end - T
 
     def x_of(t):
