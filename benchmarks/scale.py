@@ -127,7 +127,8 @@ def _import_times(cmd) -> dict[str, int]:
 
 def import_table(run, floor) -> list[str]:
     """Self import time of the modules the run imports beyond the floor, by top-level package."""
-    beyond = {k: v for k, v in _import_times(run).items() if k not in _import_times(floor)}
+    in_floor = _import_times(floor)
+    beyond = {k: v for k, v in _import_times(run).items() if k not in in_floor}
     packages: dict[str, int] = {}
     for name, us in beyond.items():
         packages[name.split(".")[0]] = packages.get(name.split(".")[0], 0) + us
