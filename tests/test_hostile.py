@@ -503,10 +503,16 @@ def test_the_estimate_counts_tiles_and_workers_honestly():
     assert serial[0] == serial[1]  # one worker however many were asked for
     # 40 frequency ratios are two tiles: never more workers than tiles, nor than cores
     assert estimate(spec, jobs=8, executor="threads").workers == min(2, os.cpu_count() or 1)
-    # ten million frequency ratios of one force ratio: per-tile and per-frequency work dominate
+    # 7.5 million frequency ratios of one force ratio: per-tile and per-frequency work (the theory's
+    # S(r), written beside every simulation) dominate, so they cost far more than as many force ratios
+    # at one frequency ratio
     tall = parse_spec_text(GOOD.replace("{start: 0.5, stop: 2.0, num: 40}",
                                         "{start: 0.5, stop: 2.0, step: 0.0000002}").replace("[0.1, 0.4]", "0.1"))
-    assert estimate(tall, jobs=2, executor="threads").seconds > HUGE_SECONDS
+    wide = parse_spec_text(GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "1.25")
+                           .replace("[0.1, 0.4]", "{start: 0.0, stop: 1.5, step: 0.0000002}"))
+    assert tall.frequency_ratio.size == wide.force_ratio.size
+    assert estimate(tall, jobs=2, executor="threads").seconds > 5 * estimate(wide, jobs=2, executor="threads").seconds
+    assert estimate(tall, jobs=2, executor="threads").seconds < HUGE_SECONDS < estimate(tall, jobs=1, executor="serial").seconds
 
 
 @pytest.mark.slow

@@ -2,18 +2,18 @@
 
 Seconds on one core, summed over the run's tiles (fixed blocks of frequency ratios, sweep.layout):
 
-    every method    3 ms x max(1, 0.02/r) per frequency ratio (the theory's continuity limit S(r),
+    every method    0.3 ms x max(1, 0.07/r) per frequency ratio (the theory's continuity limit S(r),
                     which the simulations write beside their results)
     theory, auto    per tile: 0.6 ms + 6e-11 n^3 (Gauss-Legendre nodes, n = 40 + pi (1 + r_min)/r_min);
                     per point: 2 us + 0.03 us n, and for joined 1 us per peak sample
                     (64 + 16 (1 + r)/r of them)
-    event, auto     per point: base/force 150 us x max(1, (0.12/r)^1.6), joined 60 us x max(1, (0.02/r)^1.5);
+    event, auto     per point: base/force 8 us x max(1, (0.66/r)^1.5), joined 6 us x max(1, (0.035/r)^0.6);
                     x3 with static above kinetic friction and two starts (three solves)
     rk4             per point: 1.2 us x steps_per_period
     paper           per point: 5.7 us per right-hand side, up to max_evaluations, + 0.2 us a sample
 
-Measured on 2 cores, each column's mean over 151 force ratios, and checked on the paper plane
-(74,896 points, serial): the model gives 1.1x (theory base) to 3.1x (auto base) the measured time.
+Measured on 2 cores, each column's mean over 151 force ratios (the event rows again after issue 16's
+shooting, which made them 10-30x cheaper), and checked on the paper plane (74,896 points, serial).
 Single points vary more than column means (at r < 0.1 a small force ratio can cost 3-5x its
 column's mean), so a grid of only such points can take longer than `seconds`. `worst` bounds a grid
 whose every point runs into its budget: work_budget events at 0.3 us, or max_periods periods at
@@ -39,12 +39,13 @@ HUGE_BYTES = 4 * 2**30
 BASE_BYTES = 300 * 2**20
 #: memory per grid point while a run holds its outputs and the cube's serialised copy
 POINT_BYTES = 1000
-#: loading the compiled kernels from numba's cache, once per run (the simulation methods)
-KERNEL_LOAD_SECONDS = 0.3
+#: loading the compiled kernels from numba's cache, once per run (the simulation methods; make bench:
+#: numba's first call of any cached kernel alone costs ~0.4 s)
+KERNEL_LOAD_SECONDS = 0.4
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
-    return 3e-3 * np.maximum(1.0, 0.02 / r)
+    return 3e-4 * np.maximum(1.0, 0.07 / r)
 
 
 def _theory_seconds(r: np.ndarray, n_beta: int, joined: bool) -> float:
@@ -55,8 +56,8 @@ def _theory_seconds(r: np.ndarray, n_beta: int, joined: bool) -> float:
 
 def _event_point_seconds(r: np.ndarray, joined: bool) -> np.ndarray:
     if joined:
-        return 60e-6 * np.maximum(1.0, (0.02 / r) ** 1.5)
-    return 150e-6 * np.maximum(1.0, (0.12 / r) ** 1.6)
+        return 6e-6 * np.maximum(1.0, (0.035 / r) ** 0.6)
+    return 8e-6 * np.maximum(1.0, (0.66 / r) ** 1.5)
 
 
 def _tile_seconds(method: str, r: np.ndarray, n_beta: int, joined: bool, solves: int, knobs: dict) -> float:
