@@ -279,7 +279,8 @@ def main():
               "against Den Hartog's closed form (continuous region).", "",
               "## Per point against SciPy's DOP853 with event switching (rtol 1e-9)", "", *against_dop853(args.quick),
               "", "Errors: relative error of the first-harmonic transmissibility against `event` at stop_tol 1e-13, "
-              "steady_tol 1e-13. DOP853 marches from rest as many periods as the kernel's own march needs.", "",
+              "steady_tol 1e-13. DOP853 marches from rest as many periods as the kernel's own march (shooting off) "
+              "integrates, plus 3.", "",
               "## How cost grows", "", *growth_tables(args.quick), ""]
     text = "\n".join(lines)
     suffix = "-quick" if args.quick else ""

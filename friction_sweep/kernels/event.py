@@ -305,7 +305,9 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
     acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3] = 1.0, 0.0, 0.0, 1.0
-    acc[ACC_JAC_OK] = 1.0
+    # A period that starts stuck forgets a push dv only where kinetic friction could hold the mass too
+    # (it slides dv^2/2|a| and stops); where static friction alone holds it, any push sets it sliding.
+    acc[ACC_JAC_OK] = 0.0 if mode == 0 and v == 0.0 and abs(A - q) > bk else 1.0
     t = 0.0
     work = 0
     new_stop = False

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.measure import ACC_IC, ACC_IS, ACC_JAC, ACC_JAC_OK, ACC_QMAX, ACC_STOPS
+from friction_sweep.kernels.measure import ACC_IC, ACC_IS, ACC_JAC, ACC_JAC_OK, ACC_QMAX, ACC_STOPS, ACC_STUCK
 from friction_sweep.kernels.period_map import map_error, map_k
 
 
@@ -63,13 +63,18 @@ def _within_forced_bound(acc, k, p):
     return q1 * gain <= (A + 4.0 / math.pi * max(bk, bs)) * (1.0 + 1e-9)
 
 
-#: a Newton step below this fraction of the state, or below ROUNDING_NOISE times the step that the
-#: map's own error causes, is at the floor of double precision: the state it starts from is the fixed
-#: point, as far as the map can tell
-ROUNDING_STEP = 1e-12
+#: a Newton step below this fraction of the response's size (the larger of the orbit and the
+#: excitation's share c of x = q + c cos(r t): joined responses cancel down to a quarter of z), or below
+#: ROUNDING_NOISE times the step that the map's own error causes, is at the floor of double precision:
+#: the state it starts from is the fixed point, as far as the map can tell (measured on the paper
+#: planes: every transmissibility within 1e-12 of its error before, relative, but where that floor
+#: is the map's own rounding next to resonance)
+ROUNDING_STEP = 3e-13
 ROUNDING_NOISE = 4.0
 #: through sticks, a Newton step is at most this multiple of the larger of the orbit and the forcing
 TRUST = 1.0
+#: evaluations of P^k a shooting solve may take
+NEWTON_ITERATIONS = 40
 
 
 #: how shoot's first evaluation goes: integrated plainly; given (the caller's last period, unmeasured,
@@ -78,9 +83,9 @@ FIRST_PLAIN, FIRST_GIVEN, FIRST_MEASURED = 0, 1, 2
 
 
 @jit
-def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, iterations):
-    """Newton on F(x) = P^k(x) - x for a period-k orbit, at most `iterations` evaluations of P^k (finite
-    differences aside). Returns (q, v, ok, work, periods): periods the forcing periods integrated (every
+def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
+    """Newton on F(x) = P^k(x) - x for a period-k orbit, at most NEWTON_ITERATIONS evaluations of P^k
+    (finite differences aside). Returns (q, v, ok, work, periods): periods the forcing periods integrated (every
     evaluation of P^k, finite differences included).
 
     first: FIRST_GIVEN where (q1, v1) = P^k(q, v) is in hand already, unmeasured, with its monodromy
@@ -109,7 +114,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, iterations):
     b11 = b12 = b21 = b22 = 0.0  # J - I of the latest Jacobian (exact, or forward differences)
     size = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
     exact = False  # whether the latest Jacobian was the exact one
-    for _ in range(iterations):
+    for _ in range(NEWTON_ITERATIONS):
         scale = max(math.hypot(q, v), size)
         # What the map's own error leaves: it is computed to ~map_error of the larger of the orbit and
         # the forcing (an orbit far smaller than A, next to the no-motion threshold, is pinned only
@@ -124,7 +129,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, iterations):
                  or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
         # With the exact Jacobian, measure as well where quadratic convergence (from the last two steps)
         # predicts that the step from this state will be at rounding: that step then decides (below).
-        rounding = max(ROUNDING_STEP * max(scale, p.A), ROUNDING_NOISE * step_noise)
+        rounding = max(ROUNDING_STEP * max(scale, p.c), ROUNDING_NOISE * step_noise)
         predicted = (exact and last_step < 0.5 * prev_step < math.inf
                      and last_step ** 3 <= rounding * prev_step ** 2)
         measure = floor or predicted or first == FIRST_MEASURED
@@ -139,6 +144,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, iterations):
         first = FIRST_PLAIN
         fq = q1 - q
         fv = v1 - v
+        sticks = acc[ACC_STOPS] > 0.0 or acc[ACC_STUCK] > 0.0  # of this evaluation (FD below reuse acc)
         settled = measure and abs(fq) + abs(fv) <= tol * scale + noise
         if settled and floor:
             if acc[ACC_JAC_OK] == 1.0:
@@ -175,9 +181,11 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, iterations):
         dq = (j22 * fq - j12 * fv) / det
         dv = (-j21 * fq + j11 * fv) / det
         step = abs(dq) + abs(dv)
-        # The predicted floor, confirmed by this state's own Newton step: it is the fixed point to
-        # within that step, which is at rounding (and the steps shrank into it: no leap).
-        if settled and exact and step <= max(ROUNDING_STEP * max(scale, p.A),
+        # The state's own Newton step at rounding (ROUNDING_STEP of the response, or what the map's error
+        # leaves through |(J - I)^-1|, as for the floor above): it is the fixed point as far as the map
+        # can tell. Measured only where that was predicted from shrinking steps (no leap
+        # lands here) or where the start was a closed-form guess.
+        if settled and exact and step <= max(ROUNDING_STEP * max(scale, p.c),
                                              ROUNDING_NOISE * noise * min(_inverse_norm(b11, b12, b21, b22), 1e300)):
             ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, error)
                   and _within_forced_bound(acc, k, p))
@@ -186,7 +194,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, iterations):
         # leaves the piece whose Jacobian proposed it, and Newton wanders between stop patterns
         # (joined, r = 0.79, beta = 0.54: a leap to v = -1.95 from an orbit of size 0.6).
         reach = TRUST * max(scale, p.A)
-        if acc[ACC_STOPS] > 0.0 and step > reach:
+        if sticks and step > reach:
             dq *= reach / step
             dv *= reach / step
             step = reach

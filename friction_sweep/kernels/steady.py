@@ -106,11 +106,6 @@ STICK_SHOT_REACH = 0.05
 LAG_SHOT = 1e-3
 #: an aperiodic motion is measured as the average over this many forcing periods
 APERIODIC_WINDOW = 256
-#: Newton iterations (evaluations of P^k) a shooting solve may take; from the closed-form guess fewer:
-#: where it is not close (the motion sticks) the march from rest with its own shots is cheaper than a
-#: long Newton walk from it
-NEWTON_ITERATIONS = 40
-GUESS_ITERATIONS = 40
 
 
 #: a state |(q, v)| beyond this multiple of max(A, 1) has grown without bound, whatever the rate
@@ -339,15 +334,14 @@ def _march(q, v, mode, p, settings, work, acc):
         smooth = no_stops or (acc[ACC_JAC_OK] == 1.0 and _unique(p))
         # a march that still has not settled after shoot_every periods shoots through its sticks too
         if n >= next_shot and (smooth or n >= shoot_every):
-            # Where the steady state is unique, the period just marched is Newton's first evaluation, from
-            # where it began; elsewhere Newton starts where the march is (it lands on the orbit nearest
-            # its start, and the march from the settings' start decides which of several that is).
-            if _unique(p):
-                qs, vs, ok, w, k = shoot(q0, v0, 1, p, settings, tol, budget - work, acc, q, v, FIRST_GIVEN,
-                                         NEWTON_ITERATIONS)
+            # Where the steady state is unique and the period just marched has the exact Jacobian, it is
+            # Newton's first evaluation, from where it began; elsewhere Newton starts where the march is
+            # (it lands on the orbit nearest its start, and the march from the settings' start decides
+            # which of several that is).
+            if _unique(p) and acc[ACC_JAC_OK] == 1.0:
+                qs, vs, ok, w, k = shoot(q0, v0, 1, p, settings, tol, budget - work, acc, q, v, FIRST_GIVEN)
             else:
-                qs, vs, ok, w, k = shoot(q, v, 1, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN,
-                                         NEWTON_ITERATIONS)
+                qs, vs, ok, w, k = shoot(q, v, 1, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN)
             work += w
             periods += k
             next_shot = n + shoot_every
@@ -365,8 +359,7 @@ def _march(q, v, mode, p, settings, work, acc):
         # onto long periods) is solved for directly, from the lag at which the march repeats best.
         lag, best = _closest_lag(q, v, n, hq, hv, kmax)
         if lag > 0 and best <= LAG_SHOT * max(math.hypot(q, v), acc[ACC_QMAX], A):
-            qs, vs, ok, w, k = shoot(q, v, lag, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN,
-                                     NEWTON_ITERATIONS)
+            qs, vs, ok, w, k = shoot(q, v, lag, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN)
             work += w
             periods += k
             if ok:
@@ -452,8 +445,7 @@ def solve_point(p, settings, guess_q, guess_v, out):
     elif settings[SET_SHOOT_AFTER] == 0 and math.isfinite(guess_q) and math.isfinite(guess_v) and _unique(p):
         reset_accumulator(acc)
         qs, vs, ok, work, periods = shoot(guess_q, guess_v, 1, p, settings, settings[SET_STEADY_TOL],
-                                          int(settings[SET_WORK_BUDGET]), acc, 0.0, 0.0, FIRST_MEASURED,
-                                          GUESS_ITERATIONS)
+                                          int(settings[SET_WORK_BUDGET]), acc, 0.0, 0.0, FIRST_MEASURED)
         if ok:
             q, v, mode, status, orbit, shot = qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, 1, True
     if status != SteadyState.FAMILY and status != SteadyState.CONVERGED:
@@ -506,7 +498,8 @@ def solve_points(A, r, bk, bs, zeta, c, settings, gq, gv, out):
 
 @jit
 def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, gq, gv, out):
-    """solve_points with a start (q0[i], v0[i]) of its own for each point (at the excitation's maximum)."""
+    """solve_points with a start (q0[i], v0[i]) of its own for each point (at the excitation's maximum);
+    where the steady state is unique the guess, if any, comes first (the start cannot matter there)."""
     own = settings.copy()
     for i in range(r.size):
         own[SET_INITIAL_DISPLACEMENT] = q0[i]
@@ -519,7 +512,8 @@ def solve_sweep(A, r, bk, bs, zeta, c, settings, gq, gv, out):
     """A stepped-sine sweep over the points in the order given (one force ratio): each point starts
     from the state, at the excitation's maximum, of the orbit the previous point settled on, as a rig
     stepping its frequency does; the first from the settings' start. After a point with no steady
-    state (unbounded, unsettled) the next starts afresh from the settings' start."""
+    state (unbounded, unsettled) the next starts afresh from the settings' start. Where the steady state
+    is unique the guess, if any, comes first (the start cannot matter there)."""
     own = settings.copy()
     for i in range(r.size):
         solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, gq[i], gv[i], out[i])

@@ -70,15 +70,23 @@ def _parts_of(ds: xr.Dataset) -> CubeParts:
 
 def netcdf_bytes(parts: CubeParts) -> bytes:
     """The cube as netCDF4 bytes, as xarray would write it: floats get _FillValue NaN (none on
-    coordinates), integers none (every flag code is meaningful); strings as variable-length."""
+    coordinates), integers none (every flag code is meaningful); strings as variable-length. What a
+    cube never holds (non-dimension coordinates, bytes, dimensions of two sizes) is refused, not
+    written differently from xarray; a Dataset's own .encoding is not read."""
     import h5netcdf
     import h5py
 
+    sizes: dict[str, int] = {}
+    for name, (dims, values, _) in (*parts.coords.items(), *parts.data_vars.items()):
+        for dim, size in zip(dims, values.shape, strict=True):
+            if sizes.setdefault(dim, size) != size:
+                raise ValueError(f"{name}: dimension {dim} has size {size}, elsewhere {sizes[dim]}")
+        if name in parts.coords and dims != (name,):
+            raise ValueError(f"{name}: only dimension coordinates are written (a cube has no other)")
+        if values.dtype.kind == "S" or (values.dtype.kind == "O" and not all(isinstance(x, str) for x in values.flat)):
+            raise ValueError(f"{name}: only numbers and str are written")
     buffer = io.BytesIO()
     with h5netcdf.File(buffer, "w") as f:
-        sizes: dict[str, int] = {}
-        for dims, values, _ in (*parts.coords.values(), *parts.data_vars.values()):
-            sizes.update(zip(dims, values.shape, strict=True))
         f.dimensions = sizes
         for is_coord, entries in ((True, parts.coords), (False, parts.data_vars)):
             for name, (dims, values, attrs) in entries.items():

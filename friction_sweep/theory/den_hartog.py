@@ -123,7 +123,7 @@ def s_function(r, samples_per_natural_period=256, min_samples=2048):
     # one golden-section search for every r at once (a Python loop per r cost ~2 ms each)
     with np.errstate(divide="ignore", invalid="ignore"):
         _, best = _golden_max(lambda t: _s_ratio(r, uc, t), lo, hi)
-    return np.maximum(1.0, np.maximum(best, sampled))
+    return np.fmax(1.0, np.fmax(best, sampled))  # a NaN from the search leaves the others
 
 
 def continuous_limit(r, s=None):
