@@ -311,11 +311,11 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     t = 0.0
     work = 0
     new_stop = False
-    # a period that starts at rest in a slip mode (the force at the band edge) is a slip from rest too:
-    # where it cannot start, the mass stays stuck (without this, joined r = 0.2, beta = 0.02 from
-    # q = A - bs found a stop 1e-14 later without moving, again and again, and spent the whole work
-    # budget in one period)
-    from_stick = v == 0.0
+    # The next slip starts from rest: after a stick's exit, or where the period starts at rest in a slip
+    # mode (the force at the band edge). Where it cannot start, the mass stays stuck (without the
+    # period-start case, joined r = 0.2, beta = 0.02 from q = A - bs found a stop 1e-14 later without
+    # moving, again and again, and spent the whole work budget in one period).
+    from_rest = v == 0.0
     j = 0
     stalled = False  # the last slip could not start from its stick exit
     while True:
@@ -335,7 +335,7 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
             mode = slip_direction(t, q, A, r)
             _jac_release(acc, t, mode, p)
             work += 1
-            from_stick = True
+            from_rest = True
         else:
             vtol = vtol_rel * max(A, math.hypot(q, v))
             s, found, w = find_stop(t, q, v, mode, A, r, bk, zeta, T - t, vtol, hmax, budget - work)
@@ -345,14 +345,14 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
             ca = math.cos(r * t)
             sa = math.sin(r * t)
             q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, ca, sa)
-            if found and from_stick and (s == 0.0 or q1 == q):
+            if found and from_rest and (s == 0.0 or q1 == q):
                 # the force touched the band edge and turned back, or pushes past it by less than
                 # rounding (the slip stops before the mass has moved at all): the mass stays stuck
                 mode = 0
                 stalled = True
-                from_stick = False
+                from_rest = False
                 continue
-            from_stick = False
+            from_rest = False
             if measure:
                 _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
             if ts.size:

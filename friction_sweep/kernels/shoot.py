@@ -44,6 +44,13 @@ def _inverse_norm(b11, b12, b21, b22):
 
 
 @jit
+def _rounding_step(scale, c, step_noise):
+    """The Newton step that is at the floor of double precision (ROUNDING_STEP of the response, the
+    larger of the orbit and c, or ROUNDING_NOISE times what the map's own error leaves in a step)."""
+    return max(ROUNDING_STEP * max(scale, c), ROUNDING_NOISE * step_noise)
+
+
+@jit
 def _resolvable(b11, b12, b21, b22, error):
     """Whether a fixed point of P with Jacobian J = I + B is pinned down by the map despite its own
     error: |B^-1| times that error (relative to the larger of the orbit and the forcing) is below
@@ -129,9 +136,8 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
                  or (last_step <= 1e-6 * scale + step_noise and last_step >= 1e-2 * prev_step))
         # With the exact Jacobian, measure as well where quadratic convergence (from the last two steps)
         # predicts that the step from this state will be at rounding: that step then decides (below).
-        rounding = max(ROUNDING_STEP * max(scale, p.c), ROUNDING_NOISE * step_noise)
         predicted = (exact and last_step < 0.5 * prev_step < math.inf
-                     and last_step ** 3 <= rounding * prev_step ** 2)
+                     and last_step ** 3 <= _rounding_step(scale, p.c, step_noise) * prev_step ** 2)
         measure = floor or predicted or first == FIRST_MEASURED
         if first == FIRST_GIVEN:
             measure = False
@@ -181,12 +187,11 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
         dq = (j22 * fq - j12 * fv) / det
         dv = (-j21 * fq + j11 * fv) / det
         step = abs(dq) + abs(dv)
-        # The state's own Newton step at rounding (ROUNDING_STEP of the response, or what the map's error
-        # leaves through |(J - I)^-1|, as for the floor above): it is the fixed point as far as the map
-        # can tell. Measured only where that was predicted from shrinking steps (no leap
+        # The state's own Newton step at rounding, with this state's Jacobian: it is the fixed point as
+        # far as the map can tell. Measured only where that was predicted from shrinking steps (no leap
         # lands here) or where the start was a closed-form guess.
-        if settled and exact and step <= max(ROUNDING_STEP * max(scale, p.c),
-                                             ROUNDING_NOISE * noise * min(_inverse_norm(b11, b12, b21, b22), 1e300)):
+        if settled and exact and step <= _rounding_step(scale, p.c,
+                                                        noise * min(_inverse_norm(b11, b12, b21, b22), 1e300)):
             ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, error)
                   and _within_forced_bound(acc, k, p))
             return q, v, ok, work, periods

@@ -6,10 +6,10 @@ continuous point. Otherwise, or where that fails, it marches forcing periods of 
 (period_map.py) from the settings' start until P^k repeats (period 1 or k), shooting from the first
 smooth period (through sticks where the steady state is unique) and again every shoot_every periods,
 recognises steady linear growth (resonance below pi/4) and then measures over the k periods of the
-orbit. Everything is recorded as numbers and
-codes in one float row per point, whose slots are named in OUTPUT_FIELDS (the cube's variable names
-where the row holds one). A point's parameters travel as one kernels.point.Point; solve_points and its
-variants build it from the parameter arrays the methods pass.
+orbit. Everything is recorded as numbers and codes in one float row per point, whose slots are named
+in OUTPUT_FIELDS (the cube's variable names where the row holds one). A point's parameters travel as
+one kernels.point.Point; solve_points and its variants build it from the parameter arrays the methods
+pass.
 """
 
 from __future__ import annotations
@@ -287,6 +287,7 @@ def _march(q, v, mode, p, settings, work, acc):
     hq[0], hv[0], hm[0] = q, v, mode
     n = 0
     periods = 0
+    unique = _unique(p)
     # shoot at the first smooth period from shoot_after on (1 where it is 0: the guess had its shot before
     # the march), and again shoot_every periods after a miss
     next_shot = max(1, int(settings[SET_SHOOT_AFTER]))
@@ -331,14 +332,14 @@ def _march(q, v, mode, p, settings, work, acc):
         # Shoot from a period over which the map is smooth: stop-free, or (event kernel) through sticks
         # where the period map has its exact Jacobian and the steady state is unique (_unique).
         no_stops = acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0
-        smooth = no_stops or (acc[ACC_JAC_OK] == 1.0 and _unique(p))
+        smooth = no_stops or (acc[ACC_JAC_OK] == 1.0 and unique)
         # a march that still has not settled after shoot_every periods shoots through its sticks too
         if n >= next_shot and (smooth or n >= shoot_every):
             # Where the steady state is unique and the period just marched has the exact Jacobian, it is
             # Newton's first evaluation, from where it began; elsewhere Newton starts where the march is
             # (it lands on the orbit nearest its start, and the march from the settings' start decides
             # which of several that is).
-            if _unique(p) and acc[ACC_JAC_OK] == 1.0:
+            if unique and acc[ACC_JAC_OK] == 1.0:
                 qs, vs, ok, w, k = shoot(q0, v0, 1, p, settings, tol, budget - work, acc, q, v, FIRST_GIVEN)
             else:
                 qs, vs, ok, w, k = shoot(q, v, 1, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN)
