@@ -22,7 +22,7 @@ $(STAMP): pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
 	  { echo "friction_sweep needs Python >= 3.11: run make PYTHON=/path/to/python3.11"; exit 1; }
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,figures,lint]'
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,figures,lint,dask]'
 	touch $@
 
 demo: $(STAMP)

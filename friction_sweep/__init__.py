@@ -2,9 +2,36 @@
 
 Two ways to the same outputs: Den Hartog's closed-form theory (continuous motion only) and numerical
 simulation with exact stick-slip (every regime). Layers, each importing only those before it:
-catalogue, codes, ties, exits (what methods can do; stored codes; tie tolerances; exit codes) · spec · theory · kernels
-(numba) · storage (schema, cubes, atomic writes) · methods · bench · sweep (tiles, executors, checkpoint;
-`sweep.pipeline.run_spec(spec) -> Dataset` is the Python API) · cli.
+catalogue, codes, ties, exits, errors (what methods can do; stored codes; tie tolerances; exit codes; the
+API's exception) · spec (units stripped in spec/quantities.py) · theory · kernels (numba) · storage (schema,
+cubes, atomic writes) · methods · bench · sweep (tiles, executors, checkpoint) · api · cli.
+
+The Python API (friction_sweep.api): `sweep(path_or_dict)`, `sweep_yaml(text)` and `open_cube(path)`
+return xarray Datasets; every refusal is a `FsweepError`. They are loaded on first use, so that
+`import friction_sweep` (and the CLI) stays cheap.
 """
 
+from __future__ import annotations
+
+from typing import Any
+
 __version__ = "0.1.0"
+
+_API = ("sweep", "sweep_yaml", "open_cube")
+__all__ = [*_API, "FsweepError", "SpecError", "__version__"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _API:
+        from friction_sweep import api
+
+        return getattr(api, name)
+    if name == "FsweepError":
+        from friction_sweep.errors import FsweepError
+
+        return FsweepError
+    if name == "SpecError":
+        from friction_sweep.spec.errors import SpecError
+
+        return SpecError
+    raise AttributeError(f"module 'friction_sweep' has no attribute {name!r}")

@@ -17,6 +17,8 @@ import numpy as np
 
 import friction_sweep
 from friction_sweep import codes
+from friction_sweep.batch.executors import DEFAULT_EXECUTOR, EXECUTORS
+from friction_sweep.errors import FsweepError
 from friction_sweep.exits import (
     EXIT_FINDINGS,
     EXIT_INTERRUPTED,
@@ -25,7 +27,6 @@ from friction_sweep.exits import (
     fail,
 )
 from friction_sweep.spec import SpecError, load_spec
-from friction_sweep.sweep.executors import DEFAULT_EXECUTOR, EXECUTORS
 
 
 class _Terminated(KeyboardInterrupt):
@@ -118,10 +119,13 @@ def validate(spec: Path, output: str | None):
         f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
         f"outputs {', '.join(s.outputs)}, output {out}"
     )
-    from friction_sweep.sweep.estimate import estimate
+    from friction_sweep.batch.estimate import estimate
 
     cost = estimate(s, settings, jobs=1, executor="serial")
     click.echo(f"  estimate on one worker: {cost.describe()}")
+    if s.physical is not None:
+        for line in s.physical.describe(s.scene.excitation):
+            click.echo(f"  {line}")
 
 
 @main.command("settings")
@@ -179,9 +183,9 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
         scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
-    from friction_sweep.sweep import checkpoint
-    from friction_sweep.sweep import estimate as cost_model
-    from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES, layout
+    from friction_sweep.batch import checkpoint
+    from friction_sweep.batch import estimate as cost_model
+    from friction_sweep.batch.layout import TILE_FORCES, TILE_FREQUENCIES, layout
 
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
@@ -221,12 +225,12 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
 
 def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
     """The run's settings and the attributes that record what `accuracy:` chose (exit 2 if nothing can)."""
-    from friction_sweep.sweep.pipeline import run_settings
+    from friction_sweep import api
 
     try:
-        settings, extra = run_settings(s)
-    except LookupError as err:
-        fail(f"{spec}: accuracy: {err}")
+        settings, extra = api.accuracy_settings(s)
+    except FsweepError as err:
+        fail(str(err))
     if extra and not quiet:
         row = json.loads(extra["accuracy_choice"])
         chosen = {k: settings[k] for k in row["settings"] if k in settings}
@@ -247,7 +251,7 @@ def _refuse_destroying_spec(out: Path, spec: Path) -> None:
 
 def _check_dask(scheduler: str | None) -> None:
     """Fail in a second, not after a 30 s connection timeout, where Dask cannot run the tiles."""
-    from friction_sweep.sweep.executors import DaskUnavailable, check_dask
+    from friction_sweep.batch.executors import DaskUnavailable, check_dask
 
     try:
         check_dask(scheduler)
@@ -258,8 +262,8 @@ def _check_dask(scheduler: str | None) -> None:
 def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
                 extra_attrs):
     """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up."""
+    from friction_sweep.batch import checkpoint, pipeline
     from friction_sweep.storage import cube
-    from friction_sweep.sweep import checkpoint, pipeline
 
     if store.exists() and store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir():
         store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
@@ -426,11 +430,13 @@ def info(result: Path | None, show_methods: bool):
     problems = audit.audit(ds)
     click.echo(f"{result}")
     click.echo("  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()))
-    for name in ("frequency_ratio", "force_ratio"):
-        if name in ds.coords and ds.sizes[name]:
+    for name in ("frequency_ratio", "force_ratio", "frequency", "friction_force"):
+        if name in ds.coords and ds[name].size:
             v = ds[name].values
-            click.echo(f"  {name}: {v.min():g} .. {v.max():g}")
+            units = ds[name].attrs.get("units", "1")
+            click.echo(f"  {name}: {v.min():g} .. {v.max():g}" + (f" {units}" if units != "1" else ""))
     click.echo(f"  excitation: {a.get('excitation')}, method: {a.get('method')}")
+    _echo_physical(a)
     click.echo(f"  variables: {', '.join(ds.data_vars)}")
     click.echo(f"  history: {a.get('history')}")
     versions = ", ".join(
@@ -447,6 +453,22 @@ def info(result: Path | None, show_methods: bool):
                 click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} "
                            f"({finite.sum()} finite of {v.size})")
     _fail_on_problems(result, problems)  # the summary above is shown, but not trusted
+
+
+def _echo_physical(attrs) -> None:
+    """The physical meaning of (r, beta) that a cube of a spec with `system:` recorded."""
+    from friction_sweep.storage import physical
+
+    text = attrs.get(physical.ATTRIBUTE)
+    if text is None:
+        return
+    try:
+        mapping = physical.from_attribute(str(text))
+    except ValueError as err:
+        click.echo(f"  physical system: unreadable ({err})")
+        return
+    for line in mapping.describe(str(attrs.get("excitation"))):
+        click.echo(f"  {line}")
 
 
 @main.command()
@@ -477,24 +499,13 @@ def check(result: Path, as_json: bool):
 
 
 def _open_result(path: Path):
-    """The cube at `path`, or exit 2: not a regular file (reading a FIFO would wait forever), not
-    readable, or not a friction_sweep cube."""
-    import stat
-
-    from friction_sweep.storage import cube
+    """The cube at `path`, or exit 2 with the API's reason (friction_sweep.api.open_cube)."""
+    from friction_sweep import api
 
     try:
-        if not stat.S_ISREG(os.stat(path).st_mode):
-            fail(f"{path} is not a regular file")
-    except OSError as err:
-        fail(f"{path}: {err.strerror or err}")
-    try:
-        ds = cube.open_cube(path)
-    except Exception as err:  # any reader failure means: not a cube we can read
-        fail(f"{path} is not a readable result cube: {' '.join(str(err).split())}")
-    if "friction_sweep_version" not in ds.attrs:
-        fail(f"{path} is not a friction_sweep result cube (no provenance attributes)")
-    return ds
+        return api.open_cube(path)
+    except FsweepError as err:
+        fail(str(err))
 
 
 def _fail_on_problems(path: Path, problems: list) -> None:

@@ -201,21 +201,6 @@ def test_info_methods_tabulates_what_each_method_can_do(runner):
         assert res.exit_code == 2 and "--methods" in res.output
 
 
-def test_run_spec_returns_the_cube_that_run_writes(runner, tmp_path):
-    """The Python API and the CLI are one pipeline: the same numbers, variables and attributes."""
-    from friction_sweep.spec import load_spec
-    from friction_sweep.sweep.pipeline import run_spec
-
-    spec = write_spec(tmp_path, "joined")
-    with in_dir(tmp_path):
-        assert runner.invoke(main, ["run", str(spec), "-q"]).exit_code == 0
-    written = cube.open_cube(tmp_path / "out.h5")
-    returned = run_spec(load_spec(spec))
-    xr.testing.assert_identical(written.drop_attrs(deep=False), returned.drop_attrs(deep=False))
-    assert set(written.attrs) == set(returned.attrs)
-    assert returned.attrs["method_settings"] == written.attrs["method_settings"]
-
-
 @pytest.mark.parametrize("text", [
     "scene: {excitation: base, effects: {static_friction_ratio: 1.5}}\n"
     "grid: {frequency_ratio: [0.5, 1.0, 2.0], force_ratio: [0.0, 0.3]}\nmethod: event\n"
@@ -227,8 +212,8 @@ def test_the_cube_file_reads_back_as_the_dataset(tmp_path, text):
     """`fsweep run` writes the cube's parts through h5netcdf, not through xarray (which would import
     dask): xarray reads the file back identical to the Dataset of the same parts, with the encodings
     xarray itself would have chosen (NaN fill for float variables, none for coordinates and flags)."""
+    from friction_sweep.batch import pipeline
     from friction_sweep.spec import load_spec
-    from friction_sweep.sweep import pipeline
 
     spec = tmp_path / "spec.yaml"
     spec.write_text(text)
@@ -323,7 +308,7 @@ settings: {theory_margin: 0.05}
 
 
 def test_huge_grid_is_refused_with_an_estimate_unless_yes(runner, tmp_path, monkeypatch):
-    import friction_sweep.sweep.estimate as estimate
+    import friction_sweep.batch.estimate as estimate
 
     text = small_spec("base", "out.h5").replace("method: theory", "method: event")
     spec = write_spec(tmp_path, text=text)
@@ -340,7 +325,7 @@ def test_huge_grid_is_refused_with_an_estimate_unless_yes(runner, tmp_path, monk
 
 
 def test_unwritable_output_folder_fails_before_computing(runner, tmp_path, monkeypatch):
-    import friction_sweep.sweep.runner as runner_module
+    import friction_sweep.batch.runner as runner_module
 
     spec = write_spec(tmp_path)
     blocker = tmp_path / "afile"
@@ -523,7 +508,7 @@ def test_a_run_that_failed_before_any_tile_does_not_block_the_next(runner, tmp_p
 
 
 def test_a_second_run_on_the_same_output_is_refused(runner, tmp_path):
-    from friction_sweep.sweep import checkpoint
+    from friction_sweep.batch import checkpoint
 
     spec = write_spec(tmp_path)
     out = tmp_path / "out.h5"

@@ -6,8 +6,8 @@ import signal
 import numpy as np
 import pytest
 
-from friction_sweep.sweep import executors
-from friction_sweep.sweep.runner import compute_tile, tiles
+from friction_sweep.batch import executors
+from friction_sweep.batch.runner import compute_tile, tiles
 
 distributed = pytest.importorskip("dask.distributed")
 

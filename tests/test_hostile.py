@@ -433,7 +433,7 @@ def test_a_full_disk_ends_in_one_line_keeping_finished_tiles(small_disk, size, w
 @pytest.mark.slow
 def test_a_full_disk_while_checkpointing_keeps_what_was_finished(tmp_path, monkeypatch):
     """The same by fault injection, where no tmpfs can be mounted; then --resume finishes the run."""
-    from friction_sweep.sweep import checkpoint
+    from friction_sweep.batch import checkpoint
 
     (tmp_path / "spec.yaml").write_text(WIDE)
     real, calls = checkpoint.np.savez, []
@@ -476,7 +476,7 @@ def test_written_files_get_the_mode_the_umask_gives(tmp_path, mask, mode):
 
 
 def test_a_lock_that_cannot_be_opened_is_one_line(tmp_path, monkeypatch):
-    from friction_sweep.sweep import checkpoint
+    from friction_sweep.batch import checkpoint
 
     real = os.open
 
@@ -495,8 +495,8 @@ def test_a_lock_that_cannot_be_opened_is_one_line(tmp_path, monkeypatch):
 
 @pytest.mark.slow
 def test_the_estimate_counts_tiles_and_workers_honestly():
+    from friction_sweep.batch.estimate import HUGE_SECONDS, estimate
     from friction_sweep.spec import parse_spec_text
-    from friction_sweep.sweep.estimate import HUGE_SECONDS, estimate
 
     spec = parse_spec_text(GOOD)
     serial = [estimate(spec, jobs=j, executor="serial").seconds for j in (1, 8)]
@@ -622,7 +622,7 @@ def test_a_port_that_accepts_and_stays_silent_is_no_scheduler(tmp_path, monkeypa
     import socket
     import threading
 
-    from friction_sweep.sweep import executors
+    from friction_sweep.batch import executors
 
     monkeypatch.setattr(executors, "CONNECT_TIMEOUT_S", 0.5)
     server = socket.socket()

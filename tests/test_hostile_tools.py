@@ -20,7 +20,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 from click.testing import CliRunner
-from conftest import ROOT
+from conftest import ROOT, write_spec
 
 from friction_sweep import validation
 from friction_sweep.bench import workprecision as wp
@@ -379,3 +379,16 @@ def test_bench_on_a_full_disk_changes_nothing(tmp_path, limit):
     lines = proc.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"fsweep: error: could not write the benchmark's results ({out})")
     assert tree(tmp_path) == before
+
+
+def test_dask_is_an_extra_named_where_it_is_missing(runner, tmp_path, monkeypatch):
+    """Dask comes with `friction_sweep[dask]`; without it `--executor dask` is one line naming the extra, exit 2,
+    and nothing is written."""
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    spec = write_spec(tmp_path)
+    for args in (["--executor", "dask"], ["--scheduler", "tcp://127.0.0.1:8786"]):
+        res = runner.invoke(main, ["run", str(spec), "-o", str(tmp_path / "out.h5"), "-q", *args])
+        assert res.exit_code == 2, res.output
+        assert res.output.strip() == ("fsweep: error: --executor dask needs dask.distributed: "
+                                      "pip install 'friction_sweep[dask]'")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["spec.yaml"]

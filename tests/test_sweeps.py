@@ -8,11 +8,11 @@ from click.testing import CliRunner
 from conftest import OUTPUTS, STATIC
 from independent_integrator import independent
 
+from friction_sweep.batch.runner import run_grid
 from friction_sweep.cli import main
 from friction_sweep.codes import Regime
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event
-from friction_sweep.sweep.runner import run_grid
 
 R = np.round(np.arange(1, 61) * 0.05, 12)  # 0.05 .. 3
 

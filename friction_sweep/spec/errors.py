@@ -5,6 +5,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from friction_sweep.errors import FsweepError
+
 
 @dataclass(frozen=True)
 class SpecProblem:
@@ -25,7 +27,7 @@ class SpecProblem:
         return f"{where}: {self.key}: {self.reason}" if self.key else f"{where}: {self.reason}"
 
 
-class SpecError(Exception):
+class SpecError(FsweepError):
     """All problems found in one spec; the attributes repeat those of the first problem."""
 
     def __init__(self, errors: Sequence[SpecProblem]):

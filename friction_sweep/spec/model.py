@@ -8,19 +8,16 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 import numpy as np
 from pydantic import (
     AfterValidator,
-    BaseModel,
-    ConfigDict,
     Discriminator,
     Field,
     PrivateAttr,
     Strict,
     Tag,
-    ValidationError,
     ValidationInfo,
     field_validator,
     model_validator,
 )
-from pydantic_core import InitErrorDetails, PydanticCustomError
+from pydantic_core import PydanticCustomError
 
 from friction_sweep.catalogue import (
     DEFAULT_OUTPUTS,
@@ -34,6 +31,12 @@ from friction_sweep.catalogue import (
 )
 
 from . import grid as g
+from .base import Model as _Model
+from .base import problem as _error
+from .base import raise_all as _raise_all
+from .base import show
+from .quantities import FORCE, FREQUENCY
+from .system import PhysicalMap, System, physical_axis, ratios
 
 
 def _bound_problem(kind: str, bounds: Bounded, value: Any) -> str | None:
@@ -72,40 +75,6 @@ def _zero_or_resolved(beta: float) -> float:
 
 ForceRatio = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0, le=g.FORCE_RATIO_MAX),
                        AfterValidator(_zero_or_resolved)]
-
-
-def show(v: Any) -> str:
-    """A value as the user wrote it in YAML, for error messages."""
-    if v is None:
-        return "null"
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, float):
-        if v != v:
-            return ".nan"
-        if v in (float("inf"), float("-inf")):
-            return ".inf" if v > 0 else "-.inf"
-    text = repr(v)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _error(kind: str, message: str, at: tuple = ()) -> PydanticCustomError:
-    # `at` extends the error's location, so the report can point at the offending item.
-    # The message is final text: pydantic only substitutes `{at}`, which no message contains.
-    return PydanticCustomError(kind, message, {"at": at})
-
-
-def _raise_all(title: str, errors: list[PydanticCustomError]) -> None:
-    """Raise every problem found at once (pydantic merges a ValidationError raised in a validator)."""
-    if errors:
-        raise ValidationError.from_exception_data(
-            title, [InitErrorDetails(type=e, loc=(), input=None) for e in errors]
-        )
-
-
-class _Model(BaseModel):
-    # frozen: the computed grid arrays must stay in step with the fields they come from
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
 
 class _Range(_Model):
@@ -219,13 +188,52 @@ def _axis_values(axis: float | list[float] | _Range) -> np.ndarray:
 
 
 class Grid(_Model):
-    frequency_ratio: FrequencyAxis
-    force_ratio: ForceAxis
+    """The grid: one frequency axis (frequency_ratio, or frequency in a unit of frequency) and at most one
+    force axis (force_ratio, or friction_force in a unit of force; absent: the system's one friction)."""
+
+    frequency_ratio: FrequencyAxis | None = None
+    force_ratio: ForceAxis | None = None
+    #: physical axes, in Hz and N (spec.system.physical_axis); the spec maps them onto (r, beta)
+    frequency: tuple[float, ...] | None = None
+    friction_force: tuple[float, ...] | None = None
     _values: dict[str, np.ndarray] = PrivateAttr(default_factory=dict)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _no_null_axis(cls, data: Any) -> Any:
+        # `frequency_ratio:` left empty, with no other axis of its kind, is a mistake, not an axis left out
+        if isinstance(data, dict):
+            _raise_all("grid", [_error("grid_axis", "must be a number, a list of numbers, or a mapping with start, "
+                                       "stop and one of num or step (got null)", (name,))
+                                for name, other in (("frequency_ratio", "frequency"), ("force_ratio", "friction_force"))
+                                if name in data and data[name] is None and data.get(other) is None])
+        return data
+
+    @field_validator("frequency", mode="before")
+    @classmethod
+    def _frequency_axis(cls, v: Any) -> Any:
+        return v if v is None else physical_axis(v, FREQUENCY)
+
+    @field_validator("friction_force", mode="before")
+    @classmethod
+    def _friction_axis(cls, v: Any) -> Any:
+        return v if v is None else physical_axis(v, FORCE)
 
     @model_validator(mode="after")
     def _build(self):
-        nf, nb = _axis_size(self.frequency_ratio), _axis_size(self.force_ratio)
+        problems = []
+        if (self.frequency_ratio is None) == (self.frequency is None):
+            both = self.frequency is not None
+            problems.append(_error("frequency_axis", "give one frequency axis: frequency_ratio, or frequency "
+                                   f"with the system's natural frequency (got {'both' if both else 'neither'})",
+                                   ("frequency" if both else "frequency_ratio",)))
+        if self.force_ratio is not None and self.friction_force is not None:
+            problems.append(_error("force_axis", "give one force axis: force_ratio or friction_force (got both)",
+                                   ("friction_force",)))
+        _raise_all("grid", problems)
+        nf = _axis_size(self.frequency_ratio) if self.frequency is None else len(self.frequency)
+        nb = (_axis_size(self.force_ratio) if self.force_ratio is not None else
+              len(self.friction_force) if self.friction_force is not None else 1)
         if nf * nb > g.MAX_POINTS:
             raise _error(
                 "too_many_points",
@@ -233,6 +241,8 @@ class Grid(_Model):
             )
         for name in ("frequency_ratio", "force_ratio"):
             axis = getattr(self, name)
+            if axis is None:
+                continue
             values = _axis_values(axis)
             if isinstance(axis, _Range) and (
                 g.first_not_increasing(values) is not None or values[-1] > axis.stop
@@ -245,18 +255,12 @@ class Grid(_Model):
             self._values[name] = values
         return self
 
-    def _read_only(self, name: str) -> np.ndarray:
-        values = self._values[name]
-        values.flags.writeable = False  # shared by every reader; also re-set after unpickling
+    def values(self, name: str) -> np.ndarray | None:
+        """A dimensionless axis's values (read-only), or None where the grid gives it physically."""
+        values = self._values.get(name)
+        if values is not None:
+            values.flags.writeable = False  # shared by every reader; also re-set after unpickling
         return values
-
-    @property
-    def frequency_ratio_values(self) -> np.ndarray:
-        return self._read_only("frequency_ratio")
-
-    @property
-    def force_ratio_values(self) -> np.ndarray:
-        return self._read_only("force_ratio")
 
 
 class Scene(_Model):
@@ -335,6 +339,7 @@ class Spec(_Model):
 
     scene: Scene
     grid: Grid
+    system: System | None = None
     method: str = "theory"
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
     time_history: TimeHistory | None = None
@@ -342,6 +347,8 @@ class Spec(_Model):
     settings: dict[str, Any] = Field(default_factory=dict)
     accuracy: Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0, lt=1)] | None = None
     sweep: Sweep | None = None
+    _ratios: dict[str, np.ndarray] = PrivateAttr(default_factory=dict)
+    _physical: PhysicalMap | None = PrivateAttr(default=None)
     _source_path: str = PrivateAttr(default="<string>")
     _text: str = PrivateAttr(default="")
 
@@ -405,8 +412,65 @@ class Spec(_Model):
     def _consistent(self):
         """Every rule that ties fields together, all reported at once."""
         _raise_all("Spec", [*self._excitation_problems(), *self._output_problems(), *self._history_problems(),
-                            *self._sweep_problems(), *self._accuracy_problems(), *self._effect_problems()])
+                            *self._sweep_problems(), *self._accuracy_problems(), *self._effect_problems(),
+                            *self._map_system()])
         return self
+
+    def _map_system(self) -> list[PydanticCustomError]:
+        """Map the grid onto (r, beta) through the system (docs/equations.md §1), storing both."""
+        grid, system, problems = self.grid, self.system, []
+        if system is None:
+            problems += [_error("system_missing", "a physical axis needs the system it is measured on: give "
+                                "`system:` with the natural frequency and the excitation's force", ("grid", name))
+                         for name in ("frequency", "friction_force") if getattr(grid, name) is not None]
+            system = System()
+        f_n, force, friction = system.natural_frequency_si, system.reference_force, system.friction
+        if self.scene.excitation == "force" and system.base_amplitude is not None:
+            problems.append(_error("amplitude_force", "a force excitation's amplitude is a force: give "
+                                   "excitation_force (F0)", ("system", "base_amplitude")))
+        friction_key = ("system", "friction_force" if system.friction_force is not None else "friction_coefficient")
+        r = grid.values("frequency_ratio")
+        frequency = None if r is None or f_n is None else r * f_n
+        if grid.frequency is not None and self.system is not None:
+            if f_n is None:
+                problems.append(_error("needs_natural_frequency", "a frequency axis needs the natural frequency: "
+                                       "give system.natural_frequency (or mass and stiffness)", ("grid", "frequency")))
+            else:
+                frequency = np.asarray(grid.frequency)
+                r = ratios(frequency, f_n)
+                problems += _mapped_problems(r, frequency, "Hz", f"r = f / f_n at f_n = {f_n:.6g} Hz",
+                                             g.frequency_ratio_ok, g.FREQUENCY_RATIO_SPAN, ("grid", "frequency"))
+        beta = grid.values("force_ratio")
+        friction_force = None if beta is None or force is None else beta * force
+        physical = np.asarray(grid.friction_force) if grid.friction_force is not None else \
+            np.array([friction]) if beta is None and friction is not None else None
+        if friction is not None and beta is not None:
+            problems.append(_error("two_frictions", "grid.force_ratio sweeps the friction: give it in one place",
+                                   friction_key))
+        elif friction is not None and grid.friction_force is not None:
+            problems.append(_error("two_frictions", "grid.friction_force sweeps the friction: give it in one "
+                                   "place", friction_key))
+        elif beta is None and physical is None:
+            problems.append(_error("force_axis", "give a force axis (force_ratio, or friction_force with the "
+                                   "system), or the friction in system.friction_force", ("grid",)))
+        elif physical is not None and self.system is not None:
+            where = ("grid", "friction_force") if grid.friction_force is not None else friction_key
+            if force is None:
+                problems.append(_error("needs_force", "a friction force needs the excitation's force to compare "
+                                       "with: give system.excitation_force (or base_amplitude and stiffness)", where))
+            else:
+                friction_force, beta = physical, ratios(physical, force)
+                problems += _mapped_problems(beta, physical, "N", f"beta = F_mu / F_k at F_k = {force:.6g} N",
+                                             g.force_ratio_ok, g.FORCE_RATIO_SPAN, where)
+        if problems:
+            return problems
+        assert r is not None and beta is not None  # every way to leave one out is a problem above
+        self._ratios = {"frequency_ratio": r, "force_ratio": beta}
+        if self.system is not None:
+            self._physical = PhysicalMap(natural_frequency=f_n, reference_force=force,
+                                         length_scale=system.length_scale, stiffness=system.stiffness_si,
+                                         frequency=frequency, friction_force=friction_force)
+        return []
 
     def _excitation_problems(self):
         excitation = self.scene.excitation
@@ -461,11 +525,21 @@ class Spec(_Model):
 
     @property
     def frequency_ratio(self) -> np.ndarray:
-        return self.grid.frequency_ratio_values
+        return self._read_only("frequency_ratio")
 
     @property
     def force_ratio(self) -> np.ndarray:
-        return self.grid.force_ratio_values
+        return self._read_only("force_ratio")
+
+    def _read_only(self, name: str) -> np.ndarray:
+        values = self._ratios[name]
+        values.flags.writeable = False  # shared by every reader; also re-set after unpickling
+        return values
+
+    @property
+    def physical(self) -> PhysicalMap | None:
+        """The physical values beside (r, beta), where the spec has a `system:`."""
+        return self._physical
 
     @property
     def source_path(self) -> str:
@@ -474,3 +548,19 @@ class Spec(_Model):
     @property
     def text(self) -> str:
         return self._text
+
+
+def _mapped_problems(ratio: np.ndarray, physical: np.ndarray, unit: str, rule: str, ok, span: str,
+                     at: tuple) -> list[PydanticCustomError]:
+    """A physical axis whose ratios leave their range or collide at 12 significant digits."""
+    bad = [i for i, x in enumerate(ratio.tolist()) if not ok(x)]
+    if bad:
+        i = bad[0]
+        more = f" ({len(bad) - 1} more)" if len(bad) > 1 else ""
+        return [_error("mapped_range", f"{physical[i]:.6g} {unit} is {rule.split(' =')[0]} = {ratio[i]:.6g} "
+                       f"({rule}); it must be {span}{more}", at)]
+    j = g.first_not_increasing(ratio)
+    if j is not None:
+        return [_error("mapped_collide", f"{physical[j - 1]:.12g} {unit} and {physical[j]:.12g} {unit} give the same "
+                       f"ratio at {g.SIGNIFICANT_DIGITS} significant digits ({ratio[j]:.12g})", at)]
+    return []

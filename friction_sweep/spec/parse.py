@@ -13,6 +13,7 @@ from .errors import SpecError, SpecProblem
 from .grid import FORCE_RATIO_NOTE, FREQUENCY_RATIO_NOTE
 from .load import Document, KeyPath, format_key, parse_yaml, read_text
 from .model import AXIS_TAGS, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
+from .system import System
 
 # Which model a mapping at a given key path is validated by, to list the keys it allows.
 _MODELS: dict[KeyPath, type[BaseModel]] = {
@@ -20,6 +21,7 @@ _MODELS: dict[KeyPath, type[BaseModel]] = {
     ("scene",): Scene,
     ("time_history",): TimeHistory,
     ("grid",): Grid,
+    ("system",): System,
     ("grid", "frequency_ratio"): FrequencyRange,
     ("grid", "force_ratio"): ForceRange,
 }

@@ -58,6 +58,10 @@ class Problem:
         return text
 
 
+#: every coordinate a cube may have: the grid's, and the physical ones of a spec with a system
+_COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS}
+
+
 def audit(ds: xr.Dataset) -> list[Problem]:
     """Every problem found in the cube `ds` (an empty list: none), in the order of its variables."""
     problems: list[Problem] = []
@@ -66,7 +70,7 @@ def audit(ds: xr.Dataset) -> list[Problem]:
             problems.append(Problem(name, "is missing: every result cube has this coordinate"))
     for key, var in ds.variables.items():
         name = str(key)
-        spec = schema.COORDS.get(name) if name in ds.coords else schema.VARIABLES.get(name)
+        spec = _COORDS.get(name) if name in ds.coords else schema.VARIABLES.get(name)
         if spec is None:
             where = "coordinate" if name in ds.coords else "variable"
             problems.append(Problem(name, f"is not a {where} of the result cube schema"))
@@ -87,7 +91,7 @@ def _values(ds, name, var, spec) -> list[Problem]:
     if values.dtype.kind not in "biuf":  # strings, objects: nothing numeric to check
         return [Problem(name, f"holds {values.dtype} values, not numbers")]
     found = []
-    is_coord = name in schema.COORDS and name in ds.coords
+    is_coord = name in _COORDS and name in ds.coords
 
     def report(bad, what):
         n = int(np.count_nonzero(bad))

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Final, NamedTuple
 import numpy as np
 
 from friction_sweep.storage import atomic, provenance
-from friction_sweep.storage.schema import CONVENTIONS, COORDS, VARIABLES
+from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -35,11 +35,13 @@ class CubeParts(NamedTuple):
 
 
 def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
-               history: str) -> CubeParts:
-    """The given arrays, each labelled and given CF attributes from the schema table."""
+               history: str, physical: dict | None = None) -> CubeParts:
+    """The given arrays, each labelled and given CF attributes from the schema table; `physical`: the
+    physical coordinates (storage.physical) beside the grid's."""
     coords: Entries = {}
-    for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio)):
-        var = COORDS[name]
+    for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio),
+                         *(physical or {}).items()):
+        var = {**COORDS, **PHYSICAL_COORDS}[name]
         coords[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     data_vars: Entries = {}
     for name, values in arrays.items():
@@ -70,9 +72,11 @@ def _parts_of(ds: xr.Dataset) -> CubeParts:
 
 def netcdf_bytes(parts: CubeParts) -> bytes:
     """The cube as netCDF4 bytes, as xarray would write it: floats get _FillValue NaN (none on
-    coordinates), integers none (every flag code is meaningful); strings as variable-length. What a
-    cube never holds (non-dimension coordinates, bytes, dimensions of two sizes) is refused, not
-    written differently from xarray; a Dataset's own .encoding is not read."""
+    dimension coordinates), integers none (every flag code is meaningful); strings as variable-length;
+    non-dimension coordinates (a cube's physical ones) named in the `coordinates` attribute of each
+    variable whose dims hold theirs, else in the global one, as xarray's CF encoding does. What a cube
+    never holds (bytes, dimensions of two sizes, a coordinate on several dims) is refused, not written
+    differently from xarray; a Dataset's own .encoding is not read."""
     import h5netcdf
     import h5py
 
@@ -81,10 +85,12 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
         for dim, size in zip(dims, values.shape, strict=True):
             if sizes.setdefault(dim, size) != size:
                 raise ValueError(f"{name}: dimension {dim} has size {size}, elsewhere {sizes[dim]}")
-        if name in parts.coords and dims != (name,):
-            raise ValueError(f"{name}: only dimension coordinates are written (a cube has no other)")
+        if name in parts.coords and len(dims) != 1:
+            raise ValueError(f"{name}: only coordinates on one dimension are written (a cube has no other)")
         if values.dtype.kind == "S" or (values.dtype.kind == "O" and not all(isinstance(x, str) for x in values.flat)):
             raise ValueError(f"{name}: only numbers and str are written")
+    auxiliary = {name: set(dims) for name, (dims, _, _) in parts.coords.items() if dims != (name,)}
+    referenced: set[str] = set()
     buffer = io.BytesIO()
     with h5netcdf.File(buffer, "w") as f:
         f.dimensions = sizes
@@ -94,12 +100,20 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
                 if values.dtype.kind in "UO":
                     dtype, values = h5py.string_dtype(), values.astype(object)
                 float_ = np.issubdtype(values.dtype, np.floating)
-                var = f.create_variable(name, dims, dtype, fillvalue=np.nan if float_ and not is_coord else None)
+                dimension = is_coord and name not in auxiliary
+                var = f.create_variable(name, dims, dtype, fillvalue=np.nan if float_ and not dimension else None)
                 var[...] = values
                 for key, value in attrs.items():
                     var.attrs[key] = value
+                names = sorted(c for c, c_dims in auxiliary.items() if c_dims <= set(dims))
+                if names and not is_coord:
+                    var.attrs["coordinates"] = " ".join(names)
+                    referenced.update(names)
         for key, value in parts.attrs.items():
             f.attrs[key] = value
+        unreferenced = sorted(set(auxiliary) - referenced)
+        if unreferenced:
+            f.attrs["coordinates"] = " ".join(unreferenced)
     return buffer.getvalue()
 
 

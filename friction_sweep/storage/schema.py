@@ -93,6 +93,14 @@ COORDS = {
     ),
 }
 
+#: physical coordinates beside (r, beta), where the spec has a `system:` (spec/system.py); not dimensions
+PHYSICAL_COORDS = {
+    "frequency": Variable(("frequency_ratio",), np.float64, "forcing frequency f = r f_n", "Hz",
+                          valid_range=POSITIVE),
+    "friction_force": Variable(("force_ratio",), np.float64, "friction force F_mu = beta F_k", "N",
+                               valid_range=NONNEGATIVE),
+}
+
 VARIABLES = {
     "transmissibility": Variable(
         GRID_DIMS,
@@ -219,13 +227,27 @@ VARIABLES = {
     ),
 }
 
+#: physical variables: each a dimensionless one times the length scale L (Y, or F0/k for force) or, for time,
+#: forcing periods over the frequency (storage/physical.py says which)
+VARIABLES.update({
+    "displacement_amplitude": Variable(GRID_DIMS, np.float64, "first-harmonic displacement amplitude |X| "
+                                       "(transmissibility times {ref})", "m", valid_range=(0.0, math.inf)),
+    "peak_displacement": Variable(GRID_DIMS, np.float64, "peak displacement max|x| (peak transmissibility times "
+                                  "{ref})", "m", valid_range=(0.0, math.inf)),
+    "history_physical_time": Variable(HISTORY_DIMS, np.float64, "time from a steady-state section", "s",
+                                      valid_range=NONNEGATIVE),
+    "history_physical_displacement": Variable(HISTORY_DIMS, np.float64, "response displacement x", "m",
+                                              valid_range=(-math.inf, math.inf)),
+})
+
 #: With static above kinetic friction a point can have two steady states; the simulation methods then
 #: solve it from a second start as well (README, "Two steady states") and store that state's per-point
 #: variables beside those from rest, each name with this suffix.
 MOVING_SUFFIX = "_moving"
 #: per-point variables that describe one steady state (and so have a "_moving" twin)
 STATE_VARIABLES = ("transmissibility", "peak_transmissibility", "phase", "peak_phase", "regime", "stops_per_period",
-                   "stuck_fraction", "periods", "steady_state", "orbit_period")
+                   "stuck_fraction", "periods", "steady_state", "orbit_period", "displacement_amplitude",
+                   "peak_displacement")
 for _name in STATE_VARIABLES:
     _v = VARIABLES[_name]
     VARIABLES[_name + MOVING_SUFFIX] = replace(

@@ -57,8 +57,12 @@ def check_dask(scheduler: str | None) -> None:
     import importlib.util
     import socket
 
-    if importlib.util.find_spec("distributed") is None:
-        raise DaskUnavailable("--executor dask needs dask.distributed: pip install 'dask[distributed]'")
+    try:
+        missing = importlib.util.find_spec("distributed") is None
+    except (ImportError, ValueError):  # blocked in sys.modules, or a broken install
+        missing = True
+    if missing:
+        raise DaskUnavailable("--executor dask needs dask.distributed: pip install 'friction_sweep[dask]'")
     if scheduler is None:
         return
     from urllib.parse import urlsplit

@@ -14,10 +14,10 @@ from collections.abc import Callable
 import numpy as np
 
 from friction_sweep import methods
+from friction_sweep.batch.executors import DEFAULT_EXECUTOR, execute
+from friction_sweep.batch.layout import TILE_FORCES, TILE_FREQUENCIES, layout, tiles
 from friction_sweep.catalogue import GRID_OUTPUTS
 from friction_sweep.storage.schema import VARIABLES
-from friction_sweep.sweep.executors import DEFAULT_EXECUTOR, execute
-from friction_sweep.sweep.layout import TILE_FORCES, TILE_FREQUENCIES, layout, tiles
 
 log = logging.getLogger("friction_sweep")
 

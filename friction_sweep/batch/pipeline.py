@@ -1,7 +1,8 @@
 """From a validated spec to a labelled xarray Dataset: the run's settings (what `accuracy:` chooses),
 the grid's tiles, the time histories, and the provenance that a cube records.
 
-`run_spec` is the Python API; `fsweep run` calls the same pieces around its checkpoint and lock.
+`fsweep run` calls these pieces around its checkpoint and lock; the Python API (friction_sweep.api) calls
+them in a row.
 """
 
 from __future__ import annotations
@@ -14,8 +15,8 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep import catalogue
+from friction_sweep.batch.executors import DEFAULT_EXECUTOR
 from friction_sweep.spec import Spec
-from friction_sweep.sweep.executors import DEFAULT_EXECUTOR
 
 
 def run_settings(spec: Spec, table: dict | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -37,10 +38,10 @@ def compute(spec: Spec, settings: dict[str, Any], *, jobs: int = 1, executor: st
             scheduler: str | None = None, done: dict | None = None,
             on_done: Callable[[int, dict], None] | None = None,
             on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
-    """Every variable the spec asks for: the grid's (sweep.runner.run_grid, whose done/on_done/on_tile
+    """Every variable the spec asks for: the grid's (batch.runner.run_grid, whose done/on_done/on_tile
     serve a checkpoint and a progress bar) and the time histories of its chosen points."""
     from friction_sweep import methods
-    from friction_sweep.sweep.runner import run_grid
+    from friction_sweep.batch.runner import run_grid
 
     arrays = run_grid(spec.method, spec.scene.excitation, spec.frequency_ratio, spec.force_ratio, spec.outputs,
                       effects=spec.scene.effects, settings=settings,
@@ -71,8 +72,13 @@ def cube(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], co
     """The parts of the labelled cube of a run's arrays (storage.cube.CubeParts), with its provenance
     (`command` opens its history)."""
     from friction_sweep.storage import cube as cubes
-    from friction_sweep.storage import provenance
+    from friction_sweep.storage import physical, provenance
 
+    coords, attrs = None, dict(extra_attrs or {})
+    if spec.physical is not None:
+        coords = physical.coordinates(spec.physical)
+        arrays = {**arrays, **physical.variables(spec.physical, arrays)}
+        attrs[physical.ATTRIBUTE] = physical.attribute(spec.physical)
     return cubes.cube_parts(
         arrays,
         frequency_ratio=spec.frequency_ratio,
@@ -83,7 +89,8 @@ def cube(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], co
         attrs={**provenance.attributes(spec_text=spec.text, spec_path=spec.source_path,
                                        excitation=spec.scene.excitation, method=spec.method,
                                        settings=recorded_settings(spec, settings)),
-               **(extra_attrs or {})},
+               **attrs},
+        physical=coords,
     )
 
 
@@ -93,12 +100,3 @@ def dataset(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any],
     from friction_sweep.storage.cube import as_dataset
 
     return as_dataset(cube(spec, arrays, settings, command, extra_attrs))
-
-
-def run_spec(spec: Spec, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR, scheduler: str | None = None,
-             on_tile: Callable[[int], None] | None = None) -> xr.Dataset:
-    """Run a validated spec (friction_sweep.spec.load_spec) and return its cube, as `fsweep run` writes
-    it, without writing anything."""
-    settings, extra = run_settings(spec)
-    arrays = compute(spec, settings, jobs=jobs, executor=executor, scheduler=scheduler, on_tile=on_tile)
-    return dataset(spec, arrays, settings, f"run_spec({spec.source_path!r})", extra)

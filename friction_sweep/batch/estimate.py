@@ -1,6 +1,6 @@
 """What a run will cost before it starts: wall time and memory, from a measured cost model.
 
-Seconds on one core, summed over the run's tiles (fixed blocks of frequency ratios, sweep.layout):
+Seconds on one core, summed over the run's tiles (fixed blocks of frequency ratios, batch.layout):
 
     every method    0.3 ms x max(1, 0.07/r) per frequency ratio (the theory's continuity limit S(r),
                     which the simulations write beside their results)
@@ -29,8 +29,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from friction_sweep.batch.layout import layout
 from friction_sweep.catalogue import METHODS, effect_value
-from friction_sweep.sweep.layout import layout
 
 #: a grid is "huge" (run only with --yes) past either: the refusal says how much
 HUGE_SECONDS = 1800.0

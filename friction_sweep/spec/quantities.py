@@ -1,0 +1,116 @@
+"""Physical quantities as a spec writes them ("40 kN/m", "314 rad/s", "0.5 g"), read with pint into SI floats.
+
+This is the one place where units are stripped: the rest of the tool computes in (r, beta) and attaches
+SI units (Hz, N, m, J, s) to what it writes. pint is imported on first use only, so a spec without a
+`system:` block costs nothing.
+
+Two traps a plain `to()` falls into, handled here:
+- pint treats the radian as dimensionless, so `(314 rad/s).to("Hz")` is 314 Hz. A frequency whose units
+  hold an angle (rad/s, deg/s, rpm, rev/min, cycle/s) is an angular frequency: f = omega / (2 pi). One
+  without (Hz, 1/s, 1/min) counts cycles.
+- "g" is the gram: an acceleration written in g (`0.5 g`) means standard gravity, 9.80665 m/s^2.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from functools import cache
+from typing import Any
+
+
+@dataclass(frozen=True)
+class Kind:
+    """A physical quantity a spec may give: its name in messages, its SI unit and an example."""
+
+    #: with its article, for messages
+    name: str
+    #: the SI unit values are returned in, as pint reads it
+    si: str
+    example: str
+
+
+FREQUENCY = Kind("a frequency", "Hz", "50 Hz or 314 rad/s")
+FORCE = Kind("a force", "N", "12 N")
+STIFFNESS = Kind("a stiffness", "N/m", "40 kN/m")
+MASS = Kind("a mass", "kg", "2 kg")
+LENGTH = Kind("a length", "m", "1 mm")
+ACCELERATION = Kind("an acceleration", "m/s**2", "0.5 g or 4.9 m/s**2")
+RATIO = Kind("a dimensionless number", "dimensionless", "0.3")
+KINDS = (FREQUENCY, FORCE, STIFFNESS, MASS, LENGTH, ACCELERATION, RATIO)
+
+
+#: a quantity is a number and a unit: longer text is not one
+MAX_TEXT = 64
+#: pint evaluates exponents as Python numbers: `9**9**9` would run for hours. An exponent is a short
+#: number not itself raised to a power.
+_BAD_EXPONENT = re.compile(r"(\*\*|\^)\s*[-+]?(\d{3,}|\d*\.?\d+\s*(\*\*|\^))")
+
+
+class QuantityError(ValueError):
+    """A quantity that cannot be read as the kind asked for; the message is the reason, for a spec problem."""
+
+
+@cache
+def registry() -> Any:
+    import pint
+
+    return pint.UnitRegistry()
+
+
+def _dimensionality(kind: Kind) -> Any:
+    return registry().Quantity(1, kind.si).dimensionality
+
+
+def _describe(dimensionality: Any) -> str:
+    for kind in KINDS:
+        if dimensionality == _dimensionality(kind):
+            return kind.name
+    return f"of dimension {dimensionality}"
+
+
+def to_si(value: Any, kind: Kind) -> float:
+    """`value` (a string such as "40 kN/m"; a bare number only for a dimensionless kind) as a float in the
+    kind's SI unit. QuantityError says why it cannot be; zero and negative values are the caller's to judge."""
+    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+        raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {value!r})")
+    if not isinstance(value, str):
+        if kind is RATIO:
+            return float(value)
+        raise QuantityError(f"must be {kind.name} with its unit, such as '{kind.example}' (got {value!r}: "
+                            "a number without a unit)")
+    if len(value) > MAX_TEXT or _BAD_EXPONENT.search(value):
+        raise QuantityError(f"must be {kind.name} such as '{kind.example}': a number and a unit, with exponents "
+                            f"of at most two digits, in at most {MAX_TEXT} characters (got {value[:MAX_TEXT]!r}...)")
+    ureg = registry()
+    try:
+        quantity = ureg.Quantity(value.strip())
+    except Exception as err:  # pint's parser raises what its tokens lead to (AssertionError, KeyError, ...)
+        raise QuantityError(f"cannot read {value!r} as {kind.name} such as '{kind.example}': "
+                            f"{' '.join(str(err).split()) or type(err).__name__}") from None
+    if not isinstance(quantity, ureg.Quantity):  # a bare number in a string
+        quantity = ureg.Quantity(quantity)
+    if kind is ACCELERATION and quantity.dimensionality == _dimensionality(MASS) \
+            and dict(quantity.unit_items()) == {"gram": 1}:
+        quantity = quantity.magnitude * ureg.standard_gravity
+    if kind is RATIO:
+        if not quantity.dimensionless:
+            raise QuantityError(f"must be {kind.name} (got {value!r}: {_describe(quantity.dimensionality)})")
+        return _finite(float(quantity.to("dimensionless").magnitude), value, kind)
+    if quantity.dimensionality != _dimensionality(kind):
+        got = "a number without a unit" if quantity.dimensionless else _describe(quantity.dimensionality)
+        raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {value!r}: {got})")
+    if kind is FREQUENCY:
+        root = quantity.to_root_units()
+        angular = dict(root.unit_items()).get("radian", 0)
+        if angular:  # rad/s, rpm, cycle/s: an angle per time
+            return _finite(float(root.to("radian / second").magnitude) / (2.0 * math.pi), value, kind)
+        return _finite(float(quantity.to("Hz").magnitude), value, kind)
+    return _finite(float(quantity.to(kind.si).magnitude), value, kind)
+
+
+def _finite(x: float, value: str, kind: Kind) -> float:
+    if not math.isfinite(x):
+        raise QuantityError(f"must be finite (got {value!r})")
+    return x

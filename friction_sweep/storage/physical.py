@@ -1,0 +1,75 @@
+"""The physical side of a cube whose spec has a `system:` (spec/system.py): coordinates in Hz and N beside
+(r, beta), and each dimensionless length or time that the run wrote, again in m and s.
+
+Lengths are ratios times the length scale L (Y; F0/k for force), time in forcing periods over the
+frequency f = r f_n. Variables need what they are scaled by: without a length scale (a system given by its
+natural frequency and forces alone) no length is written in metres.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+
+from friction_sweep.spec.system import PhysicalMap
+from friction_sweep.storage.schema import MOVING_SUFFIX
+
+#: physical variable -> the dimensionless variable it scales (by the length scale L)
+LENGTHS = {
+    "displacement_amplitude": "transmissibility",
+    "peak_displacement": "peak_transmissibility",
+    "history_physical_displacement": "history_displacement",
+}
+#: the cube attribute that records the map, as JSON (`fsweep info` prints it)
+ATTRIBUTE = "physical_system"
+
+
+def coordinates(physical: PhysicalMap) -> dict[str, np.ndarray]:
+    """The physical coordinates that the map knows: frequency (Hz), friction_force (N)."""
+    coords = {"frequency": physical.frequency, "friction_force": physical.friction_force}
+    return {name: np.asarray(values, dtype=np.float64) for name, values in coords.items() if values is not None}
+
+
+def variables(physical: PhysicalMap, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The physical variables of a run's arrays: lengths in m, history time in s."""
+    out: dict[str, np.ndarray] = {}
+    length = physical.length_scale
+    if length is not None:
+        for name, source in LENGTHS.items():
+            # a grid variable's twin from the moving start (schema.STATE_VARIABLES) scales alike
+            suffixes = ("",) if name.startswith("history_") else ("", MOVING_SUFFIX)
+            for suffix in suffixes:
+                if source + suffix in arrays:
+                    out[name + suffix] = np.asarray(arrays[source + suffix], dtype=np.float64) * length
+    if physical.natural_frequency is not None and "history_time" in arrays:
+        frequency = np.asarray(arrays["history_frequency_ratio"], dtype=np.float64) * physical.natural_frequency
+        out["history_physical_time"] = np.asarray(arrays["history_time"], dtype=np.float64) / frequency[:, None]
+    return out
+
+
+def from_attribute(text: str) -> PhysicalMap:
+    """The map a cube recorded (its coordinates left out); ValueError where the text is not one."""
+    record = json.loads(text)
+    if not isinstance(record, dict):
+        raise ValueError(f"{ATTRIBUTE} is not a JSON object")
+
+    def value(key: str) -> float | None:
+        x = record.get(key)
+        return float(x) if isinstance(x, (int, float)) and not isinstance(x, bool) else None
+
+    return PhysicalMap(natural_frequency=value("natural_frequency_Hz"), reference_force=value("excitation_force_N"),
+                       length_scale=value("length_scale_m"), stiffness=value("stiffness_N_per_m"),
+                       frequency=None, friction_force=None)
+
+
+def attribute(physical: PhysicalMap) -> str:
+    """The map as the JSON a cube records (SI values; null where the spec leaves one open)."""
+    record: dict[str, Any] = {
+        "natural_frequency_Hz": physical.natural_frequency,
+        "excitation_force_N": physical.reference_force,
+        "length_scale_m": physical.length_scale,
+        "stiffness_N_per_m": physical.stiffness,
+    }
+    return json.dumps(record)
