@@ -257,3 +257,15 @@ def test_cli_writes_them_and_lists_them(runner, tmp_path):
     spec.write_text(text.replace("method: theory", "method: paper"))
     res = runner.invoke(main, ["validate", str(spec)])
     assert res.exit_code == 2 and "cannot write output 'friction_energy'" in res.output
+
+
+def test_swept_run_writes_them_alike():
+    """A stepped-sine sweep (event) writes the same values where the steady state is unique."""
+    from friction_sweep.methods import event
+
+    r, beta = np.array([0.5, 1.5, 0.8]), np.array([0.3, 0.5])
+    swept = event.compute_sweep_tile("base", r, beta, DESIGN, direction="down")
+    plain = event.compute_tile("base", r, beta, DESIGN)
+    for name in ("friction_energy", "transmitted_force"):
+        np.testing.assert_allclose(swept[name], plain[name], rtol=1e-9)
+        assert np.all(plain[name] > 0.0)
