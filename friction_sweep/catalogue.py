@@ -17,9 +17,11 @@ from typing import Literal
 EXCITATIONS = ("force", "base", "joined")
 
 #: output groups a spec can ask for; the per-point variables each writes are the methods' business
-GRID_OUTPUTS = ("transmissibility", "phase", "regime")  # per grid point
+DEFAULT_OUTPUTS = ("transmissibility", "phase", "regime")  # what a spec that names none gets
+#: design quantities (docs/equations.md §6): friction's energy per period, the force on the supports
+DESIGN_OUTPUTS = ("friction_energy", "transmitted_force")
+GRID_OUTPUTS = (*DEFAULT_OUTPUTS, *DESIGN_OUTPUTS)  # per grid point
 OUTPUTS = (*GRID_OUTPUTS, "time_history")  # time histories: of chosen points, on their own dims
-DEFAULT_OUTPUTS = GRID_OUTPUTS
 
 
 def number_text(x: float) -> str:
@@ -152,7 +154,7 @@ def _without(settings: dict[str, Setting], *names: str) -> dict[str, Setting]:
 _METHODS = (
     Method(
         "theory", "Den Hartog's closed form: exact where the motion is continuous, a forecast of the regime "
-        "elsewhere", settings={},
+        "elsewhere", settings={}, outputs=GRID_OUTPUTS,
         algorithm={
             "first_harmonic": "exact x0 cos(r t) term plus Gauss-Legendre projection of the friction part, "
             "40 + ceil((1 + r) pi / r) nodes over a half period",
@@ -167,7 +169,8 @@ _METHODS = (
     ),
     Method(
         "rk4", "fixed-step classical Runge-Kutta with a real stick mode: the baseline that shows what the closed "
-        "forms buy", effects=_SIMULATED, accuracy_knobs=("steady_tol", "steps_per_period"), calibrated_as="rk4",
+        "forms buy", effects=_SIMULATED, outputs=GRID_OUTPUTS, accuracy_knobs=("steady_tol", "steps_per_period"),
+        calibrated_as="rk4",
         sweep=True,
         settings={**_without(_STEADY, "stop_tol"), "starts": _STARTS,
                   "steps_per_period": _int(256, 256, 100_000, "fixed RK4 steps per forcing period: fewer give "

@@ -23,7 +23,7 @@ from friction_sweep.kernels.settings import KERNEL_RK4
 from friction_sweep.methods import event, paper, rk4, theory
 from friction_sweep.theory import scenes
 
-OUTPUTS = catalogue.GRID_OUTPUTS
+OUTPUTS = catalogue.DEFAULT_OUTPUTS
 EXCITATIONS = ("base", "joined")  # the two walls: fixed (base) and moving with the base (joined)
 REGIONS = {
     "continuous": {"base": [(1.5, 0.3), (2.5, 0.4), (0.8, 0.2)], "joined": [(2.0, 0.8), (1.5, 0.4), (3.0, 1.0)]},

@@ -6,12 +6,13 @@ however many periods are marched. At every stop the next mode is decided from th
 (stick if |A cos(r t) - q| <= bs, else slip towards it), never by re-arming a root finder.
 
 Measurement goes into the accumulator record of kernels/measure.py. On slip pieces the first-harmonic
-integrals are closed form (or Gauss-Legendre near resonance and with damping), sticks are measured
-exactly (measure.measure_stick, called from stick.stick_phase). For c = 0 the extremes of the
-response x = q + c cos(r t) sit at events (q is monotone between velocity zeros); for c != 0 (joined:
-x = z + cos r t) each slip piece is sampled and its best samples refined by Newton on x' = 0. Along
-the way the period map's monodromy matrix (slots jac11..jac22, for shooting) is built from the flow of
-slip pieces and the saltations at reversals, into sticks and at releases.
+integrals are closed form (or Gauss-Legendre near resonance and with damping), the sliding distance is
+exact (|q1 - q0| of each piece), sticks are measured exactly (measure.measure_stick, called from
+stick.stick_phase). For c = 0 the extremes of the response x = q + c cos(r t) sit at events (q is
+monotone between velocity zeros); for c != 0 (joined: x = z + cos r t) each slip piece is sampled and
+its best samples refined by Newton on x' = 0. Along the way the period map's monodromy matrix (slots
+jac11..jac22, for shooting) is built from the flow of slip pieces and the saltations at reversals, into
+sticks and at releases.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from friction_sweep.kernels.measure import (
     ACC_IS,
     ACC_JAC,
     ACC_JAC_OK,
+    ACC_SLIDE,
     BUDGET,
     OK,
     note_stop,
@@ -207,7 +209,9 @@ def _slip_extremes(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa):
 
 @jit
 def _measure_slip(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa):
-    """Measure a slip piece from (q0, v0) at t0 to q1 at t0 + s_end; ca, sa = cos/sin(r t0)."""
+    """Measure a slip piece from (q0, v0) at t0 to q1 at t0 + s_end; ca, sa = cos/sin(r t0). q is monotone
+    on a piece (it ends at the first velocity zero), so |q1 - q0| is the distance it slides, exactly."""
+    acc[ACC_SLIDE] += abs(q1 - q0)
     if s_end > 0.0:
         _slip_harmonic(acc, t0, q0, v0, sig, s_end, A, r, bk, zeta, ca, sa)
     _slip_extremes(acc, t0, q0, v0, sig, s_end, q1, A, r, bk, zeta, c, ca, sa)

@@ -10,7 +10,11 @@ ACC_FIELDS:
     jac11 .. jac22  the period map's monodromy matrix d(q, v)(T)/d(q, v)(0), row-major
     jac_ok          1 where that matrix is valid (event kernel, slip only)
     qlo, qhi        lowest and highest q at velocity zeros (with the period's ends: the orbit's range)
-The first-harmonic integrals and the extremes are gathered only on measured periods; the rest always.
+    slide           distance q slides over the measured periods: sum of |q(end) - q(start)| over slip
+                    pieces, in which q is monotone (times the kinetic friction: the energy friction
+                    dissipates, docs/equations.md §6 "Energy balance")
+The first-harmonic integrals, the extremes and the sliding distance are gathered only on measured
+periods; the rest always.
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ OK = 0
 BUDGET = SteadyState.EVENT_BUDGET
 
 ACC_FIELDS = ("ic", "is", "xmax", "tmax", "xmin", "stuck", "stops", "events", "qmax",
-              "jac11", "jac12", "jac21", "jac22", "jac_ok", "qlo", "qhi")
+              "jac11", "jac12", "jac21", "jac22", "jac_ok", "qlo", "qhi", "slide")
 ACC = {name: i for i, name in enumerate(ACC_FIELDS)}
 ACC_SIZE = len(ACC_FIELDS)
 ACC_IC = ACC["ic"]
@@ -43,6 +47,7 @@ ACC_JAC = ACC["jac11"]  # the matrix's four slots follow in row-major order
 ACC_JAC_OK = ACC["jac_ok"]
 ACC_QLO = ACC["qlo"]
 ACC_QHI = ACC["qhi"]
+ACC_SLIDE = ACC["slide"]
 
 
 def new_accumulator():

@@ -17,7 +17,8 @@ right-hand side but a mode, as in the event kernel.
 - Stick: q and v frozen; the exit from the static band is the closed form `stick.stick_exit`
   (exact); the slip starts there, inside its grid step.
 - Measurement: the first-harmonic integrals are 3-point Gauss-Legendre on each step's cubic Hermite
-  interpolant of q (q and v at both ends: O(h^4) globally), exact on sticks. Extremes of
+  interpolant of q (q and v at both ends: O(h^4) globally), exact on sticks; the sliding distance is
+  the sum of |q1 - q0| over slip steps (to the order of the steps' ends and stops, O(h^4)). Extremes of
   x = q + c cos(r t) come from step ends and stops (for c = 0 they are velocity zeros, i.e. stops) and,
   for c != 0, from the zero of x' inside a step (cubic Hermite v against the exact forcing phase),
   where q is the quintic Hermite interpolant (q, v, q'' at both ends), so that a short piece next to
@@ -36,6 +37,7 @@ from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
     ACC_IC,
     ACC_IS,
+    ACC_SLIDE,
     ACC_STOPS,
     ACC_STUCK,
     BUDGET,
@@ -225,7 +227,9 @@ def _herm5_q(q0, v0, a0, q1, v1, a1, H, x):
 
 @jit
 def _measure_slip(acc, t0, q0, v0, a0, q1, v1, a1, H, r, c):
-    """Harmonic integrals and extremes of x over one slip step [t0, t0 + H]."""
+    """Harmonic integrals, sliding distance and extremes of x over one slip step [t0, t0 + H] (q is
+    monotone on it: a step ends at the first stop)."""
+    acc[ACC_SLIDE] += abs(q1 - q0)
     if H > 0.0:
         for i in range(3):
             x = GL3_T[i]

@@ -29,6 +29,7 @@ from friction_sweep.kernels.measure import (
     ACC_QLO,
     ACC_QMAX,
     ACC_SIZE,
+    ACC_SLIDE,
     ACC_STOPS,
     ACC_STUCK,
     ACC_TMAX,
@@ -61,6 +62,7 @@ OUTPUT_FIELDS = (
     "regime", "periods", "steady_state", "orbit_period",
     "work",  # stop-search steps, RK4 steps and events spent
     "end_q", "end_v", "end_mode",  # where the march ended (on the orbit, or where it gave up): a seed
+    "friction_energy",  # kinetic friction x sliding distance of q, per forcing period (docs/equations.md §6)
 )
 OUT = {name: i for i, name in enumerate(OUTPUT_FIELDS)}
 OUT_SIZE = len(OUTPUT_FIELDS)
@@ -78,6 +80,7 @@ OUT_WORK = OUT["work"]
 OUT_END_Q = OUT["end_q"]
 OUT_END_V = OUT["end_v"]
 OUT_END_MODE = OUT["end_mode"]
+OUT_FRICTION_ENERGY = OUT["friction_energy"]
 
 #: the phase convention of friction_sweep.theory.phase, compiled
 wrap_degrees = jit_inline(phase.wrap_degrees)
@@ -413,6 +416,9 @@ def _record_measurement(out, acc, orbit, p, tol):
         out[OUT_PEAK_PHASE] = lag_degrees(r * acc[ACC_TMAX])
     out[OUT_STOPS_PER_PERIOD] = 0.0 if all_stuck else acc[ACC_STOPS] / orbit
     out[OUT_STUCK_FRACTION] = 1.0 if all_stuck else stuck_fraction
+    # the energy friction dissipates per forcing period: bk times the distance q slides (a period-k
+    # orbit's over its k periods, divided by k)
+    out[OUT_FRICTION_ENERGY] = 0.0 if all_stuck else p.bk * acc[ACC_SLIDE] / orbit
     out[OUT_ORBIT_PERIOD] = orbit
     if all_stuck:
         out[OUT_REGIME] = Regime.STUCK.value

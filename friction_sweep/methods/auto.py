@@ -65,8 +65,8 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
         sim = ~use_theory
         raw = event.solve_flat(excitation, R[sim], B[sim], None, **settings)
         for name in names:
-            if name in steady.OUT:
-                out[name][sim] = raw[:, steady.OUT[name]]
+            if name in steady.OUT or name == "transmitted_force":
+                out[name][sim] = event.kernel_variable(name, raw, excitation, R[sim])
     for name, dtype in (("regime", np.int8), ("steady_state", np.int8)):
         if name in out:
             out[name] = out[name].astype(dtype)

@@ -34,6 +34,7 @@ from friction_sweep.kernels.settings import (
 from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
 from friction_sweep.theory import den_hartog, scenes
+from friction_sweep.theory.transmitted import transmitted_force
 
 CATALOGUE = catalogue.method("event")
 
@@ -41,6 +42,8 @@ VARIABLES = {
     "transmissibility": ("transmissibility", "peak_transmissibility"),
     "phase": ("phase", "peak_phase"),
     "regime": ("regime", "stops_per_period", "stuck_fraction", "periods", "steady_state", "orbit_period"),
+    "friction_energy": ("friction_energy",),
+    "transmitted_force": ("transmitted_force",),
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
 
@@ -157,10 +160,11 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     R, B = np.meshgrid(r, beta)
     raw = solve_flat(excitation, R.ravel(), B.ravel(), effects, **settings)
     names = variables_for(excitation, outputs)
-    result = _per_point(raw, names, R.shape)
+    result = _per_point(raw, names, excitation, R)
     if starts > 1 and two_starts(effects):
         moving = solve_moving(excitation, R.ravel(), B.ravel(), effects, **settings)
-        result.update({name + MOVING_SUFFIX: values for name, values in _per_point(moving, names, R.shape).items()})
+        twins = _per_point(moving, names, excitation, R)
+        result.update({name + MOVING_SUFFIX: values for name, values in twins.items()})
         if "regime" in outputs:
             result["steady_states"] = count_states(raw, moving).reshape(R.shape)
     result["continuous_limit"] = theory.continuous_limit(excitation, r)
@@ -186,15 +190,26 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
         row = np.empty((r.size, steady.OUT_SIZE))
         steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row)
         raw[j, order] = row
-    result = _per_point(raw.reshape(-1, steady.OUT_SIZE), variables_for(excitation, outputs), (beta.size, r.size))
+    result = _per_point(raw.reshape(-1, steady.OUT_SIZE), variables_for(excitation, outputs), excitation,
+                        np.broadcast_to(r, (beta.size, r.size)))
     result["continuous_limit"] = theory.continuous_limit(excitation, r)
     return result
 
 
-def _per_point(raw, names, shape) -> dict[str, np.ndarray]:
+def kernel_variable(name: str, raw, excitation: str, r) -> np.ndarray:
+    """One variable from raw kernel rows (n, OUT_SIZE) of points at frequency ratios r (n,): a slot of the
+    row, or `transmitted_force`, derived from the first harmonic (theory.transmitted)."""
+    if name == "transmitted_force":
+        return transmitted_force(excitation, r, raw[:, steady.OUT_TRANSMISSIBILITY], raw[:, steady.OUT_PHASE])
+    return raw[:, steady.OUT[name]]
+
+
+def _per_point(raw, names, excitation, R) -> dict[str, np.ndarray]:
+    """The variables `names` from raw kernel rows of the points of the grid R (frequency ratios, the
+    grid's shape), in that shape."""
     result = {}
     for name in names:
-        values = raw[:, steady.OUT[name]].reshape(shape)
+        values = kernel_variable(name, raw, excitation, R.ravel()).reshape(R.shape)
         if name in _INTEGER:
             values = values.astype(_INTEGER[name])
         result[name] = values

@@ -18,8 +18,8 @@ product r*r.
 
 Numbers are written only where the theory backs them: continuous points get every output; stuck
 points get the exact no-motion values (force/base: no motion, transmissibility 0, phases undefined;
-joined: the mass rides with the wall, transmissibility 1, phase 0); stick_slip and unbounded
-points get NaN and their regime.
+joined: the mass rides with the wall, transmissibility 1, phase 0; friction energy 0 and the
+transmitted force of that motion); stick_slip and unbounded points get NaN and their regime.
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ from friction_sweep.codes import Regime
 from friction_sweep.theory import den_hartog as dh
 from friction_sweep.theory import joined, scenes
 from friction_sweep.theory.phase import wrap_lag_degrees
+from friction_sweep.theory.transmitted import transmitted_force
 
 CATALOGUE = catalogue.method("theory")
 
@@ -39,6 +40,8 @@ VARIABLES = {
     "transmissibility": ("transmissibility", "peak_transmissibility"),
     "phase": ("phase", "peak_phase"),
     "regime": ("regime", "stops_per_period"),
+    "friction_energy": ("friction_energy",),
+    "transmitted_force": ("transmitted_force",),
 }
 JOINED_EXTRA = {
     "transmissibility": ("relative_peak_amplitude",),
@@ -100,7 +103,7 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
         out["stops_per_period"] = np.where(
             (code == Regime.CONTINUOUS) | (code == Regime.STUCK), 0.0, np.nan
         )
-    _fill_stuck(excitation, out, code == Regime.STUCK)
+    _fill_stuck(excitation, out, code == Regime.STUCK, R)
     sel = code == Regime.CONTINUOUS
     if np.any(sel):
         _fill_continuous(excitation, out, R[sel], B[sel], sel)
@@ -113,7 +116,8 @@ def _put(out, name, sel, values):
         out[name][sel] = values
 
 
-def _fill_stuck(excitation, out, sel):
+def _fill_stuck(excitation, out, sel, R):
+    _put(out, "friction_energy", sel, 0.0)  # nothing slides
     if excitation == "joined":  # the mass rides with the wall: x = y exactly
         for name, value in (
             ("transmissibility", 1.0),
@@ -123,9 +127,11 @@ def _fill_stuck(excitation, out, sel):
             ("relative_peak_amplitude", 0.0),
         ):
             _put(out, name, sel, value)
+        _put(out, "transmitted_force", sel, transmitted_force(excitation, R[sel], 1.0, 0.0))
     else:  # no motion: amplitude 0, phase undefined (stays NaN)
         _put(out, "transmissibility", sel, 0.0)
         _put(out, "peak_transmissibility", sel, 0.0)
+        _put(out, "transmitted_force", sel, transmitted_force(excitation, R[sel], 0.0, np.nan))
 
 
 def _fill_continuous(excitation, out, r, beta, sel):
@@ -133,12 +139,15 @@ def _fill_continuous(excitation, out, r, beta, sel):
     x0 = dh.amplitude(r, b)
     phi = dh.phase(r, b)
     a1, b1 = dh.first_harmonic(r, b)
+    # friction dissipates beta x the sliding distance, 4 x the peak amplitude of q (q = z for joined: r^2 x0)
+    _put(out, "friction_energy", sel, 4.0 * beta * scenes.forcing_amplitude(excitation, r) * x0)
     if excitation == "joined":
         # x = z + y: first harmonic r^2 (a1, b1) + (cos phi, -sin phi); y lags nothing (theta_y = -phi)
         xa = r * r * a1 + np.cos(phi)
         xb = r * r * b1 - np.sin(phi)
         _put(out, "transmissibility", sel, np.hypot(xa, xb))
         _put(out, "phase", sel, wrap_lag_degrees(np.arctan2(xb, xa) + phi))
+        _put(out, "transmitted_force", sel, transmitted_force(excitation, r, np.hypot(xa, xb), np.nan))
         _put(out, "relative_peak_amplitude", sel, r * r * x0)  # Eq. 34: z0 / Y
         _put(out, "relative_peak_phase", sel, wrap_lag_degrees(phi))  # phi_yz, Eq. 33
         if "peak_transmissibility" in out or "peak_phase" in out:
@@ -150,6 +159,8 @@ def _fill_continuous(excitation, out, r, beta, sel):
     else:
         _put(out, "transmissibility", sel, np.hypot(a1, b1))
         _put(out, "phase", sel, wrap_lag_degrees(np.arctan2(b1, a1) + phi))
+        _put(out, "transmitted_force", sel, transmitted_force(excitation, r, np.hypot(a1, b1),
+                                                              wrap_lag_degrees(np.arctan2(b1, a1) + phi)))
         _put(out, "peak_transmissibility", sel, x0)  # Eq. 11 / 21-22
         _put(out, "peak_phase", sel, wrap_lag_degrees(phi))  # Eq. 10 / 20
 

@@ -62,7 +62,9 @@ class Variable:
     integral: bool = False
 
     def attrs(self, excitation: str) -> dict:
-        attrs = {"long_name": self.long_name.format(ref=_reference(excitation)), "units": self.units}
+        force, energy = _force_energy_references(excitation)
+        attrs = {"long_name": self.long_name.format(ref=_reference(excitation), force_ref=force, energy_ref=energy),
+                 "units": self.units}
         attrs.update(self.extra)
         return attrs
 
@@ -74,6 +76,11 @@ class Variable:
 
 def _reference(excitation: str) -> str:
     return "F0/k" if excitation == "force" else "Y"
+
+
+def _force_energy_references(excitation: str) -> tuple[str, str]:
+    """The units forces and energies are given in: (F0, F0^2/k) for force, (k Y, k Y^2) otherwise."""
+    return ("F0", "F0^2/k") if excitation == "force" else ("k Y", "k Y^2")
 
 
 _PHASE_NOTE = {
@@ -168,6 +175,15 @@ VARIABLES = {
         GRID_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, k subharmonic)", "1",
         valid_range=(1.0, COUNT_MAX), integral=True,
     ),
+    # design quantities (docs/equations.md §6, "Energy balance" and "Transmitted force")
+    "friction_energy": Variable(
+        GRID_DIMS, np.float64, "energy dissipated by friction per forcing period (friction force x sliding "
+        "distance) / ({energy_ref}); 0 when stuck, NaN without a steady state", "1", valid_range=NONNEGATIVE,
+    ),
+    "transmitted_force": Variable(
+        GRID_DIMS, np.float64, "first-harmonic amplitude of the force that spring, friction and dashpot together "
+        "exert on the supports / ({force_ref})", "1", valid_range=NONNEGATIVE,
+    ),
     "method_used": Variable(
         GRID_DIMS,
         np.int8,
@@ -246,8 +262,8 @@ VARIABLES.update({
 MOVING_SUFFIX = "_moving"
 #: per-point variables that describe one steady state (and so have a "_moving" twin)
 STATE_VARIABLES = ("transmissibility", "peak_transmissibility", "phase", "peak_phase", "regime", "stops_per_period",
-                   "stuck_fraction", "periods", "steady_state", "orbit_period", "displacement_amplitude",
-                   "peak_displacement")
+                   "stuck_fraction", "periods", "steady_state", "orbit_period", "friction_energy",
+                   "transmitted_force", "displacement_amplitude", "peak_displacement")
 for _name in STATE_VARIABLES:
     _v = VARIABLES[_name]
     VARIABLES[_name + MOVING_SUFFIX] = replace(
