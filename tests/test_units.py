@@ -326,3 +326,16 @@ def test_a_system_without_a_length_scale_writes_no_metres():
     np.testing.assert_allclose(ds["frequency"].values, [5.0, 20.0], rtol=1e-15)
     np.testing.assert_allclose(ds["friction_force"].values, [0.2], rtol=1e-15)
     assert "displacement_amplitude" not in ds
+
+
+def test_design_quantities_in_joules_and_newtons():
+    """Where the motion is continuous, friction dissipates 4 F_mu X a cycle (X the peak displacement):
+    in joules from the newtons and metres of the rig; the force amplitude is F_k times the ratio."""
+    ds = _cube(RIG.replace("method: theory", "outputs: [transmissibility, phase, regime, friction_energy, "
+                           "transmitted_force]"))
+    assert ds["dissipated_energy"].attrs["units"] == "J" and ds["force_amplitude"].attrs["units"] == "N"
+    continuous = (ds["regime"] == 2).values
+    assert continuous.sum() > 10
+    four_f_x = 4.0 * ds["friction_force"] * ds["peak_displacement"]
+    np.testing.assert_allclose(ds["dissipated_energy"].values[continuous], four_f_x.values[continuous], rtol=1e-12)
+    np.testing.assert_allclose(ds["force_amplitude"].values, ds["transmitted_force"].values * 40.0, rtol=1e-15)

@@ -1,9 +1,9 @@
 """The physical side of a cube whose spec has a `system:` (spec/system.py): coordinates in Hz and N beside
 (r, beta), and each dimensionless length or time that the run wrote, again in m and s.
 
-Lengths are ratios times the length scale L (Y; F0/k for force), time in forcing periods over the
-frequency f = r f_n. Variables need what they are scaled by: without a length scale (a system given by its
-natural frequency and forces alone) no length is written in metres.
+Lengths are ratios times the length scale L (Y; F0/k for force), forces times F_k, energies times F_k L,
+time in forcing periods over the frequency f = r f_n. Variables need what they are scaled by: without a
+length scale (a system given by its natural frequency and forces alone) no length or energy is written in SI.
 """
 
 from __future__ import annotations
@@ -16,11 +16,13 @@ import numpy as np
 from friction_sweep.spec.system import PhysicalMap
 from friction_sweep.storage.schema import MOVING_SUFFIX
 
-#: physical variable -> the dimensionless variable it scales (by the length scale L)
-LENGTHS = {
-    "displacement_amplitude": "transmissibility",
-    "peak_displacement": "peak_transmissibility",
-    "history_physical_displacement": "history_displacement",
+#: physical variable -> (the dimensionless variable it scales, by what: length L, force F_k, energy F_k L)
+SCALED = {
+    "displacement_amplitude": ("transmissibility", "length"),
+    "peak_displacement": ("peak_transmissibility", "length"),
+    "dissipated_energy": ("friction_energy", "energy"),
+    "force_amplitude": ("transmitted_force", "force"),
+    "history_physical_displacement": ("history_displacement", "length"),
 }
 #: the cube attribute that records the map, as JSON (`fsweep info` prints it)
 ATTRIBUTE = "physical_system"
@@ -35,14 +37,17 @@ def coordinates(physical: PhysicalMap) -> dict[str, np.ndarray]:
 def variables(physical: PhysicalMap, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The physical variables of a run's arrays: lengths in m, history time in s."""
     out: dict[str, np.ndarray] = {}
-    length = physical.length_scale
-    if length is not None:
-        for name, source in LENGTHS.items():
-            # a grid variable's twin from the moving start (schema.STATE_VARIABLES) scales alike
-            suffixes = ("",) if name.startswith("history_") else ("", MOVING_SUFFIX)
-            for suffix in suffixes:
-                if source + suffix in arrays:
-                    out[name + suffix] = np.asarray(arrays[source + suffix], dtype=np.float64) * length
+    length, force = physical.length_scale, physical.reference_force
+    scales = {"length": length, "force": force,
+              "energy": force * length if force is not None and length is not None else None}
+    for name, (source, kind) in SCALED.items():
+        scale = scales[kind]
+        if scale is None:
+            continue
+        # a grid variable's twin from the moving start (schema.STATE_VARIABLES) scales alike
+        for suffix in ("",) if name.startswith("history_") else ("", MOVING_SUFFIX):
+            if source + suffix in arrays:
+                out[name + suffix] = np.asarray(arrays[source + suffix], dtype=np.float64) * scale
     if physical.natural_frequency is not None and "history_time" in arrays:
         frequency = np.asarray(arrays["history_frequency_ratio"], dtype=np.float64) * physical.natural_frequency
         out["history_physical_time"] = np.asarray(arrays["history_time"], dtype=np.float64) / frequency[:, None]

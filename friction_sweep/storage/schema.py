@@ -250,6 +250,10 @@ VARIABLES.update({
                                        "(transmissibility times {ref})", "m", valid_range=(0.0, math.inf)),
     "peak_displacement": Variable(GRID_DIMS, np.float64, "peak displacement max|x| (peak transmissibility times "
                                   "{ref})", "m", valid_range=(0.0, math.inf)),
+    "dissipated_energy": Variable(GRID_DIMS, np.float64, "energy dissipated by friction per forcing period "
+                                  "(friction_energy times {energy_ref})", "J", valid_range=NONNEGATIVE),
+    "force_amplitude": Variable(GRID_DIMS, np.float64, "first-harmonic amplitude of the force transmitted to the "
+                                "supports (transmitted_force times {force_ref})", "N", valid_range=NONNEGATIVE),
     "history_physical_time": Variable(HISTORY_DIMS, np.float64, "time from a steady-state section", "s",
                                       valid_range=NONNEGATIVE),
     "history_physical_displacement": Variable(HISTORY_DIMS, np.float64, "response displacement x", "m",
@@ -263,7 +267,8 @@ MOVING_SUFFIX = "_moving"
 #: per-point variables that describe one steady state (and so have a "_moving" twin)
 STATE_VARIABLES = ("transmissibility", "peak_transmissibility", "phase", "peak_phase", "regime", "stops_per_period",
                    "stuck_fraction", "periods", "steady_state", "orbit_period", "friction_energy",
-                   "transmitted_force", "displacement_amplitude", "peak_displacement")
+                   "transmitted_force", "displacement_amplitude", "peak_displacement", "dissipated_energy",
+                   "force_amplitude")
 for _name in STATE_VARIABLES:
     _v = VARIABLES[_name]
     VARIABLES[_name + MOVING_SUFFIX] = replace(
