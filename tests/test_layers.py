@@ -21,7 +21,7 @@ LAYERS = {
     "kernels": 3,
     "storage": 4,
     "methods": 5,
-    "bench": 6, "consistency": 6,
+    "bench": 6, "consistency": 6, "quicklook": 6,
     "sweep": 7,
     "cli": 8, "validation": 8, "__main__": 8,
 }
