@@ -480,8 +480,8 @@ def check(result: Path, as_json: bool):
 @main.command()
 @click.argument("result", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(), help="PNG to write (default: RESULT with suffix .png, beside it).")
-@click.option("--kind", type=click.Choice(KINDS), help="What to draw (default: map for a plane with regimes, "
-              "else curves).")
+@click.option("--kind", type=click.Choice(KINDS), help="What to draw (default: map for a plane with regimes; "
+              "curves otherwise, or with --sel; orbit with --sel history=K).")
 @click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
               help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
                    "history=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those dims.")

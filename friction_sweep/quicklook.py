@@ -121,8 +121,13 @@ def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
 # --- what to draw: the kind, the selection ---------------------------------------------------------------
 
 
-def default_kind(ds: xr.Dataset) -> str:
-    """`map` for a plane (more than one force and frequency ratio) that has regimes, else `curves`."""
+def default_kind(ds: xr.Dataset, sel: Sequence[str] = ()) -> str:
+    """What to draw when no kind is given: with --sel, `orbit` for a history's index, else `curves`
+    (a selection chooses curves or an orbit, never part of a map); without, `map` for a plane (more
+    than one force and frequency ratio) that has regimes, else `curves`."""
+    names = {name for name, _ in parse_selection(sel)}
+    if names:
+        return "orbit" if "history" in names else "curves"
     plane = all(ds.sizes.get(dim, 0) > 1 for dim in GRID)
     return "map" if plane and "regime" in ds else "curves"
 
@@ -190,7 +195,7 @@ def _nearest(values: np.ndarray, target: float) -> int:
 def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = ()) -> Figure:
     """The quick look of `kind` (default: default_kind) with the --sel items `sel`; PlotError where
     the cube cannot be drawn so."""
-    kind = kind or default_kind(ds)
+    kind = kind or default_kind(ds, sel)
     if kind not in KINDS:
         raise PlotError(f"unknown kind {kind!r} (kinds: {', '.join(KINDS)})")
     missing = [n for n in GRID if n not in ds.dims]

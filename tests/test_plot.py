@@ -125,6 +125,9 @@ def test_default_kind_and_output(ds):
     assert quicklook.default_kind(ds["event"]) == "map"
     assert quicklook.default_kind(ds["one_force"]) == "curves"  # one force ratio: a line, not a plane
     assert quicklook.default_kind(ds["no_regime"]) == "curves"  # a plane without regimes has no map
+    # a selection chooses curves, or an orbit by its index
+    assert quicklook.default_kind(ds["event"], ["force_ratio=0.2"]) == "curves"
+    assert quicklook.default_kind(ds["event"], ["history=1"]) == "orbit"
     assert str(quicklook.default_output("results/demo.h5")) == "results/demo.png"
 
 
