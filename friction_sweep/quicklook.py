@@ -523,6 +523,6 @@ def _history_point(ds: xr.Dataset, k: int) -> str:
         from friction_sweep.codes import name_of
 
         parts.append(name_of(Regime, int(ds["history_regime"].values[k])))
-    if "history_orbit_period" in ds and np.isfinite(ds["history_orbit_period"].values[k]):
+    if "history_orbit_period" in ds and ds["history_orbit_period"].values[k] > 0:  # 0: no steady state
         parts.append(f"period {float(ds['history_orbit_period'].values[k]):g}")
     return ", ".join(parts)

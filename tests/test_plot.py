@@ -29,7 +29,7 @@ scene: {excitation: base}
 grid: {frequency_ratio: [0.3, 0.5, 1.5, 2.0], force_ratio: [0.2, 0.6]}
 method: event
 outputs: [transmissibility, phase, regime, time_history]
-time_history: {points: [[0.5, 0.6], [1.5, 0.2]], samples_per_period: 32}
+time_history: {points: [[0.5, 0.6], [1.5, 0.2], [1.0, 0.2]], samples_per_period: 32}
 """
 WIDE = """\
 scene: {excitation: base}
@@ -290,10 +290,10 @@ def test_orbit_draws_the_chosen_history(ds):
         assert text(ax.get_xlabel()) == "time in forcing periods from a steady-state section"
         assert ax.get_ylabel() == "response displacement x / Y"
         r, b = d["history_frequency_ratio"].values[k], d["history_force_ratio"].values[k]
-        assert f"orbit {k} of 2: r = {r:g}, beta = {b:g}" in fig.texts[0].get_text()
+        assert f"orbit {k} of 3: r = {r:g}, beta = {b:g}" in fig.texts[0].get_text()
     # physical coordinates pick by their own units: 18 Hz is r = 1.44, nearest to the history at 1.5
     fig = quicklook.draw(ds["event_physical"], "orbit", ["frequency=18"])
-    assert "orbit 1 of 2: r = 1.5" in fig.texts[0].get_text()
+    assert "orbit 1 of 3: r = 1.5" in fig.texts[0].get_text()
 
 
 # --- refusals (library) --------------------------------------------------------------------------------
@@ -308,7 +308,8 @@ def test_orbit_draws_the_chosen_history(ds):
     ("curves", ["frequency_ratio=1"], "does not apply to --kind curves (it applies to force_ratio)"),
     ("map", ["force_ratio=0.2"], "does not apply to --kind map (it draws the whole cube)"),
     ("orbit", ["history=1.5"], "is not a whole number"),
-    ("orbit", ["history=2"], "the cube holds histories 0..1"),
+    ("orbit", ["history=3"], "the cube holds histories 0..2"),
+    ("orbit", ["history=2"], "history 2 (r = 1, beta = 0.2, unbounded) holds no steady orbit"),
     ("orbit", ["history=0", "force_ratio=0.2"], "picks the orbit by itself"),
     ("orbit", ["force_ratio=0.2", "force_ratio=0.6"], "draws one orbit"),
 ])
