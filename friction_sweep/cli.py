@@ -26,6 +26,7 @@ from friction_sweep.exits import (
     EXIT_TERMINATED,
     fail,
 )
+from friction_sweep.quicklook import KINDS
 from friction_sweep.spec import SpecError, load_spec
 
 
@@ -496,6 +497,47 @@ def check(result: Path, as_json: bool):
         verdict = "FAILED" if n["failed"] else "ok"
         click.echo(f"{result}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
     sys.exit(EXIT_FINDINGS if consistency.failed(findings) else 0)
+
+
+@main.command()
+@click.argument("result", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(), help="PNG to write (default: RESULT with suffix .png, beside it).")
+@click.option("--kind", type=click.Choice(KINDS), help="What to draw (default: map for a plane with regimes; "
+              "curves otherwise, or with --sel; orbit with --sel history=K).")
+@click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
+              help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
+                   "history=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those dims.")
+def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...]):
+    """Draw a quick look at a result cube as PNG: the regime map, transmissibility or phase curves, or
+    a stored orbit."""
+    from friction_sweep.storage.outputs import missing_figures_extra, refuse_special_output
+
+    problem = missing_figures_extra()  # first: a missing extra costs nothing, not even reading the cube
+    if problem:
+        fail(problem)
+    from friction_sweep import quicklook
+
+    out = Path(output) if output is not None else quicklook.default_output(result)
+    reason = refuse_special_output(output if output is not None else out)  # as written: keeps a trailing /
+    if reason is not None:
+        fail(f"output: {reason}")
+    if out.suffix.lower() != ".png":
+        fail(f"output: {out} does not end in .png; fsweep plot writes PNG")
+    try:
+        if out.exists() and os.path.samefile(out, result):
+            fail(f"output: {out} is the RESULT itself; name another file with -o")
+    except OSError:
+        pass
+    ds = _open_result(result)
+    try:
+        fig = quicklook.draw(ds, kind, selections)
+    except quicklook.PlotError as err:
+        fail(f"{result}: {err}")
+    try:
+        quicklook.save(fig, out)
+    except OSError as err:
+        fail(f"could not write {out}: {err.strerror or err}; nothing was written", EXIT_RUNTIME)
+    click.echo(f"wrote {out}")
 
 
 def _open_result(path: Path):

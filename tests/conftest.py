@@ -5,6 +5,7 @@ spec most CLI tests run, and fixtures. Test modules import the constants with `f
 from __future__ import annotations
 
 import contextlib
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -47,9 +48,33 @@ def write_spec(tmp_path: Path, excitation: str = "base", output: str = "out.h5",
     return path
 
 
+def one_error_line(res, code: int) -> str:
+    """The refusal's single stderr line, after checking the exit code and that no traceback came."""
+    assert res.exit_code == code, res.output
+    assert isinstance(res.exception, SystemExit), res.exception  # not an uncaught error
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("fsweep: error: "), res.stderr
+    assert "Traceback" not in res.output
+    return lines[0]
+
+
 @pytest.fixture
 def runner() -> CliRunner:
     return CliRunner()
+
+
+@pytest.fixture
+def no_matplotlib(monkeypatch):
+    """matplotlib unimportable, as where the `figures` extra is not installed (even if another test
+    imported it already)."""
+    import importlib.util
+
+    for name in [m for m in sys.modules if m == "matplotlib" or m.startswith("matplotlib.")]:
+        monkeypatch.setitem(sys.modules, name, None)
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a, **k: None if name.split(".")[0] == "matplotlib" else real(name, *a, **k))
 
 
 @pytest.fixture(scope="session")

@@ -20,7 +20,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 from click.testing import CliRunner
-from conftest import ROOT, write_spec
+from conftest import ROOT, one_error_line, write_spec
 
 from friction_sweep import validation
 from friction_sweep.bench import workprecision as wp
@@ -60,16 +60,6 @@ def fake_bench(quick=False, methods=("event", "rk4", "paper"), log=print) -> xr.
 
 def never(*args, **kwargs):
     raise AssertionError("computed although the command should have refused first")
-
-
-def one_error_line(res, code: int) -> str:
-    """The refusal's single stderr line, after checking the exit code and that no traceback came."""
-    assert res.exit_code == code, res.output
-    assert isinstance(res.exception, SystemExit), res.exception  # not an uncaught error
-    lines = res.stderr.splitlines()
-    assert len(lines) == 1 and lines[0].startswith("fsweep: error: "), res.stderr
-    assert "Traceback" not in res.output
-    return lines[0]
 
 
 def tree(folder: Path) -> dict:
@@ -167,20 +157,6 @@ def test_the_shipped_data_are_the_projects_measurements():
 
 
 # --- validate-data and bench: matplotlib missing -------------------------------------------------------
-
-
-@pytest.fixture
-def no_matplotlib(monkeypatch):
-    """matplotlib unimportable, as where the `figures` extra is not installed (even if another test
-    imported it already)."""
-    import importlib.util
-
-    for name in [m for m in sys.modules if m == "matplotlib" or m.startswith("matplotlib.")]:
-        monkeypatch.setitem(sys.modules, name, None)
-    monkeypatch.setitem(sys.modules, "matplotlib", None)
-    real = importlib.util.find_spec
-    monkeypatch.setattr(importlib.util, "find_spec",
-                        lambda name, *a, **k: None if name.split(".")[0] == "matplotlib" else real(name, *a, **k))
 
 
 def test_validate_data_without_matplotlib_refuses_before_computing(tmp_path, no_kernels, no_matplotlib):

@@ -1,0 +1,528 @@
+"""Quick looks at a result cube (`fsweep plot`): the regime map, transmissibility or phase curves, and a
+stored orbit, each drawn from the cube alone into a matplotlib Figure.
+
+    map      `regime` over (r, beta), coloured by its CF flags, with the theory's boundaries over it:
+             Den Hartog's continuous-motion limit (the cube's `continuous_limit`, else computed for the
+             cube's excitation), the no-motion limit A = beta_s (stuck above) and the resonance r = 1
+             (unbounded below pi/4 without damping)
+    curves   `transmissibility` against r, one curve per force ratio (at most MAX_CURVES unless chosen),
+             and under it a strip per curve: its stick-slip and stuck spans shaded, its unbounded and
+             unsettled points marked
+    phase    the same for `phase`
+    orbit    one stored steady orbit (`history_*`): response and excitation over time, and the phase plane
+
+Axes follow the cube: where it holds a non-dimension coordinate with physical units along a grid
+dimension (`frequency` in Hz on frequency_ratio, `friction_force` in N on force_ratio), the plot is drawn
+against it; an axis label is the coordinate's or variable's long_name (up to a definition after " = " or
+a remark in parentheses) or name, plus its CF units where they are not "1".
+
+matplotlib (the `figures` extra) is imported only inside the drawing functions, so that importing this
+module, and the command line that does, costs nothing: the caller checks for it first
+(storage.outputs.missing_figures_extra). Figures are plain matplotlib Figures on the Agg canvas (no
+pyplot state, no display); `save` writes one as PNG atomically.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import numpy as np
+
+from friction_sweep import ties
+from friction_sweep.codes import Regime
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+KINDS = ("map", "curves", "phase", "orbit")
+#: curves drawn when none are chosen with --sel (evenly spread over the force ratios)
+MAX_CURVES = 8
+DPI = 150
+GRID = ("force_ratio", "frequency_ratio")
+#: the variable each kind draws (orbit: the time history's)
+NEEDS = {"map": ("regime",), "curves": ("transmissibility",), "phase": ("phase",),
+         "orbit": ("history_time", "history_displacement")}
+CURVE_VARIABLE = {"curves": "transmissibility", "phase": "phase"}
+#: face colour of each regime, by its flag meaning (the paper's greys; continuous white)
+REGIME_COLORS = {"stuck": "0.55", "stick_slip": "0.85", "continuous": "white", "unbounded": "tab:red",
+                 "unsettled": "tab:orange"}
+#: markers of the point regimes in the curves' strip
+POINT_MARKERS = {Regime.UNBOUNDED: ("x", "tab:red"), Regime.UNSETTLED: ("o", "tab:orange")}
+
+
+class PlotError(ValueError):
+    """Why the cube cannot be drawn as asked (a one-line reason for the command to report)."""
+
+
+class Axis(NamedTuple):
+    """What one grid dimension is drawn against: the dimension's ratio or a physical coordinate on it."""
+
+    dim: str
+    name: str  # the coordinate drawn along
+    values: np.ndarray
+    ratio: np.ndarray  # the dimension's own values (the ratio), point by point
+    label: str
+
+    def from_ratio(self, ratio) -> np.ndarray:
+        """Ratio values in this axis's units (identity on the ratio itself; a physical coordinate is
+        interpolated linearly between grid points and extrapolated along the end segments)."""
+        ratio = np.asarray(ratio, dtype=float)
+        return ratio if self.name == self.dim else _interp(ratio, self.ratio, self.values)
+
+
+def axis_label(da) -> str:
+    """A variable's or coordinate's axis label: its long_name (else its name), up to a definition after
+    " = " or a remark in parentheses, plus its CF units in brackets unless they are "1"."""
+    text = str(da.attrs.get("long_name") or da.name)
+    text = text.split(" = ")[0].split(" (")[0].strip() or str(da.name)
+    units = str(da.attrs.get("units", "1")).strip()
+    return text if units in ("", "1") else f"{text} [{units}]"
+
+
+def grid_axis(ds: xr.Dataset, dim: str) -> Axis:
+    """The axis of grid dimension `dim`: the first non-dimension coordinate along it that has physical
+    units (not "1") and finite, strictly monotonic values, else the dimension's own coordinate."""
+    ratio = ds[dim].values.astype(float)
+    for name, coord in ds.coords.items():
+        if name == dim or coord.dims != (dim,) or str(coord.attrs.get("units", "1")).strip() in ("", "1"):
+            continue
+        try:
+            values = coord.values.astype(float)
+        except (TypeError, ValueError):
+            continue
+        steps = np.diff(values)
+        if np.isfinite(values).all() and (np.all(steps > 0) or np.all(steps < 0)):
+            return Axis(dim, str(name), values, ratio, axis_label(coord))
+    return Axis(dim, dim, ratio, ratio, axis_label(ds[dim]))
+
+
+def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """Piecewise-linear y(x) through (xp, fp), extended along the end segments (xp monotonic)."""
+    if xp.size == 0:
+        return np.full_like(x, np.nan, dtype=float)
+    if xp.size == 1:
+        return x * (fp[0] / xp[0]) if xp[0] != 0 else np.full_like(x, np.nan, dtype=float)
+    if xp[0] > xp[-1]:
+        xp, fp = xp[::-1], fp[::-1]
+    y = np.interp(x, xp, fp)
+    lo, hi = x < xp[0], x > xp[-1]
+    y[lo] = fp[0] + (x[lo] - xp[0]) * (fp[1] - fp[0]) / (xp[1] - xp[0])
+    y[hi] = fp[-1] + (x[hi] - xp[-1]) * (fp[-1] - fp[-2]) / (xp[-1] - xp[-2])
+    return y
+
+
+# --- what to draw: the kind, the selection ---------------------------------------------------------------
+
+
+def default_kind(ds: xr.Dataset, sel: Sequence[str] = ()) -> str:
+    """What to draw when no kind is given: with --sel, `orbit` for a history's index, else `curves`
+    (a selection chooses curves or an orbit, never part of a map); without, `map` for a plane (more
+    than one force and frequency ratio) that has regimes, else `curves`."""
+    names = {name for name, _ in parse_selection(sel)}
+    if names:
+        return "orbit" if "history" in names else "curves"
+    plane = all(ds.sizes.get(dim, 0) > 1 for dim in GRID)
+    return "map" if plane and "regime" in ds else "curves"
+
+
+def default_output(result: str | os.PathLike[str]) -> Path:
+    """RESULT with the suffix .png, beside it (results/demo.h5 -> results/demo.png)."""
+    return Path(result).with_suffix(".png")
+
+
+def parse_selection(items: Sequence[str]) -> list[tuple[str, str]]:
+    """`NAME=VALUE` items as (name, value text); PlotError for an item without a name and a value."""
+    pairs = []
+    for item in items:
+        name, eq, value = item.partition("=")
+        if not eq or not name.strip() or not value.strip():
+            raise PlotError(f"--sel {item!r}: expected NAME=VALUE (e.g. force_ratio=0.3)")
+        pairs.append((name.strip(), value.strip()))
+    return pairs
+
+
+def selection_names(ds: xr.Dataset, kind: str) -> tuple[str, ...]:
+    """The --sel names that apply to `kind` for this cube (the dims and coordinates that choose what is drawn)."""
+    if kind in CURVE_VARIABLE:
+        dims: tuple[str, ...] = ("force_ratio",)
+    elif kind == "orbit":
+        dims = ("history", "frequency_ratio", "force_ratio")
+    else:
+        return ()
+    names = [d for d in dims if d in ds.dims]
+    names += [str(n) for n, c in ds.coords.items() if len(c.dims) == 1 and c.dims[0] in dims and n not in names]
+    return tuple(names)
+
+
+def _selection(ds: xr.Dataset, kind: str, items: Sequence[str]) -> dict[str, list[float]]:
+    """The --sel values by name, checked against the cube and the kind (PlotError naming what is wrong)."""
+    known = sorted({*map(str, ds.dims), *map(str, ds.coords)})
+    applies = selection_names(ds, kind)
+    chosen: dict[str, list[float]] = {}
+    for name, text in parse_selection(items):
+        if name not in known:
+            raise PlotError(f"--sel {name}={text}: the cube has no dimension or coordinate {name!r} "
+                            f"(it has {', '.join(known)})")
+        if name not in applies:
+            what = f"it applies to {', '.join(applies)}" if applies else "it draws the whole cube"
+            raise PlotError(f"--sel {name}={text} does not apply to --kind {kind} ({what})")
+        try:
+            value = int(text) if name == "history" else float(text)
+        except ValueError:
+            need = "a whole number (a history's index)" if name == "history" else "a number"
+            raise PlotError(f"--sel {name}={text}: {text!r} is not {need}") from None
+        if not math.isfinite(value):
+            raise PlotError(f"--sel {name}={text}: the value must be finite")
+        chosen.setdefault(name, []).append(value)
+    return chosen
+
+
+def _nearest(values: np.ndarray, target: float) -> int:
+    """Index of the value nearest to `target` (the first of a tie), as xarray's sel(method="nearest")."""
+    return int(np.nanargmin(np.abs(values - target)))
+
+
+# --- drawing -------------------------------------------------------------------------------------------
+
+
+def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = ()) -> Figure:
+    """The quick look of `kind` (default: default_kind) with the --sel items `sel`; PlotError where
+    the cube cannot be drawn so."""
+    kind = kind or default_kind(ds, sel)
+    if kind not in KINDS:
+        raise PlotError(f"unknown kind {kind!r} (kinds: {', '.join(KINDS)})")
+    missing = [n for n in GRID if n not in ds.dims]
+    if missing:
+        raise PlotError(f"not a friction_sweep cube: no dimension {', '.join(missing)}")
+    if kind == "orbit" and ("history" not in ds.dims or any(n not in ds for n in NEEDS["orbit"])):
+        raise PlotError("--kind orbit: the cube holds no time history (history_* variables); add "
+                        "time_history to the spec's outputs (time_history: {points: [[r, beta]]})")
+    lacking = [n for n in NEEDS[kind] if n not in ds]
+    if lacking:
+        raise PlotError(f"--kind {kind} needs the variable {', '.join(lacking)}, which the cube lacks "
+                        f"(it has {', '.join(map(str, ds.data_vars))}); add it to the spec's outputs")
+    chosen = _selection(ds, kind, sel)
+    if kind == "map":
+        return draw_map(ds)
+    if kind == "orbit":
+        return draw_orbit(ds, history_index(ds, chosen))
+    return draw_curves(ds, CURVE_VARIABLE[kind], curve_indices(ds, chosen))
+
+
+def save(fig: Figure, path: str | os.PathLike[str]) -> Path:
+    """Write `fig` as PNG to `path` atomically (storage.atomic): the whole picture or nothing."""
+    from friction_sweep.storage import atomic
+
+    return atomic.write(path, lambda fh: fig.savefig(fh, format="png", dpi=DPI))
+
+
+def _figure(nrows: int = 1, ncols: int = 1, size=(7.0, 4.6), **gridspec) -> tuple[Figure, Any]:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size, layout="constrained")
+    FigureCanvasAgg(fig)  # the Agg backend, whatever pyplot's is: no display needed
+    axes = fig.subplots(nrows, ncols, squeeze=False, gridspec_kw=gridspec or None)
+    for ax in axes.flat:
+        ax.grid(True, alpha=0.3)
+    return fig, axes
+
+
+def _title(ds: xr.Dataset, what: str) -> str:
+    return f"{what} ({ds.attrs.get('excitation', '?')} excitation, method {ds.attrs.get('method', '?')})"
+
+
+def _wrapped(label: str, width: int = 42) -> str:
+    """A long axis label on two or more lines (the label's text is unchanged otherwise)."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(label, width)) or label
+
+
+def _effects(ds: xr.Dataset) -> dict[str, float]:
+    """The scene effects the cube records (its method_settings' `effects`; none if unreadable)."""
+    try:
+        effects = json.loads(str(ds.attrs.get("method_settings", "{}"))).get("effects", {})
+        return {str(k): float(v) for k, v in effects.items()}
+    except (TypeError, ValueError, AttributeError):
+        return {}
+
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    """Cell edges halfway between centres (half a step beyond the ends; +-5 % around a single one),
+    never below 0 where the centres are not (ratios, frequencies and forces are not negative)."""
+    c = np.asarray(centres, dtype=float)
+    if c.size == 1:
+        half = 0.05 * abs(c[0]) or 0.5
+        edges = np.array([c[0] - half, c[0] + half])
+    else:
+        mids = 0.5 * (c[1:] + c[:-1])
+        edges = np.concatenate([[c[0] - (mids[0] - c[0])], mids, [c[-1] + (c[-1] - mids[-1])]])
+    if c.min() >= 0.0:
+        edges = np.maximum(edges, 0.0)
+    return edges
+
+
+# --- map -----------------------------------------------------------------------------------------------
+
+
+def draw_map(ds: xr.Dataset) -> Figure:
+    """`regime` over (r, beta) with a legend from its flag_meanings, and the theory's boundaries."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    x, y = grid_axis(ds, "frequency_ratio"), grid_axis(ds, "force_ratio")
+    regime = ds["regime"].transpose(*GRID)
+    values = np.asarray(regime.attrs.get("flag_values", [int(c) for c in Regime])).astype(int).ravel()
+    meanings = str(regime.attrs.get("flag_meanings", " ".join(c.name.lower() for c in Regime))).split()
+    if len(meanings) != len(values):
+        meanings = [f"code {v}" for v in values]
+    codes = regime.values.astype(int)
+    # colour by position in flag_values: any codes the cube declares; none else (left blank)
+    position = np.full(codes.shape, np.nan)
+    for i, v in enumerate(values):
+        position[codes == v] = i
+    colours = [REGIME_COLORS.get(m, f"C{i}") for i, m in enumerate(meanings)]
+    fig, axes = _figure(size=(7.6, 4.8))
+    ax = axes[0, 0]
+    ax.pcolormesh(_edges(x.values), _edges(y.values), np.ma.masked_invalid(position),
+                  cmap=ListedColormap(colours), norm=BoundaryNorm(np.arange(len(values) + 1) - 0.5, len(values)),
+                  shading="flat", rasterized=True, gid="regime")
+    _draw_boundaries(ax, ds, x, y)
+    ax.set_xlim(_edges(x.values)[[0, -1]])
+    ax.set_ylim(_edges(y.values)[[0, -1]])
+    patches = [Patch(facecolor=colours[i], edgecolor="0.5", label=f"{m.replace('_', '-')} ({int((codes == v).sum())})")
+               for i, (v, m) in enumerate(zip(values, meanings, strict=True)) if (codes == v).any()]
+    lines, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=lines + patches, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.95)
+    ax.set(xlabel=x.label, ylabel=y.label, title=_title(ds, "regime"))
+    return fig
+
+
+def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, y: Axis) -> None:
+    """The theory's boundaries in the scene's force-ratio convention, drawn in the axes' units: the
+    continuous-motion limit, the no-motion limit and the resonance."""
+    from friction_sweep.theory import scenes
+
+    excitation = str(ds.attrs.get("excitation", "base"))
+    effects = _effects(ds)
+    damped = effects.get("viscous_damping", 0.0) > 0.0
+    r = x.ratio
+    if "continuous_limit" in ds:
+        limit = ds["continuous_limit"].values.astype(float)
+        source = ""
+    else:  # a cube without it: the same closed form, for the cube's excitation
+        from friction_sweep.methods.theory import continuous_limit
+
+        limit = continuous_limit(excitation, r)
+        source = ", computed"
+    # plain Unicode, not mathtext: parsing the first mathtext costs a quarter of a second
+    symbol = "r²β*(r)" if excitation == "joined" else "β*(r)"
+    ax.plot(x.values, y.from_ratio(limit), "--", color="k", lw=1.4, gid="continuous_limit",
+            label=f"continuous below: {symbol} (Den Hartog{', no damping' if damped else ''}{source})")
+    # no motion from rest where the force's swing A stays inside the static band: beta >= A / (mu_s/mu_k)
+    ratio = effects.get("static_friction_ratio", 1.0)
+    fine = np.linspace(r.min(), r.max(), 400) if r.size > 1 else r
+    stuck = np.asarray(scenes.forcing_amplitude(excitation, fine), dtype=float) * np.ones_like(fine) / ratio
+    where = "β = r²" if excitation == "joined" else "β = 1"
+    if ratio != 1.0:
+        where += rf" / {ratio:g}"
+    if np.nanmin(y.from_ratio(stuck)) <= _edges(y.values)[-1]:  # else above the plot: not in its legend
+        ax.plot(x.from_ratio(fine), y.from_ratio(stuck), "-", color="k", lw=1.4, gid="stuck_limit",
+                label=f"stuck above: {where} (no motion from rest)")
+    # the undamped resonance: unbounded at r = 1 for friction ratios b <= pi/4 (b = beta/A, A(1) = 1)
+    if not damped and r.min() <= 1.0 <= r.max():
+        top = min(ties.RESONANCE_FRICTION_LIMIT, 1.0 / ratio)
+        x1 = float(x.from_ratio(np.array([1.0]))[0])
+        ax.plot([x1, x1], y.from_ratio(np.array([0.0, top])), "-", color="tab:red", lw=2.0, gid="resonance",
+                label="unbounded: r = 1, β ≤ π/4")
+
+
+# --- curves --------------------------------------------------------------------------------------------
+
+
+def curve_indices(ds: xr.Dataset, chosen: dict[str, list[float]]) -> list[int]:
+    """Force-ratio indices to draw: the nearest to each chosen value (force_ratio or a coordinate on
+    it), else at most MAX_CURVES spread evenly from the first to the last."""
+    n = ds.sizes["force_ratio"]
+    picked: set[int] = set()
+    for name, targets in chosen.items():
+        values = ds[name].values.astype(float)
+        picked.update(_nearest(values, t) for t in targets)
+    if picked:
+        return sorted(picked)
+    if n <= MAX_CURVES:
+        return list(range(n))
+    return sorted({int(i) for i in np.rint(np.linspace(0, n - 1, MAX_CURVES))})
+
+
+def regime_runs(codes: np.ndarray) -> list[tuple[int, int, int]]:
+    """Contiguous runs (code, first index, last index + 1) of equal codes along a line."""
+    codes = np.asarray(codes).astype(int)
+    runs = []
+    start = 0
+    for i in range(1, codes.size + 1):
+        if i == codes.size or codes[i] != codes[start]:
+            runs.append((int(codes[start]), start, i))
+            start = i
+    return runs
+
+
+def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int]) -> Figure:
+    """`var` against r, one curve per force-ratio index; under it, where the cube has regimes, a strip
+    with a row per curve (_regime_strip)."""
+    x, f = grid_axis(ds, "frequency_ratio"), grid_axis(ds, "force_ratio")
+    data = ds[var].transpose(*GRID)
+    n = len(indices)
+    if "regime" in ds:
+        fig, axes = _figure(2, 1, size=(7.6, 5.0 + 0.18 * n), height_ratios=[4.0, 0.8 + 0.25 * n], hspace=0.02)
+        ax = axes[0, 0]
+    else:
+        fig, axes = _figure(size=(7.6, 4.8))
+        ax = axes[0, 0]
+    colours = [_viridis(k, n) for k in range(n)]
+    for row, (i, colour) in enumerate(zip(indices, colours, strict=True)):
+        label = f"{_short(f.label)} = {f.values[i]:g}{_units(f.label)}"
+        ax.plot(x.values, data.values[i], "-", color=colour, marker=".", ms=3, label=label, gid=f"curve {row}")
+    shown = "" if n == ds.sizes["force_ratio"] else \
+        f" ({n} of {ds.sizes['force_ratio']} force ratios; choose with --sel force_ratio=...)"
+    ax.set(ylabel=_wrapped(axis_label(data)), title=_title(ds, var) + shown)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
+    ax.set_xlim(*_edges(x.values)[[0, -1]])
+    if "regime" not in ds:
+        ax.set_xlabel(x.label)
+        return fig
+    ax.tick_params(labelbottom=False)
+    strip = axes[1, 0]
+    strip.sharex(ax)
+    regime = ds["regime"].transpose(*GRID).values.astype(int)[list(indices)]
+    _regime_strip(strip, x, regime, colours)
+    strip.set(xlabel=x.label, ylim=(n - 0.5, -0.5), yticks=range(n), yticklabels=[f"{f.values[i]:g}" for i in indices])
+    strip.set_ylabel(_short(f.label), fontsize=8)
+    return fig
+
+
+def _regime_strip(strip: Axes, x: Axis, regime: np.ndarray, colours: Sequence) -> None:
+    """One row per curve (regime[row] along r): stick-slip spans shaded in the curve's colour, stuck
+    spans grey, both running halfway to the neighbouring points; unbounded and unsettled points marked.
+    Each row's artists carry the gid "<regime> <row>"."""
+    from matplotlib.artist import Artist
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    edges = _edges(x.values)
+    for row, (codes, colour) in enumerate(zip(regime, colours, strict=True)):
+        for code, face in ((Regime.STICK_SLIP, colour), (Regime.STUCK, "0.55")):
+            bars = [(edges[a], edges[b] - edges[a]) for c, a, b in regime_runs(codes) if c == code]
+            if bars:
+                strip.broken_barh(bars, (row - 0.4, 0.8), facecolors=face, alpha=0.6, lw=0,
+                                  gid=f"{code.name.lower()} {row}")
+        for code, (marker, mcolour) in POINT_MARKERS.items():
+            at = codes == code
+            if at.any():
+                strip.plot(x.values[at], np.full(int(at.sum()), row), marker, color=mcolour, ms=6, ls="none",
+                           gid=f"{code.name.lower()} {row}")
+    strip.grid(False)
+    drawn = set(np.unique(regime).tolist())
+    keys: list[Artist] = []
+    if Regime.STICK_SLIP in drawn:
+        keys.append(Patch(facecolor=colours[0], alpha=0.6, label="stick-slip (curve's colour)"))
+    if Regime.STUCK in drawn:
+        keys.append(Patch(facecolor="0.55", alpha=0.6, label="stuck"))
+    keys += [Line2D([], [], marker=m, color=c, ls="none", label=code.name.lower())
+             for code, (m, c) in POINT_MARKERS.items() if code in drawn]
+    if keys:
+        strip.legend(handles=keys, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7)
+
+
+def _viridis(k: int, n: int):
+    from matplotlib import colormaps
+
+    return colormaps["viridis"](0.85 * k / max(n - 1, 1))
+
+
+def _short(label: str) -> str:
+    return label.split(" [")[0]
+
+
+def _units(label: str) -> str:
+    return f" {label.split(' [')[1].rstrip(']')}" if " [" in label else ""
+
+
+# --- orbit ---------------------------------------------------------------------------------------------
+
+
+def history_index(ds: xr.Dataset, chosen: dict[str, list[float]]) -> int:
+    """The stored orbit to draw: --sel history=K, else the one nearest the chosen frequency and force
+    ratios (physical coordinates converted to ratios), else the first."""
+    n = ds.sizes["history"]
+    for name, values in chosen.items():
+        if len(values) > 1:
+            raise PlotError(f"--sel {name}: --kind orbit draws one orbit; give {name} once")
+    if "history" in chosen:
+        if len(chosen) > 1:
+            raise PlotError("--sel history=K picks the orbit by itself; leave out the other --sel")
+        k = int(chosen["history"][0])
+        if not 0 <= k < n:
+            raise PlotError(f"--sel history={k}: the cube holds histories 0..{n - 1}")
+        return k
+    if not chosen:
+        return 0
+    distance = np.zeros(n)
+    for dim, stored in (("frequency_ratio", "history_frequency_ratio"), ("force_ratio", "history_force_ratio")):
+        axis = grid_axis(ds, dim)
+        for name, values in chosen.items():
+            if name == dim or ds[name].dims == (dim,):
+                if stored not in ds:
+                    raise PlotError(f"--sel {name}: the cube does not record its histories' {dim} ({stored})")
+                target = values[0] if name == dim else float(
+                    _interp(np.array([values[0]]), ds[name].values.astype(float), axis.ratio)[0])
+                distance += (ds[stored].values.astype(float) - target) ** 2
+    return int(np.nanargmin(distance)) if np.isfinite(distance).any() else 0
+
+
+def draw_orbit(ds: xr.Dataset, k: int) -> Figure:
+    """History `k`: response and excitation against time, and its phase plane (relative displacement
+    against relative velocity) where the cube has them."""
+    t = ds["history_time"].values[k].astype(float)
+    ok = np.isfinite(t)
+    where = _history_point(ds, k)
+    if not ok.any():
+        raise PlotError(f"history {k} ({where}) holds no steady orbit")
+    has_plane = all(n in ds for n in ("history_relative_displacement", "history_relative_velocity"))
+    fig, axes = _figure(1, 2 if has_plane else 1, size=(10.0 if has_plane else 7.0, 4.2))
+    ax = axes[0, 0]
+    for name, style in (("history_displacement", "-"), ("history_excitation", "--")):
+        if name in ds:
+            ax.plot(t[ok], ds[name].values[k][ok], style, label=_short(axis_label(ds[name])), gid=name)
+    ax.set(xlabel=_wrapped(axis_label(ds["history_time"]), 60), ylabel=_wrapped(axis_label(ds["history_displacement"])))
+    ax.legend(fontsize=8)
+    if has_plane:
+        q, v = ds["history_relative_displacement"], ds["history_relative_velocity"]
+        plane = axes[0, 1]
+        closed = np.r_[np.flatnonzero(ok), np.flatnonzero(ok)[:1]]  # the orbit repeats: back to its start
+        plane.plot(q.values[k][closed], v.values[k][closed], "-", color="C2", gid="phase_plane")
+        plane.set(xlabel=_wrapped(axis_label(q)), ylabel=_wrapped(axis_label(v)), title="phase plane")
+    fig.suptitle(_title(ds, f"orbit {k} of {ds.sizes['history']}: {where}"), fontsize=10)
+    return fig
+
+
+def _history_point(ds: xr.Dataset, k: int) -> str:
+    parts = []
+    for name, symbol in (("history_frequency_ratio", "r"), ("history_force_ratio", "beta")):
+        if name in ds:
+            parts.append(f"{symbol} = {float(ds[name].values[k]):g}")
+    if "history_regime" in ds:
+        from friction_sweep.codes import name_of
+
+        parts.append(name_of(Regime, int(ds["history_regime"].values[k])))
+    if "history_orbit_period" in ds and ds["history_orbit_period"].values[k] > 0:  # 0: no steady state
+        parts.append(f"period {float(ds['history_orbit_period'].values[k]):g}")
+    return ", ".join(parts)

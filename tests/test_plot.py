@@ -1,0 +1,410 @@
+"""`fsweep plot`: each kind drawn from small cubes (theory planes, a tiny event cube with time
+histories, and copies given physical coordinates), checked on the matplotlib Figure the drawing
+returns (labels, units, curves, shaded spans against the cube's regimes), and the command's refusals."""
+
+import os
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import xarray as xr
+from conftest import one_error_line, small_spec
+
+from friction_sweep import quicklook
+from friction_sweep.cli import main
+from friction_sweep.codes import Regime
+from friction_sweep.methods import theory
+from friction_sweep.quicklook import KINDS, PlotError, axis_label
+from friction_sweep.storage import cube
+from friction_sweep.storage.outputs import FIGURES_EXTRA
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+#: the physical copies: frequency = r * F_N Hz, friction force = beta * F_K N, amplitude = T * Y_M m
+F_N, F_K, Y_M = 12.5, 40.0, 0.002
+
+EVENT = """\
+scene: {excitation: base}
+grid: {frequency_ratio: [0.3, 0.5, 1.5, 2.0], force_ratio: [0.2, 0.6]}
+method: event
+outputs: [transmissibility, phase, regime, time_history]
+time_history: {points: [[0.5, 0.6], [1.5, 0.2], [1.0, 0.2]], samples_per_period: 32}
+"""
+WIDE = """\
+scene: {excitation: base}
+grid: {frequency_ratio: {start: 0.2, stop: 3.0, num: 15}, force_ratio: {start: 0.05, stop: 1.0, step: 0.05}}
+method: theory
+"""
+ONLY_TRANSMISSIBILITY = WIDE.replace("method: theory\n", "method: theory\noutputs: [transmissibility]\n")
+ONE_FORCE = small_spec("base").replace("[0.0, 0.3, 0.9]", "[0.3]")
+
+
+def physical(ds: xr.Dataset) -> xr.Dataset:
+    """The cube with the physical coordinates and variable another change adds (CF units)."""
+    out = ds.assign_coords(
+        frequency=("frequency_ratio", ds["frequency_ratio"].values * F_N, {"long_name": "frequency", "units": "Hz"}),
+        friction_force=("force_ratio", ds["force_ratio"].values * F_K, {"long_name": "friction force", "units": "N"}))
+    if "transmissibility" in ds:
+        out["displacement_amplitude"] = (ds["transmissibility"] * Y_M).assign_attrs(
+            long_name="displacement amplitude", units="m")
+    return out
+
+
+@pytest.fixture(scope="session")
+def cubes(tmp_path_factory):
+    """name -> path of every cube the tests draw (the event cube: numba's cached kernels, a second)."""
+    from click.testing import CliRunner
+
+    folder = tmp_path_factory.mktemp("plot_cubes")
+    specs = {"base": small_spec("base"), "joined": small_spec("joined"), "event": EVENT, "wide": WIDE,
+             "no_regime": ONLY_TRANSMISSIBILITY, "one_force": ONE_FORCE}
+    paths = {}
+    for name, text in specs.items():
+        spec = folder / f"{name}.yaml"
+        spec.write_text(text)
+        paths[name] = folder / f"{name}.h5"
+        res = CliRunner().invoke(main, ["run", str(spec), "-o", str(paths[name]), "--quiet"])
+        assert res.exit_code == 0, res.output
+    for name in ("base", "event"):  # non-dimension coordinates: written by xarray (the cube writer refuses them)
+        paths[f"{name}_physical"] = folder / f"{name}_physical.h5"
+        physical(cube.open_cube(paths[name])).to_netcdf(paths[f"{name}_physical"], engine="h5netcdf")
+    paths["no_limit"] = folder / "no_limit.h5"
+    cube.write_atomic(cube.open_cube(paths["base"]).drop_vars("continuous_limit"), paths["no_limit"], overwrite=False)
+    return paths
+
+
+@pytest.fixture(scope="session")
+def ds(cubes):
+    return {name: cube.open_cube(path) for name, path in cubes.items()}
+
+
+def by_gid(ax, gid):
+    """The lines and collections of `ax` with this gid."""
+    return [a for a in (*ax.lines, *ax.collections) if a.get_gid() == gid]
+
+
+def line(ax, gid):
+    (found,) = [a for a in ax.lines if a.get_gid() == gid]
+    return found
+
+
+def spans(collection) -> list[tuple[float, float]]:
+    """(left, right) of each bar of a broken_barh collection."""
+    return [(p.vertices[:, 0].min(), p.vertices[:, 0].max()) for p in collection.get_paths()]
+
+
+def runs(mask) -> int:
+    """Number of contiguous True runs."""
+    mask = np.asarray(mask, dtype=int)
+    return int(np.count_nonzero(np.diff(np.r_[0, mask]) == 1))
+
+
+def text(label: str) -> str:
+    return label.replace("\n", " ")
+
+
+# --- labels --------------------------------------------------------------------------------------------
+
+
+def test_axis_label_is_long_name_and_units_unless_dimensionless(ds):
+    base = ds["base"]
+    assert axis_label(base["frequency_ratio"]) == "frequency ratio r"  # "r = omega / omega_n" is a definition
+    assert axis_label(base["force_ratio"]) == "force ratio beta"
+    assert axis_label(base["phase"]) == "first-harmonic phase lag of the response behind the excitation [degree]"
+    assert axis_label(base["transmissibility"]) == "first-harmonic displacement transmissibility |X(r)|/|Y(r)|"
+    phys = ds["base_physical"]
+    assert axis_label(phys["frequency"]) == "frequency [Hz]"
+    assert axis_label(phys["friction_force"]) == "friction force [N]"
+    assert axis_label(phys["displacement_amplitude"]) == "displacement amplitude [m]"
+    assert axis_label(xr.DataArray([1.0], dims="x", name="bare")) == "bare"
+
+
+def test_default_kind_and_output(ds):
+    assert quicklook.default_kind(ds["base"]) == "map"
+    assert quicklook.default_kind(ds["event"]) == "map"
+    assert quicklook.default_kind(ds["one_force"]) == "curves"  # one force ratio: a line, not a plane
+    assert quicklook.default_kind(ds["no_regime"]) == "curves"  # a plane without regimes has no map
+    # a selection chooses curves, or an orbit by its index
+    assert quicklook.default_kind(ds["event"], ["force_ratio=0.2"]) == "curves"
+    assert quicklook.default_kind(ds["event"], ["history=1"]) == "orbit"
+    assert str(quicklook.default_output("results/demo.h5")) == "results/demo.png"
+
+
+# --- map -----------------------------------------------------------------------------------------------
+
+
+def test_map_draws_each_regime_with_its_flag_and_the_theory_boundaries(ds):
+    d = ds["joined"]
+    fig = quicklook.draw(d)  # the default kind on a plane
+    ax = fig.axes[0]
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("frequency ratio r", "force ratio beta")
+    (mesh,) = by_gid(ax, "regime")
+    # flag_values are 0..4, so each cell's colour index is its code
+    np.testing.assert_array_equal(np.asarray(mesh.get_array()).reshape(d["regime"].shape), d["regime"].values)
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    counts = {c: int((d["regime"].values == c).sum()) for c in Regime}
+    assert counts[Regime.STUCK] and counts[Regime.STICK_SLIP] and counts[Regime.UNBOUNDED]
+    for code, n in counts.items():
+        entry = f"{code.name.lower().replace('_', '-')} ({n})"
+        assert (entry in legend) == (n > 0), (entry, legend)
+    r = d["frequency_ratio"].values
+    limit = line(ax, "continuous_limit")
+    np.testing.assert_array_equal(limit.get_xdata(), r)
+    np.testing.assert_array_equal(limit.get_ydata(), d["continuous_limit"].values)
+    assert "computed" not in limit.get_label()
+    stuck = line(ax, "stuck_limit")  # joined: no motion from rest above beta = r^2
+    np.testing.assert_allclose(stuck.get_ydata(), np.asarray(stuck.get_xdata()) ** 2)
+    resonance = line(ax, "resonance")
+    np.testing.assert_allclose(resonance.get_xdata(), [1.0, 1.0])
+    np.testing.assert_allclose(resonance.get_ydata(), [0.0, np.pi / 4])
+    assert ax.get_ylim()[0] == 0.0  # cells never reach below a force ratio of 0
+
+
+def test_map_computes_the_continuous_limit_where_the_cube_lacks_it(ds):
+    d = ds["no_limit"]
+    assert "continuous_limit" not in d
+    ax = quicklook.draw(d, "map").axes[0]
+    limit = line(ax, "continuous_limit")
+    r = d["frequency_ratio"].values
+    np.testing.assert_allclose(limit.get_ydata(), theory.continuous_limit("base", r), rtol=1e-12)
+    assert "computed" in limit.get_label()
+    np.testing.assert_allclose(line(ax, "stuck_limit").get_ydata(), 1.0)  # base: beta = 1
+    # the same values the run wrote
+    np.testing.assert_allclose(limit.get_ydata(), ds["base"]["continuous_limit"].values, rtol=1e-12)
+
+
+def test_map_on_physical_axes(ds):
+    d = ds["base_physical"]
+    ax = quicklook.draw(d, "map").axes[0]
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("frequency [Hz]", "friction force [N]")
+    (mesh,) = by_gid(ax, "regime")
+    corners = mesh.get_coordinates()
+    f, force = d["frequency"].values, d["friction_force"].values
+    assert corners[0, 0, 0] <= f[0] and corners[0, -1, 0] >= f[-1]
+    assert corners[0, 0, 1] == 0.0 and corners[-1, 0, 1] >= force[-1]
+    limit = line(ax, "continuous_limit")
+    np.testing.assert_allclose(limit.get_xdata(), f)
+    np.testing.assert_allclose(limit.get_ydata(), d["continuous_limit"].values * F_K)
+    np.testing.assert_allclose(line(ax, "resonance").get_xdata(), [F_N, F_N])
+    np.testing.assert_allclose(line(ax, "resonance").get_ydata(), [0.0, np.pi / 4 * F_K])
+
+
+# --- curves and phase -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("name", ["base", "joined", "event"])
+@pytest.mark.parametrize("kind", ["curves", "phase"])
+def test_curves_one_per_force_ratio_with_regime_spans_per_curve(ds, name, kind):
+    d = ds[name]
+    var = quicklook.CURVE_VARIABLE[kind]
+    fig = quicklook.draw(d, kind)
+    ax, strip = fig.axes[0], fig.axes[1]
+    r, beta = d["frequency_ratio"].values, d["force_ratio"].values
+    curves = [ln for ln in ax.lines if str(ln.get_gid()).startswith("curve ")]
+    assert len(curves) == beta.size
+    assert text(ax.get_ylabel()) == axis_label(d[var])
+    assert strip.get_xlabel() == "frequency ratio r"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [f"force ratio beta = {b:g}" for b in beta]
+    regime = d["regime"].values
+    for row, ln in enumerate(curves):
+        np.testing.assert_array_equal(ln.get_xdata(), r)
+        np.testing.assert_array_equal(ln.get_ydata(), d[var].values[row])  # NaN where the method has none
+        for code in (Regime.STICK_SLIP, Regime.STUCK):
+            at = regime[row] == code
+            shaded = by_gid(strip, f"{code.name.lower()} {row}")
+            if not at.any():
+                assert not shaded
+                continue
+            (bars,) = shaded
+            assert len(bars.get_paths()) == runs(at)  # one span per run of the regime along r
+            inside = np.zeros(r.size, bool)
+            for lo, hi in spans(bars):
+                inside |= (r > lo) & (r < hi)
+            np.testing.assert_array_equal(inside, at)  # every point of the regime, and only those
+        unbounded = by_gid(strip, f"unbounded {row}")
+        at = regime[row] == Regime.UNBOUNDED
+        assert len(unbounded) == int(at.any())
+        if at.any():
+            np.testing.assert_array_equal(unbounded[0].get_xdata(), r[at])
+    assert (regime == Regime.STICK_SLIP).any()  # each cube has spans to check
+
+
+def test_curves_on_physical_axes(ds):
+    d = ds["base_physical"]
+    fig = quicklook.draw(d, "curves")
+    ax, strip = fig.axes[0], fig.axes[1]
+    assert strip.get_xlabel() == "frequency [Hz]"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [f"friction force = {b * F_K:g} N"
+                                                                   for b in d["force_ratio"].values]
+    for ln in (ln for ln in ax.lines if str(ln.get_gid()).startswith("curve ")):
+        np.testing.assert_allclose(ln.get_xdata(), d["frequency"].values)
+    (bars,) = by_gid(strip, "stick_slip 2")  # beta = 0.9 sticks everywhere: one span over the whole axis
+    ((lo, hi),) = spans(bars)
+    assert lo <= d["frequency"].values[0] and hi >= d["frequency"].values[-1]
+
+
+def test_curves_are_limited_to_a_readable_number_or_chosen_by_nearest_value(ds):
+    d = ds["wide"]
+    beta = d["force_ratio"].values
+    assert beta.size == 20
+
+    def drawn(fig):
+        return [ln.get_label() for ln in fig.axes[0].lines if str(ln.get_gid()).startswith("curve ")]
+
+    fig = quicklook.draw(d, "curves")
+    labels = drawn(fig)
+    assert len(labels) == quicklook.MAX_CURVES
+    assert labels[0] == "force ratio beta = 0.05" and labels[-1] == "force ratio beta = 1"
+    assert f"{quicklook.MAX_CURVES} of 20 force ratios" in fig.axes[0].get_title()
+    chosen = quicklook.draw(d, "curves", ["force_ratio=0.31", "force_ratio=0.87", "force_ratio=0.3"])
+    assert drawn(chosen) == ["force ratio beta = 0.3", "force ratio beta = 0.85"]  # nearest, each once
+    assert "of 20" in chosen.axes[0].get_title()
+    phys = quicklook.draw(ds["base_physical"], "phase", ["friction_force=13"])  # 0.3 * 40 = 12 N is nearest
+    assert drawn(phys) == ["friction force = 12 N"]
+
+
+def test_curves_without_regimes_draw_no_strip(ds):
+    fig = quicklook.draw(ds["no_regime"])
+    assert len(fig.axes) == 1 and fig.axes[0].get_xlabel() == "frequency ratio r"
+
+
+# --- orbit ---------------------------------------------------------------------------------------------
+
+
+def test_orbit_draws_the_chosen_history(ds):
+    d = ds["event"]
+    for sel, k in ((["history=1"], 1), ([], 0), (["frequency_ratio=0.45"], 0), (["force_ratio=0.25"], 1),
+                   (["frequency_ratio=1.4", "force_ratio=0.3"], 1)):
+        fig = quicklook.draw(d, "orbit", sel)
+        ax, plane = fig.axes
+        t = d["history_time"].values[k]
+        ok = np.isfinite(t)
+        x = line(ax, "history_displacement")
+        np.testing.assert_array_equal(x.get_xdata(), t[ok])
+        np.testing.assert_array_equal(x.get_ydata(), d["history_displacement"].values[k][ok])
+        np.testing.assert_array_equal(line(ax, "history_excitation").get_ydata(), d["history_excitation"].values[k][ok])
+        q = line(plane, "phase_plane").get_xdata()
+        np.testing.assert_array_equal(q[:-1], d["history_relative_displacement"].values[k][ok])
+        assert q[-1] == q[0]  # closed: the orbit repeats
+        assert text(ax.get_xlabel()) == "time in forcing periods from a steady-state section"
+        assert ax.get_ylabel() == "response displacement x / Y"
+        r, b = d["history_frequency_ratio"].values[k], d["history_force_ratio"].values[k]
+        assert f"orbit {k} of 3: r = {r:g}, beta = {b:g}" in fig.texts[0].get_text()
+    # physical coordinates pick by their own units: 18 Hz is r = 1.44, nearest to the history at 1.5
+    fig = quicklook.draw(ds["event_physical"], "orbit", ["frequency=18"])
+    assert "orbit 1 of 3: r = 1.5" in fig.texts[0].get_text()
+
+
+# --- refusals (library) --------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("kind", "sel", "words"), [
+    ("curves", ["foo=1"], "the cube has no dimension or coordinate 'foo'"),
+    ("curves", ["force_ratio=abc"], "'abc' is not a number"),
+    ("curves", ["force_ratio"], "expected NAME=VALUE"),
+    ("curves", ["=0.3"], "expected NAME=VALUE"),
+    ("curves", ["force_ratio=nan"], "must be finite"),
+    ("curves", ["frequency_ratio=1"], "does not apply to --kind curves (it applies to force_ratio)"),
+    ("map", ["force_ratio=0.2"], "does not apply to --kind map (it draws the whole cube)"),
+    ("orbit", ["history=1.5"], "is not a whole number"),
+    ("orbit", ["history=3"], "the cube holds histories 0..2"),
+    ("orbit", ["history=2"], "history 2 (r = 1, beta = 0.2, unbounded) holds no steady orbit"),
+    ("orbit", ["history=0", "force_ratio=0.2"], "picks the orbit by itself"),
+    ("orbit", ["force_ratio=0.2", "force_ratio=0.6"], "draws one orbit"),
+])
+def test_bad_selections_are_refused(ds, kind, sel, words):
+    with pytest.raises(PlotError) as err:
+        quicklook.draw(ds["event"], kind, sel)
+    assert words in str(err.value)
+
+
+def test_missing_variables_are_refused(ds):
+    with pytest.raises(PlotError, match="the cube holds no time history"):
+        quicklook.draw(ds["base"], "orbit")
+    with pytest.raises(PlotError, match="--kind map needs the variable regime"):
+        quicklook.draw(ds["no_regime"], "map")
+    with pytest.raises(PlotError, match="--kind phase needs the variable phase"):
+        quicklook.draw(ds["no_regime"], "phase")
+
+
+# --- the command ---------------------------------------------------------------------------------------
+
+
+def test_plot_writes_a_png_beside_the_cube_by_default(runner, cubes, tmp_path):
+    result = tmp_path / "demo.h5"
+    shutil.copy(cubes["base"], result)
+    res = runner.invoke(main, ["plot", str(result)])
+    assert res.exit_code == 0, res.output
+    out = tmp_path / "demo.png"
+    assert res.stdout.strip() == f"wrote {out}"
+    assert out.read_bytes().startswith(PNG_SIGNATURE) and out.stat().st_size > 10_000
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo.h5", "demo.png"]  # no temporary left
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_plot_every_kind(runner, cubes, tmp_path, kind):
+    out = tmp_path / "sub" / f"{kind}.png"
+    res = runner.invoke(main, ["plot", str(cubes["event_physical"]), "--kind", kind, "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert out.read_bytes().startswith(PNG_SIGNATURE) and out.stat().st_size > 10_000
+
+
+def test_plot_without_matplotlib_refuses_before_reading(runner, tmp_path, no_matplotlib):
+    # the cube does not even exist: the extra is checked first
+    res = runner.invoke(main, ["plot", str(tmp_path / "absent.h5")])
+    assert FIGURES_EXTRA in one_error_line(res, 2)
+    assert list(tmp_path.iterdir()) == []
+
+
+def _refused(runner, args, folder, words):
+    before = sorted(os.listdir(folder))
+    res = runner.invoke(main, ["plot", *args])
+    assert words in one_error_line(res, 2)
+    assert sorted(os.listdir(folder)) == before  # nothing written
+    return res
+
+
+def test_plot_refusals(runner, cubes, tmp_path):
+    good = tmp_path / "c.h5"
+    shutil.copy(cubes["event"], good)
+    garbage = tmp_path / "garbage.h5"
+    garbage.write_bytes(b"not hdf5 at all")
+    _refused(runner, [str(garbage)], tmp_path, "is not a readable result cube")
+    _refused(runner, [str(tmp_path / "absent.h5")], tmp_path, "No such file or directory")
+    _refused(runner, [str(good), "--sel", "beta=0.3"], tmp_path, "no dimension or coordinate 'beta'")
+    _refused(runner, [str(good), "--kind", "curves", "--sel", "force_ratio=x"], tmp_path, "'x' is not a number")
+    theory_cube = tmp_path / "t.h5"
+    shutil.copy(cubes["base"], theory_cube)
+    _refused(runner, [str(theory_cube), "--kind", "orbit"], tmp_path, "holds no time history")
+    # outputs: a folder, a link, not a PNG, the cube itself
+    (tmp_path / "folder.png").mkdir()
+    _refused(runner, [str(good), "-o", str(tmp_path / "folder.png")], tmp_path, "is a directory")
+    (tmp_path / "link.png").symlink_to(tmp_path / "elsewhere.png")
+    _refused(runner, [str(good), "-o", str(tmp_path / "link.png")], tmp_path, "never replaces links")
+    _refused(runner, [str(good), "-o", str(theory_cube)], tmp_path, "does not end in .png")
+    named_png = tmp_path / "cube.png"
+    shutil.copy(cubes["event"], named_png)
+    _refused(runner, [str(named_png)], tmp_path, "is the RESULT itself")
+    res = runner.invoke(main, ["plot", str(good), "--kind", "bars"])
+    assert "Invalid value for '--kind'" in one_error_line(res, 2)
+
+
+def test_plot_write_failure_leaves_nothing(runner, cubes, tmp_path, monkeypatch):
+    import errno
+
+    out = tmp_path / "x.png"
+
+    def full(fh, *a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr("matplotlib.figure.Figure.savefig", lambda self, fh, **k: full(fh))
+    res = runner.invoke(main, ["plot", str(cubes["base"]), "-o", str(out)])
+    assert "No space left on device; nothing was written" in one_error_line(res, 1)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_command_line_imports_no_matplotlib():
+    code = "import sys, friction_sweep.cli\nassert 'matplotlib' not in sys.modules, 'matplotlib was imported'\n"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
