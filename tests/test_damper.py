@@ -85,6 +85,15 @@ def test_each_attachment_is_its_linear_oscillator_without_friction(compiled, met
         assert out["transmissibility"][0, 4] == pytest.approx(1.0, rel=rtol)
 
 
+def test_without_friction_the_spring_parallel_damper_moves_the_mass_as_the_joined_scene_does(compiled):
+    """z = x - y obeys z'' + 2 zeta z' + z = r^2 cos(r t) in both: x = z + y is the same motion."""
+    r = np.array([0.5, 1.0, 2.0])
+    base = event.compute_tile("base", r, np.array([0.0]), ALL, effects=damper("base"))
+    joined = event.compute_tile("joined", r, np.array([0.0]), ALL, effects=damper("base"))
+    for name in ("transmissibility", "peak_transmissibility", "phase", "peak_phase"):
+        np.testing.assert_allclose(base[name], joined[name], rtol=1e-9, atol=1e-8, err_msg=name)
+
+
 def test_above_root_two_the_spring_parallel_damper_transmits_more_than_the_ground_one(compiled):
     r = np.array([0.5, 1.0, 1.6, 2.5, 4.0])
     base = event.compute_tile("base", r, np.array([0.0, 0.2]), ALL, effects=damper("base"))["transmissibility"]
