@@ -60,15 +60,47 @@ class Setting(Bounded):
 @dataclass(frozen=True)
 class Effect(Bounded):
     """A physical effect beyond plain Coulomb friction (`scene: effects:`); absent means `off`, the value
-    of the plain model, and a run without it is bit-identical to the plain model."""
+    of the plain model, and a run without it is bit-identical to the plain model.
+
+    An effect with `places` sits somewhere: per excitation, the places it may be attached `to` and what
+    each means, the first being where a bare number puts it. Such an effect is given as a number or as
+    `{ratio: number, to: place}` (EffectValue)."""
 
     meaning: str = ""
     off: float = 0.0
+    places: Mapping[str, Mapping[str, str]] = field(default_factory=dict)
 
+    def place_names(self) -> tuple[str, ...]:
+        """Every place any excitation allows, in the catalogue's order."""
+        return tuple(dict.fromkeys(p for by in self.places.values() for p in by))
+
+    def shape(self) -> str:
+        """How a spec writes the effect, for `fsweep info --methods` and `fsweep settings`."""
+        if not self.places:
+            return f"a number in {self.describe()}"
+        allowed = "; ".join(f"{ex} {' | '.join(by)}" for ex, by in self.places.items())
+        return (f"a number in {self.describe()} (the ratio, at the first place listed), or "
+                f"{{ratio: number, to: {' | '.join(self.place_names())}}} ({allowed})")
+
+
+#: the keys of an effect given with its place
+PLACED_KEYS = ("ratio", "to")
+
+#: an effect's value as a spec gives it: a number, or {ratio, to} for an effect with places
+EffectValue = float | Mapping[str, float | str]
+Effects = Mapping[str, EffectValue]
 
 EFFECTS: Mapping[str, Effect] = MappingProxyType({
-    "viscous_damping": Effect(0.0, 1.0, "the damping ratio zeta of the term 2 zeta q' (underdamped)", high_open=True,
-                              meaning="viscous damping ratio zeta", off=0.0),
+    "viscous_damping": Effect(
+        0.0, 1.0, "the damping ratio zeta of the dashpot's force 2 zeta v, v the velocity across it "
+        "(underdamped)", high_open=True,
+        meaning="viscous damping ratio zeta of a dashpot (docs/equations.md §6)", off=0.0,
+        places=MappingProxyType({
+            "force": {"ground": "from the mass to the ground"},
+            "base": {"ground": "from the mass to the ground (the fixed wall's frame)",
+                     "base": "from the mass to the moving base, in parallel with the spring"},
+            "joined": {"base": "from the mass to the moving base and wall, on the relative velocity"},
+        })),
     "static_friction_ratio": Effect(1.0, 100.0, "measured ratios are 1-2; beyond 100 the stick band swallows "
                                     "every excitation the grid allows",
                                     meaning="static over kinetic friction force (a stuck mass breaks loose above "
@@ -76,9 +108,48 @@ EFFECTS: Mapping[str, Effect] = MappingProxyType({
 })
 
 
-def effect_value(effects: Mapping[str, float] | None, name: str) -> float:
-    """An effect's value in a scene: as given, else the plain model's (`off`)."""
-    return float((effects or {}).get(name, EFFECTS[name].off))
+def effect_value(effects: Effects | None, name: str) -> float:
+    """An effect's value in a scene (the ratio where it is given with its place): as given, else the plain
+    model's (`off`)."""
+    value = (effects or {}).get(name, EFFECTS[name].off)
+    return float(value["ratio"] if isinstance(value, Mapping) else value)
+
+
+def effect_place(excitation: str, effects: Effects | None, name: str) -> str:
+    """Where an effect with places sits in a scene: its `to`, else (a bare number, or absent) the first
+    place the excitation allows."""
+    value = (effects or {}).get(name)
+    if isinstance(value, Mapping):
+        return str(value["to"])
+    return next(iter(EFFECTS[name].places[excitation]))
+
+
+def resolved_effects(excitation: str, effects: Effects | None) -> dict[str, EffectValue]:
+    """The effects as a record states them (a cube's method_settings): an effect with places always as
+    {ratio, to}, a bare number at its first place."""
+    out: dict[str, EffectValue] = {}
+    for name, value in (effects or {}).items():
+        if name in EFFECTS and EFFECTS[name].places:
+            out[name] = {"ratio": effect_value(effects, name), "to": effect_place(excitation, effects, name)}
+        else:
+            out[name] = value
+    return out
+
+
+def effect_lines(excitation: str, effects: Effects | None) -> list[str]:
+    """One readable line per effect of a scene (`fsweep validate`, the cube's `effects` attribute)."""
+    lines = []
+    for name, value in (effects or {}).items():
+        effect = EFFECTS.get(name)
+        if effect is None:
+            lines.append(f"{name} {value!r}")
+        elif effect.places:
+            place = effect_place(excitation, effects, name)
+            lines.append(f"{name} {number_text(effect_value(effects, name))}, to: {place} "
+                         f"({effect.places[excitation][place]})")
+        else:
+            lines.append(f"{name} {number_text(effect_value(effects, name))}")
+    return lines
 
 
 @dataclass(frozen=True)

@@ -120,6 +120,10 @@ def validate(spec: Path, output: str | None):
         f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
         f"outputs {', '.join(s.outputs)}, output {out}"
     )
+    from friction_sweep.catalogue import effect_lines
+
+    for line in effect_lines(s.scene.excitation, s.scene.effects):
+        click.echo(f"  effect {line}")
     from friction_sweep.batch.estimate import estimate
 
     cost = estimate(s, settings, jobs=1, executor="serial")
@@ -132,8 +136,9 @@ def validate(spec: Path, output: str | None):
 @main.command("settings")
 @click.argument("method", required=False)
 def settings_(method: str | None):
-    """List each method's settings: default, meaningful range (values outside are refused), and why."""
-    from friction_sweep.catalogue import METHODS
+    """List each method's settings: default, meaningful range (values outside are refused), and why; and
+    the effects it models, as a spec writes them."""
+    from friction_sweep.catalogue import EFFECTS, METHODS
 
     if method is not None and method not in METHODS:
         fail(f"unknown method {method!r} (available: {', '.join(METHODS)})")
@@ -142,6 +147,8 @@ def settings_(method: str | None):
         for key, setting in record.settings.items():
             default = record.defaults[key]
             click.echo(f"  {key:<28} default {default!s:<10} range {setting.describe():<22} {setting.why}")
+        for name in record.effects:
+            click.echo(f"  effect {name}: {EFFECTS[name].shape()}")
 
 
 def _methods_table() -> None:
@@ -164,7 +171,10 @@ def _methods_table() -> None:
         click.echo(f"{m.name}: {m.summary}")
     click.echo("")
     for name, effect in EFFECTS.items():
-        click.echo(f"effect {name} {effect.describe()}: {effect.meaning}")
+        click.echo(f"effect {name}: {effect.meaning}; {effect.shape()}")
+        for excitation, places in effect.places.items():
+            for place, where in places.items():
+                click.echo(f"  {excitation}, to: {place}: {where}")
     click.echo("settings of a method, their defaults and ranges: fsweep settings METHOD")
 
 
@@ -437,6 +447,8 @@ def info(result: Path | None, show_methods: bool):
             units = ds[name].attrs.get("units", "1")
             click.echo(f"  {name}: {v.min():g} .. {v.max():g}" + (f" {units}" if units != "1" else ""))
     click.echo(f"  excitation: {a.get('excitation')}, method: {a.get('method')}")
+    if a.get("effects"):
+        click.echo(f"  effects: {a['effects']}")
     _echo_physical(a)
     click.echo(f"  variables: {', '.join(ds.data_vars)}")
     click.echo(f"  history: {a.get('history')}")

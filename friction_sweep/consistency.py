@@ -9,9 +9,12 @@ Notation. The relative coordinate q obeys
 
     q'' + 2 zeta q' + q + f = A cos(r t),     |f| <= max(beta, bs),
 
-with A = 1 for force/base and A = r^2 for joined (where q = z and x = z + cos(r t)); beta is the
-force ratio (kinetic friction), bs = mu beta the static friction (mu = static_friction_ratio, default 1)
-and zeta = viscous_damping (default 0), both read from the `effects` in the cube's `method_settings`.
+with A = 1 for force/base and A = r^2 for joined (where q = z and x = z + cos(r t)), and
+A = sqrt(1 + (2 zeta r)^2) for base with the dashpot in parallel with the spring (`to: base`, whose
+forcing cos(r t) - 2 zeta r sin(r t) has that amplitude; theory.scenes); beta is the force ratio (kinetic
+friction), bs = mu beta the static friction (mu = static_friction_ratio, default 1) and zeta =
+viscous_damping (default 0) with its place, all read from the `effects` in the cube's `method_settings`
+(a number, or {ratio, to} for an effect with places).
 b = beta (force/base) or beta / r^2 (joined) is the friction against the forcing amplitude. Every tie
 (r = 1, no motion from rest, r = 1/(2n)) is decided by friction_sweep.ties, as the methods decide it.
 """
@@ -26,7 +29,7 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep import codes, ties
-from friction_sweep.catalogue import EFFECTS, EXCITATIONS, effect_value
+from friction_sweep.catalogue import EFFECTS, EXCITATIONS, PLACED_KEYS, effect_place, effect_value
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.storage import schema
 from friction_sweep.theory import den_hartog as dh
@@ -119,18 +122,29 @@ def _read(ds: xr.Dataset) -> _Cube:
     if not isinstance(effects, dict):
         raise CubeError("method_settings: effects is not a JSON object")
     for name, value in effects.items():
-        if name in EFFECTS and (isinstance(value, bool) or not isinstance(value, (int, float))
-                                      or not math.isfinite(value)):
-            raise CubeError(f"method_settings: effect {name} is not a finite number: {value!r}")
+        if name in EFFECTS:
+            _check_effect(excitation, name, value)
     zeta = effect_value(effects, "viscous_damping")
     mu = effect_value(effects, "static_friction_ratio")
     r = np.asarray(ds["frequency_ratio"].values, dtype=float)
     beta = np.asarray(ds["force_ratio"].values, dtype=float)
     R, B = np.meshgrid(r, beta)
-    A, _ = scenes.kernel_forcing(excitation, R)
+    A, _ = scenes.kernel_forcing(excitation, R, zeta, effect_place(excitation, effects, "viscous_damping"))
     return _Cube(excitation=excitation, method=str(ds.attrs.get("method", "")), effects=effects, zeta=zeta,
                  mu=mu, unknown_effects=tuple(sorted(set(effects) - set(EFFECTS))), r=r, beta=beta, R=R,
                  B=B, A=A, b=scenes.friction_ratio(excitation, R, B), bs=mu * B, ds=ds)
+
+
+def _check_effect(excitation: str, name: str, value) -> None:
+    """CubeError unless a recorded effect is a finite number, or {ratio, to} with a place the excitation
+    allows where the effect has places."""
+    places = EFFECTS[name].places.get(excitation, {})
+    if isinstance(value, dict) and places:
+        if set(value) != set(PLACED_KEYS) or value["to"] not in places:
+            raise CubeError(f"method_settings: effect {name} is not {{ratio, to: {' | '.join(places)}}}: {value!r}")
+        value = value["ratio"]
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise CubeError(f"method_settings: effect {name} is not a finite number: {value!r}")
 
 
 def _value(v):
@@ -178,7 +192,8 @@ def _name(code) -> str:
 
 
 def transmissibility_bound(cube: _Cube) -> np.ndarray:
-    """The bound of rule `bound` at every point: (A + (4/pi) max(beta, bs)) / |1 - r^2 + 2i zeta r|,
+    """The bound of rule `bound` at every point: (A + (4/pi) max(beta, bs)) / |1 - r^2 + 2i zeta r|
+    (A with the dashpot's share of the forcing, see the module's notation),
     plus 1 for joined; infinite at r = 1 without damping. 1 - r^2 is evaluated as (1 - r)(1 + r), exact
     to an ulp next to r = 1 (1 - r*r would lose ~1e-16 / |1 - r^2| to rounding)."""
     R = cube.R
@@ -240,10 +255,12 @@ def check_bound(cube: _Cube) -> Finding:
     the forcing frequency (multiply by e^{-i r t} and average over the orbit's period, a whole number
     of forcing periods): with Q1 and F1 the first-harmonic amplitudes of q and f,
 
-        (1 - r^2 + 2i zeta r) Q1 = A - F1.
+        (1 - r^2 + 2i zeta r) Q1 = A - F1
 
-    The friction force never exceeds max(beta, bs) (kinetic in slip, at most static in a stick), and
-    the first harmonic of any signal bounded by M is at most 4M/pi (the square wave's), so
+    (A e^{i lead} - F1 for the spring-parallel dashpot, whose forcing A cos(r t + lead) leads the
+    base's; the modulus is the same A). The friction force never exceeds max(beta, bs) (kinetic in
+    slip, at most static in a stick), and the first harmonic of any signal bounded by M is at most 4M/pi
+    (the square wave's), so
 
         |Q1| <= (A + (4/pi) max(beta, bs)) / |1 - r^2 + 2i zeta r|.
 

@@ -1,6 +1,11 @@
 """An integrator for the tests that shares no code with the kernels: SciPy's DOP853 on the slip
-equation, the stops and the stick exits as events, static friction deciding at every stop; optionally
-a dashpot 2 zeta q' and the steady orbit's energies per period by quadrature (orbit_energies)."""
+equation, the stops and the stick exits as events, static friction deciding at every stop.
+
+It integrates each model in its own time, the excitation y = cos(r t) at its maximum at t = 0: with a
+dashpot 2 zeta q' (to the ground, or relative for joined), and for the base scene's spring-parallel
+dashpot (`base_dashpot`) the force k(y - x) + c(y' - x') as it stands, so the forcing carries its
+-2 zeta r sin(r t) term; nothing of the kernels' reduction of that term to a phase shift. The steady
+orbit's energies per period come by quadrature as well (orbit_energies)."""
 
 import warnings
 
@@ -11,8 +16,8 @@ from scipy.integrate import IntegrationWarning, quad, solve_ivp
 def independent(A, r, bk, bs, q, v, c=0.0, max_periods=400, tol=1e-11):
     """March q'' + q + f = A cos(r t) from (q, v) at t = 0 until (q, v) repeats from one period to the
     next; returns (first-harmonic amplitude of x = q + c cos(r t), stops per period, stuck at the end)."""
-    amplitude, stops, stuck_now, _ = _steady(A, r, bk, bs, q, v, c, max_periods, tol, 0.0)
-    return amplitude, stops, stuck_now
+    out = steady_orbit(A, r, bk, bs, q, v, c, max_periods=max_periods, tol=tol)
+    return out["amplitude"], out["stops"], out["stuck_now"]
 
 
 def orbit_energies(A, r, bk, bs, q, v, zeta=0.0, max_periods=400, tol=1e-11):
@@ -20,36 +25,48 @@ def orbit_energies(A, r, bk, bs, q, v, zeta=0.0, max_periods=400, tol=1e-11):
     period: a dict of `friction` (bk x the distance q slides, from the slip pieces' ends), `forcing`
     (the forcing's work, the integral of A cos(r t) q' by quadrature) and `viscous` (2 zeta times the
     integral of q'^2 by quadrature)."""
-    return _steady(A, r, bk, bs, q, v, 0.0, max_periods, tol, zeta)[3]
+    return steady_orbit(A, r, bk, bs, q, v, zeta=zeta, max_periods=max_periods, tol=tol)["energies"]
 
 
-def _steady(A, r, bk, bs, q, v, c, max_periods, tol, zeta):
+def steady_orbit(A, r, bk, bs, q, v, c=0.0, zeta=0.0, base_dashpot=False, max_periods=400, tol=1e-11):
+    """March q'' + 2 zeta q' + q + f = A cos(r t) - (2 zeta r sin(r t) if base_dashpot) from (q, v) at
+    t = 0 until (q, v) repeats from one period to the next. Returns a dict: `amplitude` (first harmonic of
+    x = q + c cos(r t)), `lag` (its lag behind cos(r t), degrees in [-90, 270)), `peak` (max |x|, sampled),
+    `peak_lag` (the sampled maximum of x's lag behind that of cos(r t), degrees),
+    `stops` per period, `stuck_fraction`, `stuck_now` (stuck at the period's end) and the state there,
+    at a maximum of cos(r t) (`q_end`, `v_end`), and the `energies` of orbit_energies (the forcing's
+    work with the whole force that drives the mass, dashpot term included)."""
     T = 2 * np.pi / r
 
+    def force(t):  # what pushes the mass at rest: spring and dashpot, without the friction
+        f = A * np.cos(r * t)
+        return f - 2 * zeta * r * np.sin(r * t) if base_dashpot else f
+
     def decide(t, q):
-        d = A * np.cos(r * t) - q
+        d = force(t) - q
         return 0 if abs(d) <= bs else int(np.sign(d))
 
     def period(t0, q, v):
         mode = int(np.sign(v)) if v != 0 else decide(t0, q)
-        t, t_end, pieces, stops = t0, t0 + T, [], 0
+        t, t_end, pieces, stops, stuck = t0, t0 + T, [], 0, 0.0
         while t < t_end - 1e-13:
             if mode == 0:
                 def band(tt, y, qs=q):
-                    return (A * np.cos(r * tt) - qs) ** 2 - bs ** 2
+                    return (force(tt) - qs) ** 2 - bs ** 2
                 band.terminal, band.direction = True, 1
                 sol = solve_ivp(lambda tt, y: [0.0], (t, t_end), [q], events=band, rtol=1e-12, atol=1e-13,
                                 max_step=T / 512)
                 t_new = sol.t_events[0][0] if sol.t_events[0].size else t_end
-                pieces.append((t, t_new, lambda tt, qs=q: qs, None))
+                pieces.append((t, t_new, lambda tt, qs=q: qs + 0.0 * tt, None))
+                stuck += t_new - t
                 t = t_new
                 if t < t_end:
-                    mode = 1 if A * np.cos(r * t) - q > 0 else -1
+                    mode = 1 if force(t) - q > 0 else -1
             else:
                 sig = mode
 
                 def rhs(tt, y, sig=sig):  # bound now: this piece's direction
-                    return [y[1], A * np.cos(r * tt) - y[0] - 2.0 * zeta * y[1] - sig * bk]
+                    return [y[1], force(tt) - y[0] - 2 * zeta * y[1] - sig * bk]
 
                 def stop(tt, y):
                     return y[1]
@@ -62,11 +79,11 @@ def _steady(A, r, bk, bs, q, v, c, max_periods, tol, zeta):
                     v = 0.0
                     mode = decide(t, q)
                     stops += mode == 0
-        return q, v, pieces, stops
+        return q, v, pieces, stops, stuck
 
     t = 0.0
     for _ in range(max_periods):
-        q1, v1, pieces, stops = period(t, q, v)
+        q1, v1, pieces, stops, stuck = period(t, q, v)
         done = abs(q1 - q) + abs(v1 - v) <= tol * max(1.0, abs(q))
         q, v, t = q1, v1, t + T
         if done:
@@ -74,6 +91,7 @@ def _steady(A, r, bk, bs, q, v, c, max_periods, tol, zeta):
     else:
         raise AssertionError("no steady state")
     a = b = 0.0
+    peak, top, t_top = 0.0, -np.inf, np.nan
     energies = {"friction": 0.0, "forcing": 0.0, "viscous": 0.0}
     with warnings.catch_warnings():  # quad's roundoff notice where a piece's integral is ~0
         warnings.simplefilter("ignore", IntegrationWarning)
@@ -81,11 +99,20 @@ def _steady(A, r, bk, bs, q, v, c, max_periods, tol, zeta):
             if hi > lo:
                 a += quad(lambda s, f=f: (f(s) + c * np.cos(r * s)) * np.cos(r * s), lo, hi, epsabs=1e-14, limit=200)[0]
                 b += quad(lambda s, f=f: (f(s) + c * np.cos(r * s)) * np.sin(r * s), lo, hi, epsabs=1e-14, limit=200)[0]
+                s = np.linspace(lo, hi, 4000)
+                xs = f(s) + c * np.cos(r * s)
+                peak = max(peak, float(np.max(np.abs(xs))))
+                if xs.max() > top:
+                    top, t_top = float(xs.max()), float(s[np.argmax(xs)])
                 if fv is not None:  # a slip piece: q is monotone on it (it ends at the first velocity zero)
                     energies["friction"] += bk * abs(f(hi) - f(lo))
-                    energies["forcing"] += quad(lambda s, fv=fv: A * np.cos(r * s) * fv(s), lo, hi, epsabs=1e-14,
+                    energies["forcing"] += quad(lambda s, fv=fv: force(s) * fv(s), lo, hi, epsabs=1e-14,
                                                 limit=200)[0]
                     energies["viscous"] += 2.0 * zeta * quad(lambda s, fv=fv: fv(s) ** 2, lo, hi, epsabs=1e-14,
                                                              limit=200)[0]
-    stuck_now = v == 0.0 and abs(A * np.cos(r * t) - q) <= bs
-    return 2 / T * np.hypot(a, b), stops, stuck_now, energies
+    stuck_now = v == 0.0 and abs(force(t) - q) <= bs
+    amplitude = 2 / T * np.hypot(a, b)
+    lag = (np.degrees(np.arctan2(b, a)) + 90.0) % 360.0 - 90.0 if amplitude > 0 else np.nan
+    peak_lag = (np.degrees(r * t_top) + 90.0) % 360.0 - 90.0 if peak > 0 else np.nan
+    return {"amplitude": amplitude, "lag": lag, "peak": peak, "peak_lag": peak_lag, "stops": stops, "stuck_fraction": stuck / T,
+            "stuck_now": stuck_now, "q_end": q, "v_end": v, "energies": energies}

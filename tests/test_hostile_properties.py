@@ -173,6 +173,10 @@ def valid_specs(draw) -> tuple[dict, tuple[int | None, int | None]]:
         effects = {}
         if draw(st.booleans()):
             effects["viscous_damping"] = draw(st.one_of(st.just(0.0), st.floats(0, 0.9)))
+            if draw(st.booleans()):  # with its place, one the excitation allows
+                places = catalogue.EFFECTS["viscous_damping"].places[spec["scene"]["excitation"]]
+                effects["viscous_damping"] = {"ratio": effects["viscous_damping"],
+                                              "to": draw(st.sampled_from(list(places)))}
         if draw(st.booleans()):
             effects["static_friction_ratio"] = draw(st.one_of(st.just(1), st.floats(1, 3)))
         spec["scene"]["effects"] = effects or None
@@ -245,8 +249,10 @@ def _bounds(path: tuple) -> list:
         return [_down(R_LO), _up(R_HI), 0.0, -0.0, 1e-300]
     if "force_ratio" in path:
         return [-5e-324, _up(FORCE_RATIO_MAX), -1.0]
-    if last == "viscous_damping":
+    if last == "viscous_damping" or (last == "ratio" and "viscous_damping" in path):
         return [1.0, _down(0.0)]
+    if last == "to":  # a place no excitation has, or one another excitation has
+        return ["wall", "ground", "base"]
     if last == "static_friction_ratio":
         return [_down(1.0), 0.0]
     if last == "accuracy":

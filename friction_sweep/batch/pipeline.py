@@ -60,7 +60,8 @@ def recorded_settings(spec: Spec, settings: dict[str, Any]) -> dict[str, Any]:
     """The settings the numbers came from, for the cube's method_settings attribute: the method's
     algorithm and defaults, the run's settings over them, and the effects."""
     record = catalogue.method(spec.method)
-    recorded = {**record.algorithm, **record.defaults, **settings, "effects": dict(spec.scene.effects)}
+    recorded = {**record.algorithm, **record.defaults, **settings,
+                "effects": catalogue.resolved_effects(spec.scene.excitation, spec.scene.effects)}
     if spec.sweep is not None:  # the sweep is the start: no second one
         recorded.pop("starts", None)
         recorded["sweep"] = spec.sweep.direction
@@ -89,9 +90,16 @@ def cube(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], co
         attrs={**provenance.attributes(spec_text=spec.text, spec_path=spec.source_path,
                                        excitation=spec.scene.excitation, method=spec.method,
                                        settings=recorded_settings(spec, settings)),
-               **attrs},
+               **_effects_attribute(spec), **attrs},
         physical=coords,
     )
+
+
+def _effects_attribute(spec: Spec) -> dict[str, str]:
+    """The scene's effects in words (where a dashpot sits, too), as the cube's `effects` attribute; none
+    without effects."""
+    lines = catalogue.effect_lines(spec.scene.excitation, spec.scene.effects)
+    return {"effects": "; ".join(lines)} if lines else {}
 
 
 def dataset(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,

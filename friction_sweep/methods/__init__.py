@@ -26,7 +26,7 @@ class MethodModule(Protocol):
         ...
 
     def compute_tile(self, excitation: str, r: Any, beta: Any, outputs: Sequence[str],
-                     effects: Mapping[str, float] | None = None,
+                     effects: catalogue.Effects | None = None,
                      settings: Mapping[str, Any] | None = None) -> dict[str, np.ndarray]:
         """Every variable of a (beta x r) tile, plus the theory's continuous limit per r."""
         ...

@@ -33,7 +33,7 @@ from friction_sweep.kernels.settings import (
 )
 from friction_sweep.methods import theory
 from friction_sweep.storage.schema import MOVING_SUFFIX
-from friction_sweep.theory import den_hartog, scenes
+from friction_sweep.theory import den_hartog, phase, scenes
 from friction_sweep.theory.transmitted import transmitted_force
 
 CATALOGUE = catalogue.method("event")
@@ -61,15 +61,36 @@ def variables_for(excitation: str, outputs) -> tuple[str, ...]:
 
 def point_parameters(excitation: str, r, beta, effects=None):
     """Kernel parameters per point: forcing amplitude A, response offset c, kinetic and static
-    friction, damping ratio (docs/equations.md §1: joined is z'' + z + beta sgn z' = r^2 cos, x = z + cos)."""
+    friction, damping ratio (docs/equations.md §1: joined is z'' + z + beta sgn z' = r^2 cos, x = z + cos;
+    the spring-parallel dashpot of base raises A to sqrt(1 + (2 zeta r)^2), theory.scenes)."""
     effects = effects or {}
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
-    A, c = scenes.kernel_forcing(excitation, r)
+    damping = catalogue.effect_value(effects, "viscous_damping")
+    A, c = scenes.kernel_forcing(excitation, r, damping, catalogue.effect_place(excitation, effects, "viscous_damping"))
     bk = beta.copy()
     bs = beta * catalogue.effect_value(effects, "static_friction_ratio")
-    zeta = np.full_like(r, catalogue.effect_value(effects, "viscous_damping"))
+    zeta = np.full_like(r, damping)
     return A, c, bk, bs, zeta
+
+
+def forcing_lead(excitation: str, r, effects=None) -> np.ndarray:
+    """Per point, how far (radians) the kernel's forcing leads the excitation (theory.scenes): nonzero only
+    for the spring-parallel dashpot of base. The kernels run in the forcing's frame, whose section is the
+    forcing's maximum; every phase they report is against the forcing."""
+    return scenes.forcing_lead(excitation, r, catalogue.effect_value(effects, "viscous_damping"),
+                               catalogue.effect_place(excitation, effects, "viscous_damping"))
+
+
+def _against_excitation(raw, lead) -> None:
+    """Phases of raw kernel rows (in place) against the excitation instead of the kernel's forcing, which
+    leads it by `lead`: a lag behind the forcing is `lead` less behind the excitation. Rows without a lead
+    are not touched (re-wrapping would round them)."""
+    shifted = lead != 0.0
+    if shifted.any():
+        degrees = np.degrees(lead[shifted])
+        for slot in (steady.OUT_PHASE, steady.OUT_PEAK_PHASE):
+            raw[shifted, slot] = phase.wrap_degrees(raw[shifted, slot] - degrees)
 
 
 def newton_guess(A, r, bk, bs, zeta, settings: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -101,8 +122,9 @@ def kernel_settings(settings: dict | None = None) -> np.ndarray:
 
 
 def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
-    """Raw kernel outputs (n, OUT_SIZE) for 1-D arrays of points; start: per-point (q0, v0) arrays
-    instead of the settings' one start."""
+    """Raw kernel outputs (n, OUT_SIZE) for 1-D arrays of points, phases against the excitation; start:
+    per-point (q0, v0) arrays instead of the settings' one start. The start and end states (end_q, end_v)
+    are at the kernel's section, the forcing's maximum (forcing_lead)."""
     r = np.ascontiguousarray(r, dtype=float)
     beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
@@ -114,6 +136,7 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     else:
         q0, v0 = (np.ascontiguousarray(s, dtype=float) for s in start)
         steady.solve_points_from(A, r, bk, bs, zeta, c, sett, q0, v0, gq, gv, out)
+    _against_excitation(out, forcing_lead(excitation, r, effects))
     return out
 
 
@@ -175,8 +198,9 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
                        direction: str = "up") -> dict[str, np.ndarray]:
     """A tile of a swept run: for each force ratio, the frequency ratios in sweep order (ascending for
     `up`, descending for `down`), each point started from the orbit of the one before
-    (kernels.steady.solve_sweep). The sweep is the start, so there is no second one (`starts`, which
-    kernel_settings leaves out)."""
+    (kernels.steady.solve_sweep), at the kernel's section (the forcing's maximum, which for the
+    spring-parallel dashpot is not the base's: forcing_lead). The sweep is the start, so there is no second
+    one (`starts`, which kernel_settings leaves out)."""
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
     order = np.argsort(r, kind="stable")
@@ -189,6 +213,7 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
         A, c, bk, bs, zeta = point_parameters(excitation, rs, np.full(rs.shape, b), effects)
         row = np.empty((r.size, steady.OUT_SIZE))
         steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row)
+        _against_excitation(row, forcing_lead(excitation, rs, effects))
         raw[j, order] = row
     result = _per_point(raw.reshape(-1, steady.OUT_SIZE), variables_for(excitation, outputs), excitation,
                         np.broadcast_to(r, (beta.size, r.size)))
@@ -221,8 +246,10 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
 
     Returns arrays of shape (n_points, n_samples) with n_samples = samples_per_period times the
     longest orbit period among the points (shorter orbits are padded with NaN): time in forcing
-    periods, the response x, the excitation, the relative displacement (the equation's q or z)
-    and its velocity; plus per point the orbit period and the regime.
+    periods from a maximum of the excitation, the response x, the excitation, the relative displacement
+    (the equation's q or z) and its velocity; plus per point the orbit period and the regime. Where the
+    kernel's forcing leads the excitation (forcing_lead), the orbit is replayed from the kernel's section
+    one period longer and sampled at the excitation's times, so the samples are exact, whatever the orbit.
     """
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     r, beta = pts[:, 0], pts[:, 1]
@@ -230,6 +257,7 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     raw = solve_flat(excitation, r, beta, effects, **settings)
     sett = kernel_settings(settings)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
+    lead = forcing_lead(excitation, r, effects)
     orbit = np.where(np.isfinite(raw[:, steady.OUT_ORBIT_PERIOD]), raw[:, steady.OUT_ORBIT_PERIOD], 0).astype(int)
     n = samples_per_period * max(1, int(orbit.max(initial=1)))
     shape = (pts.shape[0], n)
@@ -243,21 +271,30 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
             continue
         T = 2 * np.pi / r[i]
         ts = frac * T
-        sq = np.empty((k, samples_per_period))
-        sv = np.empty((k, samples_per_period))
+        # the excitation's time t is the kernel's t + delay; the samples at kernel times ts + delay, sorted
+        # into one period (those past its end wrap to its start), fall `wrapped` samples late in the replay
+        delay = lead[i] / r[i]
+        shifted = ts + delay
+        wrapped = int(np.count_nonzero(shifted >= T)) if delay else 0
+        kts = np.concatenate((shifted[samples_per_period - wrapped:] - T, shifted[:samples_per_period - wrapped]))
+        periods = k + (delay != 0.0)
+        sq = np.empty((periods, samples_per_period))
+        sv = np.empty((periods, samples_per_period))
         point = Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i])
         status = steady.sample_orbit(raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V],
                                      int(raw[i, steady.OUT_END_MODE]), point, sett[SET_STOP_TOL],
-                                     int(sett[SET_WORK_BUDGET]), k, ts, sq, sv)
+                                     int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
         if status != 0:  # the replay ran out of budget: incomplete samples are not shown
             continue
         m = k * samples_per_period
-        phase = r[i] * np.tile(ts, k)
+        q_at = sq.ravel()[wrapped:wrapped + m]
+        v_at = sv.ravel()[wrapped:wrapped + m]
+        angle = r[i] * np.tile(ts, k)
         out["history_time"][i, :m] = (np.arange(m) / samples_per_period)
-        out["history_relative_displacement"][i, :m] = sq.ravel()
-        out["history_relative_velocity"][i, :m] = sv.ravel()
-        out["history_excitation"][i, :m] = np.cos(phase)
-        out["history_displacement"][i, :m] = sq.ravel() + c[i] * np.cos(phase)
+        out["history_relative_displacement"][i, :m] = q_at
+        out["history_relative_velocity"][i, :m] = v_at
+        out["history_excitation"][i, :m] = np.cos(angle)
+        out["history_displacement"][i, :m] = q_at + c[i] * np.cos(angle)
     out["history_orbit_period"] = orbit.astype(float)
     out["history_regime"] = raw[:, steady.OUT_REGIME].astype(np.int8)
     return out

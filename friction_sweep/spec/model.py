@@ -25,7 +25,9 @@ from friction_sweep.catalogue import (
     EXCITATIONS,
     METHODS,
     OUTPUTS,
+    PLACED_KEYS,
     Bounded,
+    Effect,
     able,
     number_text,
 )
@@ -265,8 +267,9 @@ class Grid(_Model):
 
 class Scene(_Model):
     excitation: str
-    #: the effects the spec names and their values (absent: off)
-    effects: dict[str, float] = Field(default_factory=dict)
+    #: the effects the spec names and their values (absent: off): a number, or {ratio, to} for an effect
+    #: given with its place (catalogue.EffectValue)
+    effects: dict[str, float | dict[str, float | str]] = Field(default_factory=dict)
 
     @field_validator("excitation", mode="before")
     @classmethod
@@ -280,22 +283,52 @@ class Scene(_Model):
 
     @field_validator("effects", mode="before")
     @classmethod
-    def _known_effects(cls, v: Any) -> Any:
+    def _known_effects(cls, v: Any, info: ValidationInfo) -> Any:
         if v is None:  # `effects:` left empty
             return {}
         if not isinstance(v, dict):
             raise _error("effects_type", f"must be a mapping of effect names to values (got {show(v)})")
         v = {key: value for key, value in v.items() if value is not None}  # `name:` left empty: off
+        excitation = info.data.get("excitation")  # None where the excitation itself is refused
         problems = []
         for key, value in v.items():
             effect = EFFECTS.get(key) if isinstance(key, str) else None
             if effect is None:
                 problems.append(_error("unknown_effect", f"unknown effect {show(key)} (known: {', '.join(EFFECTS)})",
                                        (key,)))
+            elif effect.places and isinstance(value, dict):
+                problems.extend(_placed_problems(key, effect, value, excitation))
             elif (reason := _bound_problem("float", effect, value)) is not None:
+                if effect.places and not isinstance(value, (int, float)):
+                    reason = (f"must be a number or {{ratio: number, to: {' | '.join(effect.place_names())}}} "
+                              f"(got {show(value)})")
                 problems.append(_error("effect_range", reason, (key,)))
         _raise_all("effects", problems)
-        return {k: float(x) for k, x in v.items()}
+        return {k: ({"ratio": float(x["ratio"]), "to": x["to"]} if isinstance(x, dict) else float(x))
+                for k, x in v.items()}
+
+
+def _placed_problems(name: str, effect: Effect, value: dict, excitation: str | None) -> list[PydanticCustomError]:
+    """What is wrong with an effect given with its place, `{ratio: number, to: place}`."""
+    problems = [_error("unknown_key", f"unknown key {show(key)} (allowed: {', '.join(PLACED_KEYS)})", (name, key))
+                for key in value if key not in PLACED_KEYS]
+    for key in PLACED_KEYS:
+        if key not in value:
+            problems.append(_error("missing_key", f"required key {key!r} is missing (give {{ratio: number, to: "
+                                   f"{' | '.join(effect.place_names())}}}, or a bare number)", (name,)))
+    if "ratio" in value and (reason := _bound_problem("float", effect, value["ratio"])) is not None:
+        problems.append(_error("effect_range", reason, (name, "ratio")))
+    if "to" in value:
+        to = value["to"]
+        if not isinstance(to, str) or to not in effect.place_names():
+            problems.append(_error("effect_place", f"must be one of: {', '.join(effect.place_names())} "
+                                   f"(got {show(to)})", (name, "to")))
+        elif excitation is not None and to not in effect.places[excitation]:
+            allowed = effect.places[excitation]
+            problems.append(_error("effect_place", f"excitation {excitation!r} allows only "
+                                   + " or ".join(f"to: {p} ({why})" for p, why in allowed.items())
+                                   + f" (got {show(to)})", (name, "to")))
+    return problems
 
 
 class TimeHistory(_Model):

@@ -56,7 +56,7 @@ def _problems(exc: ValidationError, doc: Document) -> list[SpecProblem]:
         path = tuple(p for i, p in enumerate(loc)
                      if not (p in AXIS_TAGS and i and loc[i - 1] in ("frequency_ratio", "force_ratio")))
         path += tuple((err.get("ctx") or {}).get("at", ()))
-        line, column = doc.locate(path, key=err["type"] == "extra_forbidden")
+        line, column = doc.locate(path, key=err["type"] in ("extra_forbidden", "unknown_key"))
         problems.append(SpecProblem(doc.source, line, column, format_key(path), _reason(err, path)))
     # File order reads best; problems without a line (missing top-level keys) go last.
     return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
