@@ -8,7 +8,7 @@ STAMP  := $(VENV)/.installed-stamp
 .DELETE_ON_ERROR:
 
 help:
-	@echo "make demo   set up, then run configs/demo.yaml and summarise the cube"
+	@echo "make demo   set up, simulate configs/demo.yaml (a rig in physical units), print its regimes, draw its map"
 	@echo "make test   set up, then run the whole test suite"
 	@echo "make lint   ruff and mypy, as CI runs them (and .pre-commit-config.yaml)"
 	@echo "make test-fast   only the tests not marked slow (under a minute)"
@@ -27,7 +27,14 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/fsweep run configs/demo.yaml --overwrite
-	$(BIN)/fsweep info results/demo.h5
+	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png
+	@echo "demo: the cube is results/demo.h5 (fsweep info results/demo.h5; friction_sweep.open_cube in Python),"
+	@echo "      its regime map results/demo.png"
+
+# the README's opening picture: the demo's map (regenerate after a change that alters it)
+docs/demo.png: configs/demo.yaml
+	$(MAKE) demo
+	cp results/demo.png $@
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q

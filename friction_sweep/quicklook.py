@@ -51,10 +51,10 @@ NEEDS = {"map": ("regime",), "curves": ("transmissibility",), "phase": ("phase",
          "orbit": ("history_time", "history_displacement")}
 CURVE_VARIABLE = {"curves": "transmissibility", "phase": "phase"}
 #: face colour of each regime, by its flag meaning (the paper's greys; continuous white)
-REGIME_COLORS = {"stuck": "0.55", "stick_slip": "0.85", "continuous": "white", "unbounded": "tab:red",
-                 "unsettled": "tab:orange"}
+REGIME_COLORS = {"stuck": "0.6", "stick_slip": "#f6b26b", "continuous": "#cfe2f3", "unbounded": "tab:red",
+                 "unsettled": "black"}
 #: markers of the point regimes in the curves' strip
-POINT_MARKERS = {Regime.UNBOUNDED: ("x", "tab:red"), Regime.UNSETTLED: ("o", "tab:orange")}
+POINT_MARKERS = {Regime.UNBOUNDED: ("x", "tab:red"), Regime.UNSETTLED: ("o", "black")}
 
 
 class PlotError(ValueError):

@@ -14,13 +14,12 @@ import numpy as np
 import pytest
 from independent_integrator import steady_orbit
 
-from friction_sweep import consistency
+from friction_sweep import api, consistency
 from friction_sweep.cli import main
 from friction_sweep.codes import Regime
 from friction_sweep.methods import event, rk4
 from friction_sweep.spec import SpecError, parse_spec_text
 from friction_sweep.storage import cube, provenance
-from friction_sweep.batch import pipeline
 
 ALL = ("transmissibility", "phase", "regime")
 ZETA = 0.1
@@ -217,7 +216,7 @@ time_history: {{points: [[0.6, 0.2], [1.6, 0.4]], samples_per_period: 64}}
 
 @pytest.mark.parametrize("excitation, place", [("base", "ground"), ("joined", "base")])
 def test_bare_and_placed_specs_give_the_same_cube_and_record_the_place(compiled, excitation, place):
-    cubes = [pipeline.run_spec(parse_spec_text(SPEC.format(excitation=excitation, damping=damping)))
+    cubes = [api.run(parse_spec_text(SPEC.format(excitation=excitation, damping=damping)))
              for damping in ("0.05", f"{{ratio: 0.05, to: {place}}}")]
     assert list(cubes[0].data_vars) == list(cubes[1].data_vars)
     for name in cubes[0].data_vars:
@@ -231,7 +230,7 @@ def test_bare_and_placed_specs_give_the_same_cube_and_record_the_place(compiled,
 def test_the_spring_parallel_cube_passes_fsweep_check_with_its_own_forcing(compiled):
     """Rule `bound` needs the forcing amplitude sqrt(1 + (2 zeta r)^2): at beta = 0 the transmissibility is
     that over |1 - r^2 + 2i zeta r|, above the bound of the dashpot to the ground."""
-    ds = pipeline.run_spec(parse_spec_text(SPEC.format(excitation="base", damping="{ratio: 0.2, to: base}")))
+    ds = api.run(parse_spec_text(SPEC.format(excitation="base", damping="{ratio: 0.2, to: base}")))
     found = {f.rule: f for f in consistency.check(ds)}
     assert found["bound"].status == consistency.OK and found["bound"].checked == 6
     assert found["resonance"].status == found["theory"].status == consistency.SKIPPED

@@ -8,6 +8,7 @@ standard gravity 9.80665 m/s^2), not read from pint or from the code under test.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -339,3 +340,12 @@ def test_design_quantities_in_joules_and_newtons():
     four_f_x = 4.0 * ds["friction_force"] * ds["peak_displacement"]
     np.testing.assert_allclose(ds["dissipated_energy"].values[continuous], four_f_x.values[continuous], rtol=1e-12)
     np.testing.assert_allclose(ds["force_amplitude"].values, ds["transmitted_force"].values * 40.0, rtol=1e-15)
+
+
+def test_the_readme_opens_with_the_demo_spec_as_it_is():
+    """The README shows configs/demo.yaml verbatim, under the demo's picture (one fact, checked in two places)."""
+    root = Path(__file__).resolve().parents[1]
+    readme = (root / "README.md").read_text()
+    head = readme[: readme.index("## Two commands")]
+    assert "](docs/demo.png)" in head and (root / "docs" / "demo.png").is_file()
+    assert "```yaml\n" + (root / "configs" / "demo.yaml").read_text() + "```" in head
