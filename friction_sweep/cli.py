@@ -114,7 +114,7 @@ def validate(spec: Path, output: str | None):
     out = _output_path(spec, s, output)
     _refuse_destroying_spec(out, spec)
     settings, _ = _accuracy_settings(s, spec, quiet=True)
-    n_r, n_b = s.frequency_ratio.size, s.force_ratio.size
+    n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
         f"{spec}: ok: excitation {s.scene.excitation}, method {s.method}, "
         f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
@@ -225,7 +225,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     sweep = s.sweep.direction if s.sweep is not None else None
     key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
                                  tile=TILE_FORCES if sweep else TILE_FREQUENCIES, version=friction_sweep.__version__)
-    store = checkpoint.Checkpoint(out, key, len(layout(r.size, beta.size, sweep)))
+    store = checkpoint.Checkpoint(out, key, len(layout(r.size, s.force_count, sweep)))
     try:
         with checkpoint.Lock(out):
             _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
@@ -292,10 +292,10 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         fail(str(err), EXIT_RUNTIME)
     for name in dropped:
         click.echo(f"fsweep: warning: {store.dir / name} was damaged; its tile is computed again", err=True)
-    r, beta = s.frequency_ratio, s.force_ratio
+    r = s.frequency_ratio
     start = time.perf_counter()
     try:
-        with _progress(quiet, r.size * beta.size) as advance:
+        with _progress(quiet, r.size * s.force_count) as advance:
             arrays = pipeline.compute(s, settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
                                       on_done=store.save, on_tile=advance)
     except _Terminated:
@@ -329,8 +329,8 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     store.remove()
     click.echo(f"wrote {out}")
     click.echo(
-        f"  {s.scene.excitation} excitation, method {s.method}: {beta.size} force ratios x "
-        f"{r.size} frequency ratios = {beta.size * r.size} points in {elapsed:.2f} s"
+        f"  {s.scene.excitation} excitation, method {s.method}: {s.force_count} force ratios x "
+        f"{r.size} frequency ratios = {s.force_count * r.size} points in {elapsed:.2f} s"
     )
     _echo_regimes({name: values for name, (_, values, _) in parts.data_vars.items()})
 

@@ -32,6 +32,7 @@ from friction_sweep import codes, ties
 from friction_sweep.catalogue import EFFECTS, EXCITATIONS, PLACED_KEYS, effect_place, effect_value
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.storage import schema
+from friction_sweep.storage.schema import ACCELERATION_DIMS, cube_dims
 from friction_sweep.theory import den_hartog as dh
 from friction_sweep.theory import scenes
 
@@ -84,8 +85,9 @@ class _Cube:
     zeta: float
     mu: float
     unknown_effects: tuple
+    dims: tuple[str, str]  # the cube's grid dims: DIMS, or the physical ones at constant acceleration
     r: np.ndarray  # (n_r,)
-    beta: np.ndarray  # (n_beta,)
+    beta: np.ndarray  # (n_beta,), or (n_beta, n_r) at constant acceleration (beta grows with f^2)
     R: np.ndarray  # (n_beta, n_r), like every grid array below
     B: np.ndarray
     A: np.ndarray
@@ -95,9 +97,9 @@ class _Cube:
 
     def get(self, name):
         """A per-point variable as an (n_beta, n_r) array, or None when the cube lacks it."""
-        if name not in self.ds.data_vars or set(self.ds[name].dims) != set(DIMS):
+        if name not in self.ds.data_vars or set(self.ds[name].dims) != set(self.dims):
             return None
-        return np.asarray(self.ds[name].transpose(*DIMS).values)
+        return np.asarray(self.ds[name].transpose(*self.dims).values)
 
     @property
     def plain(self) -> bool:
@@ -105,9 +107,12 @@ class _Cube:
 
 
 def _read(ds: xr.Dataset) -> _Cube:
-    for dim in DIMS:
-        if dim not in ds.coords or ds[dim].ndim != 1:
-            raise CubeError(f"no coordinate {dim}")
+    physical = all(ACCELERATION_DIMS[d] in ds.dims for d in DIMS) and "force_ratio" not in ds.dims
+    dims = (ACCELERATION_DIMS[DIMS[0]], ACCELERATION_DIMS[DIMS[1]]) if physical else DIMS
+    for name in DIMS:
+        expected = cube_dims(name, (name,), physical)
+        if name not in ds.coords or tuple(ds[name].dims) not in (expected, (dims[0],)):
+            raise CubeError(f"no coordinate {name}")
     excitation = ds.attrs.get("excitation")
     if excitation not in EXCITATIONS:
         raise CubeError(f"excitation {excitation!r} is not one of {', '.join(EXCITATIONS)}")
@@ -127,12 +132,14 @@ def _read(ds: xr.Dataset) -> _Cube:
     zeta = effect_value(effects, "viscous_damping")
     mu = effect_value(effects, "static_friction_ratio")
     r = np.asarray(ds["frequency_ratio"].values, dtype=float)
-    beta = np.asarray(ds["force_ratio"].values, dtype=float)
-    R, B = np.meshgrid(r, beta)
+    beta = np.asarray(ds["force_ratio"].transpose(*(d for d in dims if d in ds["force_ratio"].dims)).values,
+                      dtype=float)
+    R = np.broadcast_to(r, (beta.shape[0], r.size))
+    B = beta if beta.ndim == 2 else np.broadcast_to(beta[:, None], R.shape)
     A, _ = scenes.kernel_forcing(excitation, R, zeta, effect_place(excitation, effects, "viscous_damping"))
     return _Cube(excitation=excitation, method=str(ds.attrs.get("method", "")), effects=effects, zeta=zeta,
-                 mu=mu, unknown_effects=tuple(sorted(set(effects) - set(EFFECTS))), r=r, beta=beta, R=R,
-                 B=B, A=A, b=scenes.friction_ratio(excitation, R, B), bs=mu * B, ds=ds)
+                 mu=mu, unknown_effects=tuple(sorted(set(effects) - set(EFFECTS))), dims=dims, r=r, beta=beta,
+                 R=R, B=B, A=A, b=scenes.friction_ratio(excitation, R, B), bs=mu * B, ds=ds)
 
 
 def _check_effect(excitation: str, name: str, value) -> None:
@@ -173,11 +180,23 @@ class _Tally:
 
     def finding(self, cube, rule, checked, offset=0):
         examples = [
-            {"r": float(cube.r[i + offset]), "beta": float(cube.beta[j]), "found": _value(f),
+            {"r": float(cube.r[i + offset]), "beta": float(cube.B[j, i + offset]), "found": _value(f),
              "expected": _value(e)}
             for i, j, f, e in sorted(self.found, key=lambda x: (x[0], x[1]))[:MAX_EXAMPLES]
         ]
         return Finding(rule, FAILED if self.count else OK, int(checked), self.count, examples)
+
+
+def _theory_tile(theory, cube: _Cube, cols: slice) -> dict:
+    """The closed form on the cube's columns `cols`: one plane, or a column at a time where beta varies
+    with the frequency (constant acceleration)."""
+    outputs = ("transmissibility", "regime")
+    r = cube.r[cols]
+    if cube.beta.ndim == 1:
+        return theory.compute_tile(cube.excitation, r, cube.beta, outputs)
+    columns = [theory.compute_tile(cube.excitation, r[i:i + 1], cube.beta[:, cols][:, i], outputs)
+               for i in range(r.size)]
+    return {name: np.concatenate([c[name] for c in columns], axis=-1) for name in outputs}
 
 
 def _missing(rule, cube, *names):
@@ -316,7 +335,7 @@ def check_theory(cube: _Cube, chunk: int = THEORY_CHUNK) -> Finding:
     for start in range(0, cube.r.size, chunk):
         cols = slice(start, start + chunk)
         r = cube.r[cols]
-        ref = theory.compute_tile(cube.excitation, r, cube.beta, ("transmissibility", "regime"))
+        ref = _theory_tile(theory, cube, cols)
         bstar = dh.continuous_limit(r)
         reg_c, T_c, b_c = reg[:, cols], T[:, cols], cube.b[:, cols]
         sel = ((b_c <= THEORY_MARGIN * bstar[None, :])

@@ -46,6 +46,9 @@ KINDS = ("map", "curves", "phase", "orbit")
 MAX_CURVES = 8
 DPI = 150
 GRID = ("force_ratio", "frequency_ratio")
+#: a cube at constant base acceleration: the physical dims (storage.schema.ACCELERATION_DIMS), beta a 2-D
+#: coordinate on them
+PHYSICAL_GRID = ("friction_force", "frequency")
 #: the variable each kind draws (orbit: the time history's)
 NEEDS = {"map": ("regime",), "curves": ("transmissibility",), "phase": ("phase",),
          "orbit": ("history_time", "history_displacement")}
@@ -67,14 +70,14 @@ class Axis(NamedTuple):
     dim: str
     name: str  # the coordinate drawn along
     values: np.ndarray
-    ratio: np.ndarray  # the dimension's own values (the ratio), point by point
+    ratio: np.ndarray  # the ratio along the dimension, point by point
     label: str
 
     def from_ratio(self, ratio) -> np.ndarray:
         """Ratio values in this axis's units (identity on the ratio itself; a physical coordinate is
         interpolated linearly between grid points and extrapolated along the end segments)."""
         ratio = np.asarray(ratio, dtype=float)
-        return ratio if self.name == self.dim else _interp(ratio, self.ratio, self.values)
+        return ratio if self.values is self.ratio else _interp(ratio, self.ratio, self.values)
 
 
 def axis_label(da) -> str:
@@ -86,9 +89,22 @@ def axis_label(da) -> str:
     return text if units in ("", "1") else f"{text} [{units}]"
 
 
+def grid_dims(ds: xr.Dataset) -> tuple[str, str]:
+    """The cube's (force, frequency) dims: the ratios, or the physical ones of a constant-acceleration cube."""
+    for dims in (GRID, PHYSICAL_GRID):
+        if all(d in ds.dims for d in dims):
+            return dims
+    raise PlotError(f"not a friction_sweep cube: no dimension {', '.join(n for n in GRID if n not in ds.dims)}")
+
+
 def grid_axis(ds: xr.Dataset, dim: str) -> Axis:
     """The axis of grid dimension `dim`: the first non-dimension coordinate along it that has physical
-    units (not "1") and finite, strictly monotonic values, else the dimension's own coordinate."""
+    units (not "1") and finite, strictly monotonic values, else the dimension's own coordinate. A physical
+    dimension (constant acceleration) is its own axis, its ratio the 1-D ratio coordinate on it, if any."""
+    if dim in PHYSICAL_GRID:
+        values = ds[dim].values.astype(float)
+        ratios = [c for n, c in ds.coords.items() if n in GRID and c.dims == (dim,)]
+        return Axis(dim, dim, values, ratios[0].values.astype(float) if ratios else values, axis_label(ds[dim]))
     ratio = ds[dim].values.astype(float)
     for name, coord in ds.coords.items():
         if name == dim or coord.dims != (dim,) or str(coord.attrs.get("units", "1")).strip() in ("", "1"):
@@ -128,7 +144,7 @@ def default_kind(ds: xr.Dataset, sel: Sequence[str] = ()) -> str:
     names = {name for name, _ in parse_selection(sel)}
     if names:
         return "orbit" if "history" in names else "curves"
-    plane = all(ds.sizes.get(dim, 0) > 1 for dim in GRID)
+    plane = any(all(ds.sizes.get(dim, 0) > 1 for dim in dims) for dims in (GRID, PHYSICAL_GRID))
     return "map" if plane and "regime" in ds else "curves"
 
 
@@ -150,10 +166,11 @@ def parse_selection(items: Sequence[str]) -> list[tuple[str, str]]:
 
 def selection_names(ds: xr.Dataset, kind: str) -> tuple[str, ...]:
     """The --sel names that apply to `kind` for this cube (the dims and coordinates that choose what is drawn)."""
+    force, frequency = grid_dims(ds)
     if kind in CURVE_VARIABLE:
-        dims: tuple[str, ...] = ("force_ratio",)
+        dims: tuple[str, ...] = (force,)
     elif kind == "orbit":
-        dims = ("history", "frequency_ratio", "force_ratio")
+        dims = ("history", frequency, force)
     else:
         return ()
     names = [d for d in dims if d in ds.dims]
@@ -198,9 +215,7 @@ def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = ()) -> Fi
     kind = kind or default_kind(ds, sel)
     if kind not in KINDS:
         raise PlotError(f"unknown kind {kind!r} (kinds: {', '.join(KINDS)})")
-    missing = [n for n in GRID if n not in ds.dims]
-    if missing:
-        raise PlotError(f"not a friction_sweep cube: no dimension {', '.join(missing)}")
+    grid_dims(ds)  # PlotError where the cube has no grid
     if kind == "orbit" and ("history" not in ds.dims or any(n not in ds for n in NEEDS["orbit"])):
         raise PlotError("--kind orbit: the cube holds no time history (history_* variables); add "
                         "time_history to the spec's outputs (time_history: {points: [[r, beta]]})")
@@ -278,8 +293,9 @@ def draw_map(ds: xr.Dataset) -> Figure:
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
-    x, y = grid_axis(ds, "frequency_ratio"), grid_axis(ds, "force_ratio")
-    regime = ds["regime"].transpose(*GRID)
+    force, frequency = grid_dims(ds)
+    x, y = grid_axis(ds, frequency), grid_axis(ds, force)
+    regime = ds["regime"].transpose(force, frequency)
     values = np.asarray(regime.attrs.get("flag_values", [int(c) for c in Regime])).astype(int).ravel()
     meanings = str(regime.attrs.get("flag_meanings", " ".join(c.name.lower() for c in Regime))).split()
     if len(meanings) != len(values):
@@ -295,7 +311,7 @@ def draw_map(ds: xr.Dataset) -> Figure:
     ax.pcolormesh(_edges(x.values), _edges(y.values), np.ma.masked_invalid(position),
                   cmap=ListedColormap(colours), norm=BoundaryNorm(np.arange(len(values) + 1) - 0.5, len(values)),
                   shading="flat", rasterized=True, gid="regime")
-    _draw_boundaries(ax, ds, x, y)
+    _draw_boundaries(ax, ds, x, _force_axis_of(ds, x, y))
     ax.set_xlim(_edges(x.values)[[0, -1]])
     ax.set_ylim(_edges(y.values)[[0, -1]])
     patches = [Patch(facecolor=colours[i], edgecolor="0.5", label=f"{m.replace('_', '-')} ({int((codes == v).sum())})")
@@ -306,9 +322,21 @@ def draw_map(ds: xr.Dataset) -> Figure:
     return fig
 
 
-def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, y: Axis) -> None:
-    """The theory's boundaries in the scene's force-ratio convention, drawn in the axes' units: the
-    continuous-motion limit, the no-motion limit and the resonance."""
+def _force_axis_of(ds: xr.Dataset, x: Axis, y: Axis):
+    """(r, beta) -> the force axis's value: beta itself or its coordinate's units; at constant
+    acceleration F = beta F_k(r), F_k falling as 1/r^2 (read from the cube's own friction_force / beta)."""
+    if y.dim not in PHYSICAL_GRID:
+        return lambda r, beta: y.from_ratio(beta)
+    beta = ds["force_ratio"].transpose(*grid_dims(ds)).values.astype(float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        fk_r2 = y.values[:, None] / beta * x.ratio[None, :] ** 2  # F_k r^2, a constant
+    c = float(np.nanmedian(fk_r2[np.isfinite(fk_r2) & (beta > 0)])) if (beta > 0).any() else math.nan
+    return lambda r, b: np.asarray(b, dtype=float) * c / np.asarray(r, dtype=float) ** 2
+
+
+def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, to_y) -> None:
+    """The theory's boundaries in the scene's force-ratio convention, drawn in the axes' units (`to_y`:
+    (r, beta) -> the force axis): the continuous-motion limit, the no-motion limit and the resonance."""
     from friction_sweep.theory import scenes
 
     excitation = str(ds.attrs.get("excitation", "base"))
@@ -325,7 +353,7 @@ def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, y: Axis) -> None:
         source = ", computed"
     # plain Unicode, not mathtext: parsing the first mathtext costs a quarter of a second
     symbol = "r²β*(r)" if excitation == "joined" else "β*(r)"
-    ax.plot(x.values, y.from_ratio(limit), "--", color="k", lw=1.4, gid="continuous_limit",
+    ax.plot(x.values, to_y(r, limit), "--", color="k", lw=1.4, gid="continuous_limit",
             label=f"continuous below: {symbol} (Den Hartog{', no damping' if damped else ''}{source})")
     # no motion from rest where the force's swing A stays inside the static band: beta >= A / (mu_s/mu_k)
     ratio = effects.get("static_friction_ratio", 1.0)
@@ -334,14 +362,15 @@ def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, y: Axis) -> None:
     where = "β = r²" if excitation == "joined" else "β = 1"
     if ratio != 1.0:
         where += rf" / {ratio:g}"
-    if np.nanmin(y.from_ratio(stuck)) <= _edges(y.values)[-1]:  # else above the plot: not in its legend
-        ax.plot(x.from_ratio(fine), y.from_ratio(stuck), "-", color="k", lw=1.4, gid="stuck_limit",
+    if np.nanmin(to_y(fine, stuck)) <= ax.get_ylim()[1]:  # else above the plot: not in its legend
+        ax.plot(x.from_ratio(fine), to_y(fine, stuck), "-", color="k", lw=1.4, gid="stuck_limit",
                 label=f"stuck above: {where} (no motion from rest)")
     # the undamped resonance: unbounded at r = 1 for friction ratios b <= pi/4 (b = beta/A, A(1) = 1)
     if not damped and r.min() <= 1.0 <= r.max():
         top = min(ties.RESONANCE_FRICTION_LIMIT, 1.0 / ratio)
         x1 = float(x.from_ratio(np.array([1.0]))[0])
-        ax.plot([x1, x1], y.from_ratio(np.array([0.0, top])), "-", color="tab:red", lw=2.0, gid="resonance",
+        ax.plot([x1, x1], to_y(np.array([1.0, 1.0]), np.array([0.0, top])), "-", color="tab:red", lw=2.0,
+                gid="resonance",
                 label="unbounded: r = 1, β ≤ π/4")
 
 
@@ -351,7 +380,7 @@ def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, y: Axis) -> None:
 def curve_indices(ds: xr.Dataset, chosen: dict[str, list[float]]) -> list[int]:
     """Force-ratio indices to draw: the nearest to each chosen value (force_ratio or a coordinate on
     it), else at most MAX_CURVES spread evenly from the first to the last."""
-    n = ds.sizes["force_ratio"]
+    n = ds.sizes[grid_dims(ds)[0]]
     picked: set[int] = set()
     for name, targets in chosen.items():
         values = ds[name].values.astype(float)
@@ -378,8 +407,9 @@ def regime_runs(codes: np.ndarray) -> list[tuple[int, int, int]]:
 def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int]) -> Figure:
     """`var` against r, one curve per force-ratio index; under it, where the cube has regimes, a strip
     with a row per curve (_regime_strip)."""
-    x, f = grid_axis(ds, "frequency_ratio"), grid_axis(ds, "force_ratio")
-    data = ds[var].transpose(*GRID)
+    force, frequency = grid_dims(ds)
+    x, f = grid_axis(ds, frequency), grid_axis(ds, force)
+    data = ds[var].transpose(force, frequency)
     n = len(indices)
     if "regime" in ds:
         fig, axes = _figure(2, 1, size=(7.6, 5.0 + 0.18 * n), height_ratios=[4.0, 0.8 + 0.25 * n], hspace=0.02)
@@ -391,8 +421,7 @@ def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int]) -> Figure:
     for row, (i, colour) in enumerate(zip(indices, colours, strict=True)):
         label = f"{_short(f.label)} = {f.values[i]:g}{_units(f.label)}"
         ax.plot(x.values, data.values[i], "-", color=colour, marker=".", ms=3, label=label, gid=f"curve {row}")
-    shown = "" if n == ds.sizes["force_ratio"] else \
-        f" ({n} of {ds.sizes['force_ratio']} force ratios; choose with --sel force_ratio=...)"
+    shown = "" if n == ds.sizes[force] else f" ({n} of {ds.sizes[force]} force ratios; choose with --sel {force}=...)"
     ax.set(ylabel=_wrapped(axis_label(data)), title=_title(ds, var) + shown)
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     ax.set_xlim(*_edges(x.values)[[0, -1]])
@@ -402,7 +431,7 @@ def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int]) -> Figure:
     ax.tick_params(labelbottom=False)
     strip = axes[1, 0]
     strip.sharex(ax)
-    regime = ds["regime"].transpose(*GRID).values.astype(int)[list(indices)]
+    regime = ds["regime"].transpose(force, frequency).values.astype(int)[list(indices)]
     _regime_strip(strip, x, regime, colours)
     strip.set(xlabel=x.label, ylim=(n - 0.5, -0.5), yticks=range(n), yticklabels=[f"{f.values[i]:g}" for i in indices])
     strip.set_ylabel(_short(f.label), fontsize=8)
@@ -476,12 +505,16 @@ def history_index(ds: xr.Dataset, chosen: dict[str, list[float]]) -> int:
     if not chosen:
         return 0
     distance = np.zeros(n)
-    for dim, stored in (("frequency_ratio", "history_frequency_ratio"), ("force_ratio", "history_force_ratio")):
+    force, frequency = grid_dims(ds)
+    for dim, stored in ((frequency, "history_frequency_ratio"), (force, "history_force_ratio")):
         axis = grid_axis(ds, dim)
         for name, values in chosen.items():
             if name == dim or ds[name].dims == (dim,):
                 if stored not in ds:
                     raise PlotError(f"--sel {name}: the cube does not record its histories' {dim} ({stored})")
+                if dim == "friction_force":  # beta varies with the frequency: no one ratio to compare
+                    raise PlotError(f"--sel {name}: at constant acceleration pick the history by history=K or "
+                                    "by its frequency")
                 target = values[0] if name == dim else float(
                     _interp(np.array([values[0]]), ds[name].values.astype(float), axis.ratio)[0])
                 distance += (ds[stored].values.astype(float) - target) ** 2

@@ -269,3 +269,23 @@ def test_swept_run_writes_them_alike():
     for name in ("friction_energy", "transmitted_force"):
         np.testing.assert_allclose(swept[name], plain[name], rtol=1e-9)
         assert np.all(plain[name] > 0.0)
+
+
+@pytest.mark.parametrize("r, beta", [(0.5, 0.3), (1.0, 0.2), (2.0, 0.5), (2.0, 1.05)])
+def test_energy_balance_with_the_dashpot_on_the_base(r, beta):
+    """(b) With the spring-parallel dashpot (base, `to: base`) the dashpot's base end works too: the work
+    per period is pi A' T sin(phase + phi0) (docs/equations.md §6), and friction's energy is that minus
+    the viscous loss, against an orbit integrated independently with the force cos - 2 zeta r sin as it
+    stands (no phase shift)."""
+    from independent_integrator import steady_orbit
+
+    zeta = 0.1
+    effects = {"viscous_damping": {"ratio": zeta, "to": "base"}}
+    point = tile("event", "base", r, beta, effects)
+    assert point["regime"] in (Regime.STICK_SLIP, Regime.CONTINUOUS)
+    other = steady_orbit(1.0, r, beta, beta, 0.0, 0.0, zeta=zeta, base_dashpot=True)["energies"]
+    amplitude, phi0 = np.hypot(1.0, 2 * zeta * r), np.arctan2(2 * zeta * r, 1.0)
+    work = np.pi * amplitude * point["transmissibility"] * np.sin(np.radians(point["phase"]) + phi0)
+    assert work == pytest.approx(other["forcing"], rel=1e-8)
+    assert point["friction_energy"] == pytest.approx(other["friction"], rel=1e-8)
+    assert point["friction_energy"] == pytest.approx(work - other["viscous"], rel=1e-8)

@@ -104,7 +104,7 @@ class Estimate:
 def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str) -> Estimate:
     """The cost of running `spec` with `jobs` workers on `executor`, with the run's `settings` (those
     `accuracy:` chose included; default: the spec's)."""
-    r, n_beta = spec.frequency_ratio, spec.force_ratio.size
+    r, n_beta = spec.frequency_ratio, spec.force_count
     knobs = {**METHODS[spec.method].defaults, **(spec.settings if settings is None else settings)}
     joined = spec.scene.excitation == "joined"
     solves = 3 if _two_starts(spec, knobs) else 1

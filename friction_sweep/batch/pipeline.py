@@ -92,6 +92,7 @@ def cube(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], co
                                        settings=recorded_settings(spec, settings)),
                **_effects_attribute(spec), **attrs},
         physical=coords,
+        physical_dims=spec.physical is not None and spec.physical.physical_dims,
     )
 
 

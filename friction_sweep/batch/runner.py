@@ -25,13 +25,19 @@ __all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_gri
 
 
 def compute_tile(args):
-    """One tile: a pure function of its arguments (picklable for processes and Dask)."""
+    """One tile: a pure function of its arguments (picklable for processes and Dask). `beta` is one force
+    ratio per force-axis value, or (constant base acceleration) a column of them per frequency ratio."""
     method_name, excitation, r, beta, outputs, effects, settings, sweep = args
     method = methods.get(method_name)
     if sweep:
         return method.compute_sweep_tile(excitation, r, beta, outputs, effects=effects, settings=settings,
                                          direction=sweep)
-    return method.compute_tile(excitation, r, beta, outputs, effects=effects, settings=settings)
+    if np.ndim(beta) == 1:
+        return method.compute_tile(excitation, r, beta, outputs, effects=effects, settings=settings)
+    # each point is computed alone, so a column of its own force ratios gives what a plane would
+    columns = [method.compute_tile(excitation, r[i:i + 1], beta[:, i], outputs, effects=effects, settings=settings)
+               for i in range(r.size)]
+    return {name: np.concatenate([c[name] for c in columns], axis=-1) for name in columns[0]}
 
 
 def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, outputs, *, effects=None,
@@ -46,21 +52,22 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
     sweep: "up" or "down" for a stepped-sine sweep along the frequency ratio (tiles of force ratios).
     """
     r = np.asarray(frequency_ratio, dtype=float)
-    beta = np.asarray(force_ratio, dtype=float)
-    parts = layout(r.size, beta.size, sweep)
+    beta = np.asarray(force_ratio, dtype=float)  # (n_beta,), or (n_beta, n_r) at constant acceleration
+    n_beta = beta.shape[0]
+    parts = layout(r.size, n_beta, sweep)
     grid_outputs = tuple(o for o in outputs if o in GRID_OUTPUTS)  # time histories are not per grid point
     common = (grid_outputs, dict(effects or {}), dict(settings or {}), sweep)
     if sweep:
         work = [(method_name, excitation, r, beta[s], *common) for s in parts]
     else:
-        work = [(method_name, excitation, r[s], beta, *common) for s in parts]
+        work = [(method_name, excitation, r[s], beta if beta.ndim == 1 else beta[:, s], *common) for s in parts]
     results: dict[str, np.ndarray] = {}
 
     def place(s: slice, tile: dict) -> None:
         for name, values in tile.items():
             values = np.asarray(values)
             if name not in results:
-                shape = (r.size,) if values.ndim == 1 else (beta.size, r.size)
+                shape = (r.size,) if values.ndim == 1 else (n_beta, r.size)
                 results[name] = np.empty(shape, dtype=values.dtype)
             if sweep and values.ndim == 1:
                 results[name][:] = values  # along frequency_ratio: every tile has all of it
@@ -69,9 +76,9 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
             else:
                 results[name][..., s] = values
         if on_tile is not None:
-            on_tile((s.stop - s.start) * (r.size if sweep else beta.size))
+            on_tile((s.stop - s.start) * (r.size if sweep else n_beta))
 
-    done = {i: tile for i, tile in (done or {}).items() if _fits(tile, parts[i], r.size, beta.size, sweep)}
+    done = {i: tile for i, tile in (done or {}).items() if _fits(tile, parts[i], r.size, n_beta, sweep)}
     for i, tile in done.items():
         place(parts[i], tile)
     todo = [i for i in range(len(parts)) if i not in done]
@@ -79,9 +86,9 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         log.info("resuming: %d of %d tiles already done", len(done), len(parts))
     if todo and executor in ("processes", "threads") and jobs > 1:
         # compile (or load from the cache) once here, before workers start: no compile storm
-        compute_tile((method_name, excitation, r[:1], beta[:1], *common))
+        compute_tile((method_name, excitation, r[:1], beta[:1] if beta.ndim == 1 else beta[:1, :1], *common))
     log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
-             sum((r.size if sweep else beta.size) * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
+             sum((r.size if sweep else n_beta) * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
     for k, tile in execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler):
         index = todo[k]
         if on_done is not None:

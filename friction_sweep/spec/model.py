@@ -458,9 +458,11 @@ class Spec(_Model):
                          for name in ("frequency", "friction_force") if getattr(grid, name) is not None]
             system = System()
         f_n, force, friction = system.natural_frequency_si, system.reference_force, system.friction
-        if self.scene.excitation == "force" and system.base_amplitude is not None:
-            problems.append(_error("amplitude_force", "a force excitation's amplitude is a force: give "
-                                   "excitation_force (F0)", ("system", "base_amplitude")))
+        acceleration = system.base_acceleration
+        for name in ("base_amplitude", "base_acceleration"):
+            if self.scene.excitation == "force" and getattr(system, name) is not None:
+                problems.append(_error("amplitude_force", "a force excitation's amplitude is a force: give "
+                                       "excitation_force (F0)", ("system", name)))
         friction_key = ("system", "friction_force" if system.friction_force is not None else "friction_coefficient")
         r = grid.values("frequency_ratio")
         frequency = None if r is None or f_n is None else r * f_n
@@ -486,6 +488,22 @@ class Spec(_Model):
         elif beta is None and physical is None:
             problems.append(_error("force_axis", "give a force axis (force_ratio, or friction_force with the "
                                    "system), or the friction in system.friction_force", ("grid",)))
+        elif acceleration is not None and beta is not None:
+            problems.append(_error("acceleration_force_ratio", "with system.base_acceleration the force ratio "
+                                   "grows with f^2 along the sweep: give the friction in newtons (grid.friction_force "
+                                   "or system.friction_force)", ("grid", "force_ratio")))
+        elif acceleration is not None and physical is not None:
+            where = ("grid", "friction_force") if grid.friction_force is not None else friction_key
+            if frequency is not None and system.stiffness_si is not None:
+                friction_force = physical
+                force_at = system.stiffness_si * acceleration / (2.0 * np.pi * frequency) ** 2
+                beta = g.round_significant((physical[:, None] / force_at[None, :]).ravel()).reshape(
+                    physical.size, frequency.size)
+                problems += _accelerated_problems(beta, physical, frequency, force_at, where)
+            if self.sweep is not None:
+                problems.append(_error("acceleration_sweep", "a stepped-sine sweep at constant acceleration is not "
+                                       "supported: the force ratio changes from one frequency to the next",
+                                       ("sweep",)))
         elif physical is not None and self.system is not None:
             where = ("grid", "friction_force") if grid.friction_force is not None else friction_key
             if force is None:
@@ -502,7 +520,7 @@ class Spec(_Model):
         if self.system is not None:
             self._physical = PhysicalMap(natural_frequency=f_n, reference_force=force,
                                          length_scale=system.length_scale, stiffness=system.stiffness_si,
-                                         frequency=frequency, friction_force=friction_force)
+                                         frequency=frequency, friction_force=friction_force, acceleration=acceleration)
         return []
 
     def _excitation_problems(self):
@@ -562,7 +580,14 @@ class Spec(_Model):
 
     @property
     def force_ratio(self) -> np.ndarray:
+        """The force ratios: one per force-axis value, or at constant base acceleration one per point
+        (friction force x frequency), as beta grows with f^2."""
         return self._read_only("force_ratio")
+
+    @property
+    def force_count(self) -> int:
+        """Points along the force axis."""
+        return int(self.force_ratio.shape[0])
 
     def _read_only(self, name: str) -> np.ndarray:
         values = self._ratios[name]
@@ -596,4 +621,22 @@ def _mapped_problems(ratio: np.ndarray, physical: np.ndarray, unit: str, rule: s
     if j is not None:
         return [_error("mapped_collide", f"{physical[j - 1]:.12g} {unit} and {physical[j]:.12g} {unit} give the same "
                        f"ratio at {g.SIGNIFICANT_DIGITS} significant digits ({ratio[j]:.12g})", at)]
+    return []
+
+
+def _accelerated_problems(beta: np.ndarray, friction: np.ndarray, frequency: np.ndarray, force_at: np.ndarray,
+                          at: tuple) -> list[PydanticCustomError]:
+    """A constant-acceleration grid whose force ratios (friction x frequency) leave their range or collide."""
+    bad = np.argwhere(~np.vectorize(g.force_ratio_ok)(beta))
+    if bad.size:
+        j, i = bad[0]
+        more = f" ({len(bad) - 1} more)" if len(bad) > 1 else ""
+        return [_error("mapped_range", f"{friction[j]:.6g} N at {frequency[i]:.6g} Hz is beta = {beta[j, i]:.6g} "
+                       f"(beta = F_mu / F_k, F_k = k a / omega^2 = {force_at[i]:.6g} N there); it must be "
+                       f"{g.FORCE_RATIO_SPAN}{more}", at)]
+    collide = np.argwhere(np.diff(beta, axis=0) <= 0)
+    if collide.size:
+        j, i = collide[0]
+        return [_error("mapped_collide", f"{friction[j]:.12g} N and {friction[j + 1]:.12g} N give the same ratio at "
+                       f"{frequency[i]:.6g} Hz at {g.SIGNIFICANT_DIGITS} significant digits ({beta[j, i]:.12g})", at)]
     return []

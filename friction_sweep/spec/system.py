@@ -8,9 +8,11 @@ amplitude, the paper's F_k), F0 for `force`. Lengths are measured in L = F_k / k
 F_k and energies in F_k L: a length, force or energy out of the computation is a physical one times these.
 
 Any two of natural_frequency, mass and stiffness fix the third; the excitation is a force (excitation_force)
-or, for base and joined, the base's amplitude (base_amplitude, with the stiffness); the friction is a force
-(friction_force) or a coefficient times a normal load, given here or swept on the grid's friction_force axis.
-Only what a spec uses is required: a dimensionless axis needs nothing from the system.
+or, for base and joined, the base's amplitude (base_amplitude, with the stiffness) or its acceleration
+(base_acceleration, what shaker controllers hold: Y = a / omega^2, so F_k = k a / omega^2 falls and beta
+grows with f^2 along a sweep); the friction is a force (friction_force) or a coefficient times a normal
+load, given here or swept on the grid's friction_force axis. Only what a spec uses is required: a
+dimensionless axis needs nothing from the system.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from pydantic import BeforeValidator, model_validator
 
 from . import grid as g
 from .base import Model, problem, raise_all, show
-from .quantities import FORCE, FREQUENCY, LENGTH, MASS, RATIO, STIFFNESS, Kind, QuantityError, to_si
+from .quantities import ACCELERATION, FORCE, FREQUENCY, LENGTH, MASS, RATIO, STIFFNESS, Kind, QuantityError, to_si
 
 
 def _quantity(kind: Kind, *, zero: bool = False):
@@ -50,6 +52,7 @@ class System(Model):
     stiffness: _quantity(STIFFNESS) | None = None  # type: ignore[valid-type]
     excitation_force: _quantity(FORCE) | None = None  # type: ignore[valid-type]
     base_amplitude: _quantity(LENGTH) | None = None  # type: ignore[valid-type]
+    base_acceleration: _quantity(ACCELERATION) | None = None  # type: ignore[valid-type]
     friction_force: _quantity(FORCE, zero=True) | None = None  # type: ignore[valid-type]
     friction_coefficient: _quantity(RATIO, zero=True) | None = None  # type: ignore[valid-type]
     normal_load: _quantity(FORCE) | None = None  # type: ignore[valid-type]
@@ -65,13 +68,16 @@ class System(Model):
             other = "stiffness" if given == ["mass"] else "mass"
             problems.append(problem("under_determined", f"{given[0]} alone fixes no natural frequency: give "
                                     f"{other} or natural_frequency as well", (given[0],)))
-        if self.excitation_force is not None and self.base_amplitude is not None:
-            problems.append(problem("two_amplitudes", "give the excitation as excitation_force or as "
-                                    "base_amplitude, not both", ("base_amplitude",)))
-        if self.base_amplitude is not None and self.stiffness_si is None:
-            problems.append(problem("amplitude_needs_stiffness", "a base amplitude drives the mass with the "
-                                    "spring's force k Y: give the stiffness (or mass and natural_frequency)",
-                                    ("base_amplitude",)))
+        amplitudes = [n for n in ("excitation_force", "base_amplitude", "base_acceleration")
+                      if getattr(self, n) is not None]
+        if len(amplitudes) > 1:
+            problems.append(problem("two_amplitudes", f"give the excitation one way: {' or '.join(amplitudes)}, "
+                                    "not both", (amplitudes[-1],)))
+        for name, what in (("base_amplitude", "k Y"), ("base_acceleration", "k a / omega^2")):
+            if getattr(self, name) is not None and self.stiffness_si is None:
+                problems.append(problem("amplitude_needs_stiffness", f"a base {name.split('_')[1]} drives the mass "
+                                        f"with the spring's force {what}: give the stiffness (or mass and "
+                                        "natural_frequency)", (name,)))
         by_coefficient = (self.friction_coefficient, self.normal_load)
         if self.friction_force is not None and any(x is not None for x in by_coefficient):
             problems.append(problem("two_frictions", "give friction_force or friction_coefficient with "
@@ -104,7 +110,8 @@ class System(Model):
 
     @property
     def reference_force(self) -> float | None:
-        """F_k in N: the excitation's force amplitude, given or k Y."""
+        """F_k in N: the excitation's force amplitude, given or k Y; None at constant acceleration, where
+        it depends on the frequency (force_at)."""
         if self.excitation_force is not None:
             return self.excitation_force
         k = self.stiffness_si
@@ -204,14 +211,31 @@ def physical_axis(value: Any, kind: Kind) -> tuple[float, ...]:
 
 @dataclass(frozen=True)
 class PhysicalMap:
-    """A spec's physical values beside the dimensionless ones it computes with (SI; None where unknown)."""
+    """A spec's physical values beside the dimensionless ones it computes with (SI; None where unknown).
+
+    At constant base acceleration a, F_k and L depend on the frequency: L = a / (2 pi f)^2, F_k = k L
+    (scales_at); the grid's dims are then the physical ones (`physical_dims`)."""
 
     natural_frequency: float | None  # f_n, Hz
-    reference_force: float | None  # F_k, N
-    length_scale: float | None  # L, m
+    reference_force: float | None  # F_k, N (None at constant acceleration)
+    length_scale: float | None  # L, m (None at constant acceleration)
     stiffness: float | None  # k, N/m
     frequency: np.ndarray | None  # Hz, one per frequency ratio
     friction_force: np.ndarray | None  # N, one per force ratio
+    acceleration: float | None = None  # a, m/s^2, where the base's acceleration is held
+
+    @property
+    def physical_dims(self) -> bool:
+        """Whether the cube's dims are (friction_force, frequency): at constant acceleration beta varies
+        along both, so it is a 2-D coordinate, not a dim."""
+        return self.acceleration is not None
+
+    def scales_at(self, frequency) -> tuple[np.ndarray | float | None, np.ndarray | float | None]:
+        """(F_k, L) at the given frequencies (Hz): constant, or k a / omega^2 and a / omega^2."""
+        if self.acceleration is None:
+            return self.reference_force, self.length_scale
+        length = self.acceleration / (2.0 * math.pi * np.asarray(frequency, dtype=np.float64)) ** 2
+        return (self.stiffness * length if self.stiffness is not None else None), length
 
     def describe(self, excitation: str) -> list[str]:
         """Lines saying what (r, beta) mean physically, for `fsweep validate` and `fsweep info`."""
@@ -222,6 +246,9 @@ class PhysicalMap:
         if self.reference_force is not None:
             what = "F0" if excitation == "force" else "k Y"
             lines.append(f"excitation force F_k = {what} = {self.reference_force:.6g} N: beta = F_mu / F_k")
+        if self.acceleration is not None:
+            lines.append(f"base acceleration a = {self.acceleration:.6g} m/s^2 held: Y = a / omega^2, "
+                         "F_k = k Y, beta = F_mu / F_k grows with f^2 (dims frequency, friction_force)")
         if self.length_scale is not None:
             what = "F0 / k" if excitation == "force" else "Y"
             lines.append(f"length scale {what} = {self.length_scale:.6g} m: displacements = ratios x {what}")

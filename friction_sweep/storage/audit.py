@@ -65,6 +65,8 @@ _COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS}
 def audit(ds: xr.Dataset) -> list[Problem]:
     """Every problem found in the cube `ds` (an empty list: none), in the order of its variables."""
     problems: list[Problem] = []
+    # a cube at constant base acceleration has the physical dims (schema.ACCELERATION_DIMS)
+    physical_dims = set(schema.ACCELERATION_DIMS.values()) <= set(map(str, ds.dims))
     for name in schema.COORDS:
         if name not in ds.variables:
             problems.append(Problem(name, "is missing: every result cube has this coordinate"))
@@ -75,9 +77,10 @@ def audit(ds: xr.Dataset) -> list[Problem]:
             where = "coordinate" if name in ds.coords else "variable"
             problems.append(Problem(name, f"is not a {where} of the result cube schema"))
             continue
-        if tuple(var.dims) != tuple(spec.dims):
+        expected = schema.cube_dims(name, spec.dims, physical_dims)
+        if tuple(var.dims) != expected:
             problems.append(Problem(name, f"has dims ({', '.join(map(str, var.dims))}); the schema says "
-                                          f"({', '.join(spec.dims)})"))
+                                          f"({', '.join(expected)})"))
         if np.dtype(var.dtype) != np.dtype(spec.dtype):
             problems.append(Problem(name, f"is stored as {np.dtype(var.dtype)}; the schema says "
                                           f"{np.dtype(spec.dtype)}"))

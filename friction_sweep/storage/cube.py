@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any, Final, NamedTuple
 import numpy as np
 
 from friction_sweep.storage import atomic, provenance
-from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES
+from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES, cube_dims
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -35,18 +35,21 @@ class CubeParts(NamedTuple):
 
 
 def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
-               history: str, physical: dict | None = None) -> CubeParts:
+               history: str, physical: dict | None = None, physical_dims: bool = False) -> CubeParts:
     """The given arrays, each labelled and given CF attributes from the schema table; `physical`: the
-    physical coordinates (storage.physical) beside the grid's."""
+    physical coordinates (storage.physical) beside the grid's; `physical_dims`: a cube at constant base
+    acceleration, whose dims are the physical coordinates (schema.cube_dims)."""
     coords: Entries = {}
     for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio),
                          *(physical or {}).items()):
         var = {**COORDS, **PHYSICAL_COORDS}[name]
-        coords[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+        dims = cube_dims(name, var.dims, physical_dims)
+        coords[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     data_vars: Entries = {}
     for name, values in arrays.items():
         var = VARIABLES[name]  # KeyError here means a method produced an undeclared variable
-        data_vars[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+        dims = cube_dims(name, var.dims, physical_dims)
+        data_vars[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     return CubeParts(coords, data_vars, {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
 
 
@@ -73,10 +76,10 @@ def _parts_of(ds: xr.Dataset) -> CubeParts:
 def netcdf_bytes(parts: CubeParts) -> bytes:
     """The cube as netCDF4 bytes, as xarray would write it: floats get _FillValue NaN (none on
     dimension coordinates), integers none (every flag code is meaningful); strings as variable-length;
-    non-dimension coordinates (a cube's physical ones) named in the `coordinates` attribute of each
-    variable whose dims hold theirs, else in the global one, as xarray's CF encoding does. What a cube
-    never holds (bytes, dimensions of two sizes, a coordinate on several dims) is refused, not written
-    differently from xarray; a Dataset's own .encoding is not read."""
+    non-dimension coordinates (a cube's physical ones, or its ratios where the dims are physical) named
+    in the `coordinates` attribute of each variable whose dims hold theirs, else in the global one, as
+    xarray's CF encoding does. What a cube never holds (bytes, dimensions of two sizes) is refused, not
+    written differently from xarray; a Dataset's own .encoding is not read."""
     import h5netcdf
     import h5py
 
@@ -85,8 +88,6 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
         for dim, size in zip(dims, values.shape, strict=True):
             if sizes.setdefault(dim, size) != size:
                 raise ValueError(f"{name}: dimension {dim} has size {size}, elsewhere {sizes[dim]}")
-        if name in parts.coords and len(dims) != 1:
-            raise ValueError(f"{name}: only coordinates on one dimension are written (a cube has no other)")
         if values.dtype.kind == "S" or (values.dtype.kind == "O" and not all(isinstance(x, str) for x in values.flat)):
             raise ValueError(f"{name}: only numbers and str are written")
     auxiliary = {name: set(dims) for name, (dims, _, _) in parts.coords.items() if dims != (name,)}

@@ -35,22 +35,33 @@ def coordinates(physical: PhysicalMap) -> dict[str, np.ndarray]:
 
 
 def variables(physical: PhysicalMap, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    """The physical variables of a run's arrays: lengths in m, history time in s."""
+    """The physical variables of a run's arrays: lengths in m, forces in N, energies in J, history time in s.
+    At constant acceleration the scales depend on the frequency: along the grid's last axis, and at each
+    history point's own frequency."""
+
+    def scales(frequency) -> dict[str, Any]:
+        force, length = physical.scales_at(frequency)
+        return {"length": length, "force": force,
+                "energy": force * length if force is not None and length is not None else None}
+
     out: dict[str, np.ndarray] = {}
-    length, force = physical.length_scale, physical.reference_force
-    scales = {"length": length, "force": force,
-              "energy": force * length if force is not None and length is not None else None}
+    history_frequency = None
+    if physical.natural_frequency is not None and "history_frequency_ratio" in arrays:
+        history_frequency = np.asarray(arrays["history_frequency_ratio"], dtype=np.float64) * physical.natural_frequency
+    grid = scales(physical.frequency)
+    at_history = scales(history_frequency[:, None]) if history_frequency is not None else \
+        (grid if physical.acceleration is None else {})
     for name, (source, kind) in SCALED.items():
-        scale = scales[kind]
+        history = name.startswith("history_")
+        scale = (at_history if history else grid).get(kind)
         if scale is None:
             continue
         # a grid variable's twin from the moving start (schema.STATE_VARIABLES) scales alike
-        for suffix in ("",) if name.startswith("history_") else ("", MOVING_SUFFIX):
+        for suffix in ("",) if history else ("", MOVING_SUFFIX):
             if source + suffix in arrays:
                 out[name + suffix] = np.asarray(arrays[source + suffix], dtype=np.float64) * scale
-    if physical.natural_frequency is not None and "history_time" in arrays:
-        frequency = np.asarray(arrays["history_frequency_ratio"], dtype=np.float64) * physical.natural_frequency
-        out["history_physical_time"] = np.asarray(arrays["history_time"], dtype=np.float64) / frequency[:, None]
+    if history_frequency is not None and "history_time" in arrays:
+        out["history_physical_time"] = np.asarray(arrays["history_time"], dtype=np.float64) / history_frequency[:, None]
     return out
 
 
@@ -66,7 +77,7 @@ def from_attribute(text: str) -> PhysicalMap:
 
     return PhysicalMap(natural_frequency=value("natural_frequency_Hz"), reference_force=value("excitation_force_N"),
                        length_scale=value("length_scale_m"), stiffness=value("stiffness_N_per_m"),
-                       frequency=None, friction_force=None)
+                       frequency=None, friction_force=None, acceleration=value("base_acceleration_m_per_s2"))
 
 
 def attribute(physical: PhysicalMap) -> str:
@@ -76,5 +87,6 @@ def attribute(physical: PhysicalMap) -> str:
         "excitation_force_N": physical.reference_force,
         "length_scale_m": physical.length_scale,
         "stiffness_N_per_m": physical.stiffness,
+        "base_acceleration_m_per_s2": physical.acceleration,
     }
     return json.dumps(record)

@@ -15,6 +15,9 @@ from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.theory.phase import PHASE_RANGE_DEG
 
 GRID_DIMS = ("force_ratio", "frequency_ratio")
+#: the dims of a cube at constant base acceleration (spec/system.py): the physical axes, since beta grows
+#: with f^2 along the sweep; frequency_ratio is then a coordinate on `frequency`, force_ratio a 2-D one
+ACCELERATION_DIMS = {"force_ratio": "friction_force", "frequency_ratio": "frequency"}
 HISTORY_DIMS = ("history", "sample")
 CONVENTIONS = "CF-1.10"
 
@@ -47,6 +50,16 @@ FRACTION_VALID = (0.0, 1.0)
 NONNEGATIVE = (0.0, math.inf)
 #: frequency ratios are > 0: the smallest positive double is the inclusive minimum
 POSITIVE = (math.nextafter(0.0, 1.0), math.inf)
+
+
+def cube_dims(name: str, dims: tuple[str, ...], physical_dims: bool) -> tuple[str, ...]:
+    """The dims the variable `name` (schema dims `dims`) has in a cube: as the schema says, or in a cube
+    with physical dims renamed, the force ratio then spanning both grid dims."""
+    if not physical_dims:
+        return dims
+    if name == "force_ratio":
+        dims = GRID_DIMS
+    return tuple(ACCELERATION_DIMS.get(d, d) for d in dims)
 
 
 @dataclass(frozen=True)
