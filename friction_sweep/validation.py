@@ -20,11 +20,8 @@ the command refuses before computing anything.
 
 from __future__ import annotations
 
-import codecs
-import csv
 import math
 import os
-import stat
 from pathlib import Path
 
 import click
@@ -34,10 +31,10 @@ import pandas as pd
 from friction_sweep import codes
 from friction_sweep.codes import Regime
 from friction_sweep.exits import EXIT_RUNTIME, fail
+from friction_sweep.measured import DataError, read_table
 from friction_sweep.spec import grid
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
-from friction_sweep.storage.outputs import file_kind
 
 #: the rig's 36 measured phases, shipped with the package (source in the file's header); a copy of
 #: the project's shared/data/experiment_phase_fixed_wall.csv, kept equal by tests/test_validation.py
@@ -51,119 +48,26 @@ METHODS = ("theory", "event")
 DEFINITIONS = ("phase", "peak_phase")  # first harmonic; between maxima
 DEFINITION_NAMES = {"phase": "first-harmonic phase", "peak_phase": "peak (between maxima) phase"}
 OUTPUT_FILES = ("table.csv", "table.md", "phase_measured_vs_predicted.png")
-#: the rig's file is 3 KB; a file past this is not measured data, and would take hours to predict
-MAX_DATA_BYTES = 16 * 2**20
-#: rows a data file may hold: a rig's sweep has tens to hundreds; each costs a simulation
-MAX_ROWS = 2000
 FIGURE_DPI = 150
-
-
-class DataError(ValueError):
-    """The measured-data file is missing or malformed."""
 
 
 # --- reading ----------------------------------------------------------------------------------------
 
 
 def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFrame:
-    """The measured points as a DataFrame, one row per point, in file order.
-
-    Lines starting with `#` are comments; the first other line is the header. Every column that
-    parses as a number becomes float64. Raises DataError, its message `FILE[:LINE]: reason`, on a
-    file that cannot be read or is not UTF-8 CSV text, missing or repeated columns, a row with the
-    wrong number of fields, non-numeric or non-finite values in the required columns, frequency
-    ratios or force ratios outside the spec's ranges (spec.grid), more than MAX_ROWS rows, or no data rows.
-    """
-    path = Path(path) if path is not None else DEFAULT_DATA
-    header, header_line, rows = None, 0, []
-    for number, line in enumerate(_read_text(path).split("\n"), start=1):
-        line = line.rstrip("\r")
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        try:
-            fields = next(csv.reader([line]))
-        except csv.Error as err:
-            raise DataError(f"{path}:{number}: not a CSV line ({err})") from None
-        if header is None:
-            header, header_line = [name.strip() for name in fields], number
-            _check_header(path, number, header)
-            continue
-        if len(fields) != len(header):
-            raise DataError(f"{path}:{number}: {len(fields)} fields, but the header (line {header_line}) "
-                            f"has {len(header)}")
-        rows.append((number, fields))
-    if not rows or header is None:  # a header comes before any row
-        raise DataError(f"{path}: no data rows")
-    if len(rows) > MAX_ROWS:  # each row is simulated (up to ~0.5 s at the lowest frequency ratios)
-        raise DataError(f"{path}:{rows[MAX_ROWS][0]}: more than {MAX_ROWS} data rows")
-    columns = {name: [fields[i].strip() for _, fields in rows] for i, name in enumerate(header)}
-    table = pd.DataFrame(columns)
-    for column in header:
-        if column in REQUIRED:
-            table[column] = [_required_number(path, number, column, value)
-                             for (number, _), value in zip(rows, columns[column], strict=True)]
-            continue
-        converted = pd.to_numeric(table[column], errors="coerce")
-        if converted.notna().all():
-            table[column] = converted.astype(float)
-    return table
+    """The measured points as a DataFrame, one row per point, in file order (friction_sweep.measured:
+    comments, header, finite numbers; DataError `FILE[:LINE]: reason` otherwise), with frequency ratios
+    and force ratios inside the spec's ranges (spec.grid)."""
+    return read_table(Path(path) if path is not None else DEFAULT_DATA, REQUIRED, _in_range)[0]
 
 
-def _read_text(path: Path) -> str:
-    """The file's text, refusing what is not a readable, reasonably small UTF-8 text file."""
-    try:
-        st = os.stat(path)
-    except OSError as err:
-        raise DataError(f"{path}: cannot read the measured data: {err.strerror or err}") from None
-    # a FIFO or device would block or never end, and a directory is a common slip
-    if not stat.S_ISREG(st.st_mode):
-        raise DataError(f"{path}: is {file_kind(st.st_mode)}, not a CSV file")
-    if st.st_size > MAX_DATA_BYTES:
-        raise DataError(f"{path}: {st.st_size} bytes, too large for a measured-data CSV "
-                        f"(at most {MAX_DATA_BYTES // 2**20} MiB)")
-    try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_DATA_BYTES + 1)
-    except OSError as err:
-        raise DataError(f"{path}: cannot read the measured data: {err.strerror or err}") from None
-    if not data.strip():
-        raise DataError(f"{path}: empty file")
-    if b"\0" in data:
-        line = data[: data.index(b"\0")].count(b"\n") + 1
-        raise DataError(f"{path}:{line}: binary data (a NUL byte), not a CSV text file")
-    if data.startswith(codecs.BOM_UTF8):  # as spreadsheets save "UTF-8 CSV"
-        data = data[len(codecs.BOM_UTF8):]
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as err:
-        line = data[: err.start].count(b"\n") + 1
-        raise DataError(f"{path}:{line}: not UTF-8 text (byte 0x{data[err.start]:02x}); "
-                        "save the file as UTF-8 CSV") from None
-
-
-def _check_header(path: Path, number: int, header: list[str]) -> None:
-    repeated = sorted({name for name in header if header.count(name) > 1})
-    if repeated:
-        raise DataError(f"{path}:{number}: column(s) {', '.join(repeated)} appear more than once")
-    missing = [c for c in REQUIRED if c not in header]
-    if missing:
-        raise DataError(f"{path}:{number}: missing column(s) {', '.join(missing)} (have: {', '.join(header)})")
-
-
-def _required_number(path: Path, number: int, column: str, value: str) -> float:
-    """A required column's value on line `number`: a finite number, within the column's range."""
-    try:
-        x = float(value)
-    except ValueError:
-        x = math.nan
-    if not math.isfinite(x):
-        raise DataError(f"{path}:{number}: {column} must be a finite number (got {value!r})")
+def _in_range(column: str, x: float, value: str) -> str | None:
+    """Why a required value is outside the spec's ranges, or None."""
     if column == "frequency_ratio" and not grid.frequency_ratio_ok(x):
-        raise DataError(f"{path}:{number}: frequency_ratio must be {grid.FREQUENCY_RATIO_SPAN} (got {value}): "
-                        f"{grid.FREQUENCY_RATIO_NOTE}")
+        return f"must be {grid.FREQUENCY_RATIO_SPAN} (got {value}): {grid.FREQUENCY_RATIO_NOTE}"
     if column == "force_ratio" and not grid.force_ratio_ok(x):
-        raise DataError(f"{path}:{number}: force_ratio must be {grid.FORCE_RATIO_SPAN} (got {value})")
-    return x
+        return f"must be {grid.FORCE_RATIO_SPAN} (got {value})"
+    return None
 
 
 # --- predicting -------------------------------------------------------------------------------------
