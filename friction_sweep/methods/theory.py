@@ -95,19 +95,30 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     beta = np.asarray(beta, dtype=float)
     bstar = dh.continuous_limit(r)
     R, B = np.meshgrid(r, beta)
-    code = forecast_regime(excitation, R, B, bstar[None, :])
+    out = compute_points(excitation, R, B, outputs, np.broadcast_to(bstar[None, :], R.shape))
+    out["continuous_limit"] = _in_scene_convention(excitation, r, bstar)
+    return out
+
+
+def compute_points(excitation: str, r, beta, outputs, bstar=None) -> dict[str, np.ndarray]:
+    """The requested outputs at the points (r, beta) (arrays of one shape), without `continuous_limit`;
+    bstar: Den Hartog's beta*(r) at each point where the caller has it (else computed)."""
+    r = np.asarray(r, dtype=float)
+    beta = np.asarray(beta, dtype=float)
+    if bstar is None:
+        bstar = dh.continuous_limit(r)
+    code = forecast_regime(excitation, r, beta, bstar)
     names = variables_for(excitation, outputs)
-    out = {name: np.full(R.shape, np.nan) for name in names if name != "regime"}
+    out = {name: np.full(r.shape, np.nan) for name in names if name != "regime"}
     if "regime" in names:
         out["regime"] = code
         out["stops_per_period"] = np.where(
             (code == Regime.CONTINUOUS) | (code == Regime.STUCK), 0.0, np.nan
         )
-    _fill_stuck(excitation, out, code == Regime.STUCK, R)
+    _fill_stuck(excitation, out, code == Regime.STUCK, r)
     sel = code == Regime.CONTINUOUS
     if np.any(sel):
-        _fill_continuous(excitation, out, R[sel], B[sel], sel)
-    out["continuous_limit"] = _in_scene_convention(excitation, r, bstar)
+        _fill_continuous(excitation, out, r[sel], beta[sel], sel)
     return out
 
 
