@@ -42,13 +42,17 @@ def parse_spec_text(text: str, source: str = "<string>") -> Spec:
     try:
         spec = Spec.model_validate(doc.data)
     except ValidationError as e:
-        raise SpecError(_problems(e, doc)) from None
+        raise SpecError(problems_of(e, doc)) from None
     spec._source_path = source
     spec._text = text
     return spec
 
 
-def _problems(exc: ValidationError, doc: Document) -> list[SpecProblem]:
+def problems_of(exc: ValidationError, doc: Document,
+                models: dict[KeyPath, type[BaseModel]] | None = None) -> list[SpecProblem]:
+    """Each problem pydantic found in the document, located at its key (file:line:column); `models`: which
+    model validates the mapping at each key path, to list the keys it allows (default: a sweep spec's)."""
+    models = _MODELS if models is None else models
     problems = []
     for err in exc.errors():
         loc = err["loc"]
@@ -57,16 +61,16 @@ def _problems(exc: ValidationError, doc: Document) -> list[SpecProblem]:
                      if not (p in AXIS_TAGS and i and loc[i - 1] in ("frequency_ratio", "force_ratio")))
         path += tuple((err.get("ctx") or {}).get("at", ()))
         line, column = doc.locate(path, key=err["type"] in ("extra_forbidden", "unknown_key"))
-        problems.append(SpecProblem(doc.source, line, column, format_key(path), _reason(err, path)))
+        problems.append(SpecProblem(doc.source, line, column, format_key(path), _reason(err, path, models)))
     # File order reads best; problems without a line (missing top-level keys) go last.
     return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
 
 
-def _reason(err: ErrorDetails, path: KeyPath) -> str:
+def _reason(err: ErrorDetails, path: KeyPath, models: dict[KeyPath, type[BaseModel]]) -> str:
     kind, value, ctx = err["type"], err.get("input"), err.get("ctx") or {}
     got = f" (got {show(value)})"
     if kind == "extra_forbidden":
-        model = _MODELS.get(path[:-1])
+        model = models.get(path[:-1])
         allowed = f" (allowed: {', '.join(model.model_fields)})" if model else ""
         return f"unknown key {show(path[-1])}{allowed}"
     if kind == "missing":
