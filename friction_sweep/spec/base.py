@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, ValidationError
+from pydantic import BaseModel, ConfigDict, PrivateAttr, ValidationError
 from pydantic_core import InitErrorDetails, PydanticCustomError
 
 
@@ -41,3 +41,18 @@ def raise_all(title: str, errors: list[PydanticCustomError]) -> None:
 class Model(BaseModel):
     # frozen: the computed grid arrays must stay in step with the fields they come from
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Sourced(Model):
+    """A validated YAML file's model: where it was read from and its text (set by its parser)."""
+
+    _source_path: str = PrivateAttr(default="<string>")
+    _text: str = PrivateAttr(default="")
+
+    @property
+    def source_path(self) -> str:
+        return self._source_path
+
+    @property
+    def text(self) -> str:
+        return self._text

@@ -34,6 +34,7 @@ from friction_sweep.catalogue import (
 
 from . import grid as g
 from .base import Model as _Model
+from .base import Sourced as _Sourced
 from .base import problem as _error
 from .base import raise_all as _raise_all
 from .base import show
@@ -367,7 +368,7 @@ class Sweep(_Model):
     direction: Literal["up", "down"]
 
 
-class Spec(_Model):
+class Spec(_Sourced):
     """A validated sweep spec. Grid values: `frequency_ratio`, `force_ratio` (read-only float64)."""
 
     scene: Scene
@@ -382,8 +383,6 @@ class Spec(_Model):
     sweep: Sweep | None = None
     _ratios: dict[str, np.ndarray] = PrivateAttr(default_factory=dict)
     _physical: PhysicalMap | None = PrivateAttr(default=None)
-    _source_path: str = PrivateAttr(default="<string>")
-    _text: str = PrivateAttr(default="")
 
     @field_validator("method", mode="before")
     @classmethod
@@ -427,15 +426,7 @@ class Spec(_Model):
         method = info.data.get("method")
         if method is None:  # the method itself is wrong: reported there
             return settings
-        known = METHODS[method].settings
-        problems = []
-        for key, value in settings.items():
-            if key not in known:
-                allowed = ", ".join(known) or "none"
-                problems.append(_error("unknown_setting", f"unknown setting {show(key)} for method {method!r} "
-                                       f"(allowed: {allowed})", ("settings", key)))
-            elif (reason := _bound_problem(known[key].kind, known[key], value)) is not None:
-                problems.append(_error("setting_range", reason, ("settings", key)))
+        problems = setting_problems(method, settings)
         # field-level locations get the field name prepended by pydantic: give `at` relative to it
         _raise_all("settings", [PydanticCustomError(e.type, e.message(), {"at": (e.context or {})["at"][1:]})
                                 for e in problems])
@@ -599,13 +590,20 @@ class Spec(_Model):
         """The physical values beside (r, beta), where the spec has a `system:`."""
         return self._physical
 
-    @property
-    def source_path(self) -> str:
-        return self._source_path
 
-    @property
-    def text(self) -> str:
-        return self._text
+def setting_problems(method: str, settings: dict[str, Any]) -> list[PydanticCustomError]:
+    """Settings the method does not have, and values outside their meaningful range (catalogue), each
+    located at ("settings", key)."""
+    known = METHODS[method].settings
+    problems = []
+    for key, value in settings.items():
+        if key not in known:
+            allowed = ", ".join(known) or "none"
+            problems.append(_error("unknown_setting", f"unknown setting {show(key)} for method {method!r} "
+                                   f"(allowed: {allowed})", ("settings", key)))
+        elif (reason := _bound_problem(known[key].kind, known[key], value)) is not None:
+            problems.append(_error("setting_range", reason, ("settings", key)))
+    return problems
 
 
 def _mapped_problems(ratio: np.ndarray, physical: np.ndarray, unit: str, rule: str, ok, span: str,
