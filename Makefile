@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: demo test cubes bench bench-quick clean distclean help
+.PHONY: demo test cubes bench bench-quick calibrate clean distclean help
 .DELETE_ON_ERROR:
 
 help:
@@ -16,13 +16,14 @@ help:
 	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
 	@echo "make bench  set up, then measure speed and scaling (results/bench/scale.md)"
 	@echo "make figures / figures-quick / validate   the paper's figures; the rig's measured phases"
+	@echo "make calibrate   calibrate the model to the rig's phases, in and out of sample (README's calibration section)"
 	@echo "make clean  remove results and caches; make distclean also removes $(VENV)"
 
 $(STAMP): pyproject.toml
 	@$(PYTHON) -c 'import sys; sys.exit(sys.version_info < (3, 11))' || \
 	  { echo "friction_sweep needs Python >= 3.11: run make PYTHON=/path/to/python3.11"; exit 1; }
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,figures,lint,dask]'
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test,figures,lint,dask,calibrate]'
 	touch $@
 
 demo: $(STAMP)
@@ -60,6 +61,10 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
 	$(BIN)/fsweep bench --calibrate --calibration friction_sweep/bench/calibration.json -o results/bench/workprecision.h5
 	$(BIN)/python benchmarks/readme_tables.py
+
+# fsweep calibrate on the rig's data, then four folds out of sample; rewrites the README's calibration section
+calibrate: $(STAMP)
+	$(BIN)/python benchmarks/calibration_report.py
 
 bench-quick: $(STAMP)
 	$(BIN)/python benchmarks/scale.py --quick

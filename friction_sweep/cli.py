@@ -61,7 +61,8 @@ def _output_path(spec_path: Path, spec, override: str | None) -> Path:
 
 class _Group(click.Group):
     #: commands whose module loads heavy libraries (pandas): imported only when asked for
-    lazy = {"validate-data": ("friction_sweep.validation", "validate_data")}
+    lazy = {"validate-data": ("friction_sweep.validation", "validate_data"),
+            "calibrate": ("friction_sweep.calibration.command", "calibrate")}
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         """As click's, but a usage error is one line like every other refusal (exit 2)."""

@@ -1,0 +1,296 @@
+"""What a calibration writes: the samples as ArviZ InferenceData (netCDF), the MAP's residual table, a
+markdown report with the diagnostics and what the data identify, and two figures (the data against the
+posterior predictive band; a corner plot).
+
+Identification is read off the posterior's contraction against the prior, 1 - var_post / var_prior
+(Betancourt's posterior contraction): a parameter the data pin down contracts towards 1, one they say
+nothing about stays at 0 (its posterior is its prior).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from friction_sweep.storage import outputs
+from friction_sweep.storage.atomic import save_figure, write_text
+
+from .fit import MapFit
+from .model import ForwardModel
+from .posterior import Posterior
+from .sampler import Chains
+
+OUTPUT_FILES = ("posterior.nc", "map.csv", "report.md", "predictive.png", "corner.png")
+#: contraction thresholds: at least IDENTIFIED is identified, below NOT_IDENTIFIED is not
+IDENTIFIED = 0.5
+NOT_IDENTIFIED = 0.1
+FIGURE_DPI = 130
+#: points along r of the predictive band's curves
+CURVE_POINTS = 80
+
+
+def unit_of(model: ForwardModel, kind: str) -> str:
+    """The unit a parameter is reported in (as the spec's priors are read: SI, degrees)."""
+    if kind == "natural_frequency":
+        return "Hz" if model.spec.reference_frequency is not None else "1"
+    if kind == "friction_force":
+        return "N"
+    return "degree" if kind in ("noise_phase", "discrepancy_phase") else "1"
+
+
+def verdict(contraction: float) -> str:
+    if contraction >= IDENTIFIED:
+        return "identified"
+    return "weakly identified" if contraction >= NOT_IDENTIFIED else "not identified"
+
+
+def summary(model: ForwardModel, fit: MapFit, chains: Chains) -> pd.DataFrame:
+    """One row per parameter: MAP, posterior median and 95 % interval, prior, contraction, verdict, tau, ESS."""
+    flat = chains.samples.reshape(-1, model.ndim)
+    rows = []
+    for i, p in enumerate(model.parameters):
+        lo, med, hi = np.percentile(flat[:, i], [2.5, 50.0, 97.5])
+        prior_sd = p.prior.std()
+        contraction = 1.0 - float(np.var(flat[:, i])) / prior_sd**2 if prior_sd > 0 else math.nan
+        rows.append({"parameter": p.name, "unit": unit_of(model, p.kind), "map": fit.theta[i], "median": med,
+                     "ci95_low": lo, "ci95_high": hi, "prior": p.prior.describe(), "prior_sd": prior_sd,
+                     "posterior_sd": float(np.std(flat[:, i])), "contraction": contraction,
+                     "identification": verdict(contraction), "tau": chains.tau[i], "ess": chains.ess[i]})
+    return pd.DataFrame(rows)
+
+
+def residual_stats(table: pd.DataFrame, fitted: bool) -> dict[str, float]:
+    """RMS and max |phase residual| (degrees) over the fitted rows (or the held-out ones)."""
+    if "phase_residual_deg" not in table:
+        return {}
+    d = table.loc[table["fitted"] == fitted, "phase_residual_deg"].to_numpy(float)
+    d = d[np.isfinite(d)]
+    if not d.size:
+        return {}
+    return {"rms_deg": float(np.sqrt(np.mean(d**2))), "max_deg": float(np.max(np.abs(d))), "rows": int(d.size)}
+
+
+def predictive(post: Posterior, chains: Chains, draws: int, seed: int) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """`draws` posterior vectors and, at every row, the model's values there (phase with the offset) and
+    replicated data (with the noise): {'phase_model', 'phase', 'transmissibility_model', 'transmissibility'}."""
+    rng = np.random.default_rng(seed + 1)
+    flat = chains.samples.reshape(-1, post.model.ndim)
+    theta = flat[rng.choice(flat.shape[0], size=min(draws, flat.shape[0]), replace=False)]
+    predicted = post.model.predict(theta)
+    out = {}
+    obs = post.model.obs
+    if obs.phase is not None:
+        model_phase = predicted["phase"] + post.offset(theta)[:, None]
+        kappa = 1.0 / np.radians(post.phase_sd(theta)) ** 2
+        noise = np.degrees(rng.vonmises(0.0, kappa))
+        out["phase_model"] = model_phase
+        out["phase"] = np.mod(model_phase + noise + 90.0, 360.0) - 90.0
+    if obs.transmissibility is not None:
+        sd = post.sd(theta, "transmissibility")
+        out["transmissibility_model"] = predicted["transmissibility"]
+        out["transmissibility"] = predicted["transmissibility"] * np.exp(sd * rng.standard_normal(sd.shape))
+    return theta, out
+
+
+def inference_data(post: Posterior, fit: MapFit, chains: Chains, table: pd.DataFrame, replicated, attrs: dict):
+    """ArviZ InferenceData: posterior (walkers as chains; per-series parameters on dim `series`), sample
+    stats (lp), observed data and the posterior predictive on dim `row` (the data file's line numbers)."""
+    import arviz as az
+
+    model = post.model
+    obs = model.obs
+    posterior: dict[str, np.ndarray] = {}
+    dims: dict[str, list[str]] = {}
+    for kind in dict.fromkeys(p.kind for p in model.parameters):
+        idx = [i for i, p in enumerate(model.parameters) if p.kind == kind]
+        if model.parameters[idx[0]].series >= 0:
+            posterior[kind] = chains.samples[:, :, idx]
+            dims[kind] = ["series"]
+        else:
+            posterior[kind] = chains.samples[:, :, idx[0]]
+    observed = {name: getattr(obs, name) for name in obs.measured}
+    for name in replicated:
+        dims[name] = ["row"]
+    for name in observed:
+        dims[name] = ["row"]
+    idata = az.from_dict(
+        posterior=posterior,
+        posterior_predictive={name: values[None, :, :] for name, values in replicated.items()},
+        observed_data=observed,
+        sample_stats={"lp": chains.log_posterior},
+        coords={"series": list(obs.series_labels), "row": obs.lines.tolist()},
+        dims=dims,
+        attrs=attrs,
+    )
+    for p in model.parameters:
+        idata.posterior[p.kind].attrs["units"] = unit_of(model, p.kind)
+        idata.posterior[p.kind].attrs["prior"] = p.prior.describe(unit_of(model, p.kind))
+    return idata
+
+
+def markdown(model: ForwardModel, fit: MapFit, chains: Chains, params: pd.DataFrame, table: pd.DataFrame,
+             timing: dict[str, float], data_path: str) -> str:
+    fitted, held = residual_stats(table, True), residual_stats(table, False)
+    lines = [
+        "# Calibration",
+        "",
+        f"Data: `{data_path}` ({model.obs.size} rows, {int(model.obs.fitted.sum())} fitted), scene "
+        f"`{model.excitation}`, method `{model.method}`.",
+        "",
+        "## Parameters",
+        "",
+        "| parameter | unit | MAP | median | 95 % interval | prior | contraction | data say | tau | ESS |",
+        "|---|---|---:|---:|---|---|---:|---|---:|---:|",
+    ]
+    for _, p in params.iterrows():
+        lines.append(f"| {p['parameter']} | {p['unit']} | {p['map']:.5g} | {p['median']:.5g} | "
+                     f"[{p['ci95_low']:.5g}, {p['ci95_high']:.5g}] | {p['prior']} | {p['contraction']:.2f} | "
+                     f"{p['identification']} | {p['tau']:.1f} | {p['ess']:.0f} |")
+    lines += [
+        "",
+        f"Contraction 1 − var(posterior)/var(prior): {IDENTIFIED} and above identified, below "
+        f"{NOT_IDENTIFIED} not identified (the posterior is the prior).",
+        "",
+        "## Sampler diagnostics (emcee, differential-evolution moves, walkers started from the prior)",
+        "",
+        "| walkers | steps | burn-in | largest tau | length / tau | smallest ESS | acceptance | converged |",
+        "|---:|---:|---:|---:|---:|---:|---:|---|",
+        f"| {chains.samples.shape[0]} | {chains.steps} | {chains.burn} | {np.max(chains.tau):.1f} | "
+        f"{chains.length_in_tau:.0f} | {np.min(chains.ess):.0f} | {chains.acceptance:.2f} | "
+        f"{'yes' if chains.converged else 'NO: max_steps reached'} |",
+        "",
+        "## Fit",
+        "",
+    ]
+    if fitted:
+        lines.append(f"MAP phase residuals, fitted rows: RMS {fitted['rms_deg']:.2f}°, max {fitted['max_deg']:.2f}° "
+                     f"({fitted['rows']} rows).")
+    if held:
+        lines.append(f"Held-out rows (predicted, not fitted): RMS {held['rms_deg']:.2f}°, max {held['max_deg']:.2f}° "
+                     f"({held['rows']} rows).")
+    lines += [
+        "",
+        f"Time: MAP {timing['map']:.1f} s, sampling {timing['sampling']:.1f} s, whole run {timing['total']:.1f} s; "
+        f"{timing['rate']:.0f} model evaluations (parameter vectors, {model.obs.size} rows each) per second "
+        "while sampling.",
+        "",
+        "## MAP residuals",
+        "",
+        _table_md(table),
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _table_md(table: pd.DataFrame) -> str:
+    cols = list(table.columns)
+    out = ["| " + " | ".join(cols) + " |", "|" + "|".join("---" for _ in cols) + "|"]
+    for _, row in table.iterrows():
+        out.append("| " + " | ".join(f"{v:.4g}" if isinstance(v, float) else str(v) for v in row) + " |")
+    return "\n".join(out)
+
+
+def predictive_figure(post: Posterior, theta: np.ndarray, table: pd.DataFrame):
+    """Measured phases (or transmissibilities) against r at the reference natural frequency, one colour per
+    series, over the posterior's 95 % band of the model curve (noise-free) and its median."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    model = post.model
+    obs = model.obs
+    quantity = "phase" if obs.phase is not None else "transmissibility"
+    fig, ax = plt.subplots(figsize=(8, 5), constrained_layout=True)
+    colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.85, len(obs.series_labels)))
+    lo, hi = float(obs.frequency_ratio.min()), float(obs.frequency_ratio.max())
+    grid = np.linspace(lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo), CURVE_POINTS)
+    for s, (label, colour) in enumerate(zip(obs.series_labels, colours, strict=True)):
+        rows = obs.series == s
+        beta0 = float(obs.force_ratio[rows][0])
+        dense = dataclasses.replace(obs, frequency_ratio=grid, force_ratio=np.full(grid.size, beta0),
+                                    series=np.full(grid.size, s), lines=np.zeros(grid.size, dtype=int),
+                                    phase=np.zeros(grid.size) if obs.phase is not None else None,
+                                    transmissibility=np.ones(grid.size) if obs.transmissibility is not None else None,
+                                    phase_sd=None, transmissibility_sd=None, fitted=np.ones(grid.size, dtype=bool))
+        curves = ForwardModel(model.spec, dense, jobs=model.jobs)
+        values = curves.predict(theta)[quantity]
+        if quantity == "phase":
+            values = values + post.offset(theta)[:, None]
+        with np.errstate(all="ignore"):
+            band = np.nanpercentile(values, [2.5, 50.0, 97.5], axis=0)
+        ax.fill_between(grid, band[0], band[2], color=colour, alpha=0.25, lw=0)
+        ax.plot(grid, band[1], color=colour, lw=1.2)
+        marker = np.where(obs.fitted[rows], "o", "s")
+        for m in ("o", "s"):
+            sel = marker == m
+            if sel.any():
+                ax.plot(obs.frequency_ratio[rows][sel], getattr(obs, quantity)[rows][sel], m, color=colour, ms=6,
+                        mfc=colour if m == "o" else "none",
+                        label=f"series {label}" + ("" if m == "o" else " (held out)"))
+    reference = "f_n as the spec states it" if model.spec.reference_frequency is not None else "the data's own"
+    ax.set(xlabel=f"frequency ratio r (at {reference})",
+           ylabel="first-harmonic phase lag (degree)" if quantity == "phase" else "transmissibility",
+           title=f"Data against the posterior's 95 % band ({model.method} model)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def corner_figure(model: ForwardModel, chains: Chains, fit: MapFit):
+    """A corner plot: each parameter's marginal histogram on the diagonal (prior density dashed), each pair's
+    2-D histogram below it, the MAP marked."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    flat = chains.samples.reshape(-1, model.ndim)
+    n = model.ndim
+    fig, axes = plt.subplots(n, n, figsize=(1.7 * n + 1, 1.7 * n + 1), squeeze=False)
+    labels = [f"{p.name}\n[{unit_of(model, p.kind)}]" for p in model.parameters]
+    for i in range(n):
+        for j in range(n):
+            ax = axes[i, j]
+            if j > i:
+                ax.set_visible(False)
+                continue
+            if i == j:
+                ax.hist(flat[:, i], bins=40, density=True, color="tab:blue", alpha=0.6)
+                lo, hi = ax.get_xlim()
+                x = np.linspace(lo, hi, 200)
+                ax.plot(x, np.exp(model.parameters[i].prior.logpdf(x)), "k--", lw=0.8)
+                ax.axvline(fit.theta[i], color="tab:red", lw=0.8)
+                ax.set_yticks([])
+            else:
+                ax.hist2d(flat[:, j], flat[:, i], bins=40, cmap="Blues")
+                ax.plot(fit.theta[j], fit.theta[i], "+", color="tab:red", ms=8)
+            if i == n - 1:
+                ax.set_xlabel(labels[j], fontsize=7)
+            else:
+                ax.set_xticklabels([])
+            if j == 0 and i > 0:
+                ax.set_ylabel(labels[i], fontsize=7)
+            elif j > 0:
+                ax.set_yticklabels([])
+            ax.tick_params(labelsize=6)
+    fig.suptitle("Posterior: marginals (prior dashed), pairs; MAP in red")
+    fig.tight_layout()
+    return fig
+
+
+def write(folder: Path, idata, table: pd.DataFrame, md: str, figures) -> list[Path]:
+    """Every output file into `folder`, all or none (outputs.write_all)."""
+    paths = [folder / name for name in OUTPUT_FILES]
+    predictive_fig, corner_fig = figures
+    return outputs.write_all([
+        (paths[0], lambda tmp: idata.to_netcdf(str(tmp), engine="h5netcdf")),
+        (paths[1], lambda tmp: write_text(tmp, table.to_csv(index=False, float_format="%.10g"))),
+        (paths[2], lambda tmp: write_text(tmp, md)),
+        (paths[3], lambda tmp: save_figure(predictive_fig, tmp, dpi=FIGURE_DPI)),
+        (paths[4], lambda tmp: save_figure(corner_fig, tmp, dpi=FIGURE_DPI)),
+    ])
