@@ -22,6 +22,8 @@ continuous solution does not exist for b > 0 and the continuous limit tends to 0
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from friction_sweep.ties import RESONANCE_FRICTION_LIMIT  # noqa: F401  (pi/4, part of this module's API)
@@ -228,6 +230,16 @@ def gauss_legendre_nodes(r):
     return int(40 + np.ceil((1.0 + r) * PI / r))
 
 
+@functools.lru_cache(maxsize=64)
+def _leggauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights, computed once per count (an eigenvalue problem each time
+    otherwise: most of a calibration step's theory cost); read-only, as every caller shares them."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    x.flags.writeable = False
+    w.flags.writeable = False
+    return x, w
+
+
 def first_harmonic(r, b, nodes=None):
     """First-harmonic coefficients (a1, b1) of q over a full period, q ~ a1 cos(r t) + b1 sin(r t).
 
@@ -239,7 +251,7 @@ def first_harmonic(r, b, nodes=None):
     b = np.asarray(b, dtype=float)
     r, b = np.broadcast_arrays(r, b)
     n = nodes if nodes is not None else gauss_legendre_nodes(r) if r.size else 1
-    x, w = np.polynomial.legendre.leggauss(n)
+    x, w = _leggauss(n)
     half = PI / r[..., None]
     tau = 0.5 * half * (x + 1.0)
     weights = 0.5 * half * w
