@@ -22,6 +22,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from friction_sweep.calibration.report import SAMPLER_TITLE
+
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "results" / "calibration"
 RIG = ROOT / "configs" / "calibration" / "rig.yaml"
@@ -81,7 +83,7 @@ def main() -> None:
         "",
         section(rig_report, "Parameters"),
         "",
-        section(rig_report, "Sampler diagnostics (emcee, differential-evolution moves, walkers started from the prior)"),
+        section(rig_report, SAMPLER_TITLE),
         "",
         f"Whole command {seconds:.0f} s on 2 cores; " + section(rig_report, "Fit").split("Time: ", 1)[1].split("\n")[0],
         "",

@@ -2,10 +2,11 @@
 
 Two ways to the same outputs: Den Hartog's closed-form theory (continuous motion only) and numerical
 simulation with exact stick-slip (every regime). Layers, each importing only those before it:
-catalogue, codes, ties, exits, errors (what methods can do; stored codes; tie tolerances; exit codes; the
-API's exception) · spec (units stripped in spec/quantities.py) · theory · kernels (numba) · storage (schema,
-cubes, atomic writes) · methods · bench, quicklook (fsweep plot's drawings) · batch (tiles, executors,
-checkpoint) · api · cli.
+catalogue, codes, ties, exits, errors, progress (what methods can do; stored codes; tie tolerances; exit
+codes; the API's exception; the progress bar) · spec (units stripped in spec/quantities.py) · theory ·
+kernels (numba) · storage (schema, cubes, atomic writes) · methods · bench, quicklook (fsweep plot's
+drawings), measured (a rig's CSV) · batch (tiles, executors, checkpoint), calibration (fsweep calibrate) ·
+api · cli, validation.
 
 The Python API (friction_sweep.api): `sweep(path_or_dict)`, `sweep_yaml(text)` and `open_cube(path)`
 return xarray Datasets; every refusal is a `FsweepError`. They are loaded on first use, so that

@@ -26,6 +26,7 @@ from friction_sweep.exits import (
     EXIT_TERMINATED,
     fail,
 )
+from friction_sweep.progress import ProgressBar
 from friction_sweep.quicklook import KINDS
 from friction_sweep.spec import SpecError, load_spec
 
@@ -296,7 +297,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     r = s.frequency_ratio
     start = time.perf_counter()
     try:
-        with _progress(quiet, r.size * s.force_count) as advance:
+        with ProgressBar(quiet, r.size * s.force_count) as advance:
             arrays = pipeline.compute(s, settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
                                       on_done=store.save, on_tile=advance)
     except _Terminated:
@@ -381,44 +382,6 @@ def _echo_regimes(arrays) -> None:
 
 def _regime_summary(values) -> str:
     return ", ".join(f"{name} {n}" for name, n in codes.counts(values).items())
-
-
-class _progress:
-    """A rich progress bar on stderr (points done, rate, time left); silent when quiet or not a tty (and
-    rich is then not even imported: 20 ms of a one-point run)."""
-
-    def __init__(self, quiet: bool, total: int):
-        self.enabled = not quiet and sys.stderr.isatty()
-        self.total = total
-
-    def __enter__(self):
-        if not self.enabled:
-            return lambda n: None
-        from rich.console import Console
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
-        self.console = Console(stderr=True)
-
-        self.bar = Progress(
-            TextColumn("sweep"), BarColumn(), MofNCompleteColumn(), TextColumn("points"),
-            TextColumn("{task.fields[rate]}"), TimeRemainingColumn(), console=self.console, transient=True,
-        )
-        self.bar.start()
-        task = self.bar.add_task("sweep", total=self.total, rate="")
-        start = time.perf_counter()
-        done = [0]
-
-        def advance(n):
-            done[0] += n
-            rate = done[0] / max(time.perf_counter() - start, 1e-9)
-            self.bar.update(task, advance=n, rate=f"{rate:,.0f} points/s")
-
-        return advance
-
-    def __exit__(self, *exc):
-        if self.enabled:
-            self.bar.stop()
-        return False
 
 
 @main.command()

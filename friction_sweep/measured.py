@@ -33,12 +33,13 @@ class DataError(ValueError):
     """The measured-data file is missing or malformed."""
 
 
-def read_table(path: str | os.PathLike[str], required: Sequence[str],
-               check: Check | None = None) -> tuple[pd.DataFrame, list[int]]:
+def read_table(path: str | os.PathLike[str], required: Sequence[str], check: Check | None = None,
+               text: Sequence[str] = ()) -> tuple[pd.DataFrame, list[int]]:
     """The data rows as a DataFrame, in file order, and each row's line number in the file.
 
     Every required column becomes float64, each value a finite number that `check(column, value, text)`
-    does not refuse; other columns that parse as numbers become float64 too. Raises DataError, its
+    does not refuse; the `text` columns must be there too and stay as written (labels); other columns
+    that parse as numbers become float64. Raises DataError, its
     message `FILE[:LINE]: reason`, on a file that cannot be read or is not UTF-8 CSV text, missing or
     repeated columns, a row with the wrong number of fields, a refused value, more than MAX_ROWS rows,
     or no data rows.
@@ -55,7 +56,7 @@ def read_table(path: str | os.PathLike[str], required: Sequence[str],
             raise DataError(f"{path}:{number}: not a CSV line ({err})") from None
         if header is None:
             header, header_line = [name.strip() for name in fields], number
-            _check_header(path, number, header, required)
+            _check_header(path, number, header, [*required, *text])
             continue
         if len(fields) != len(header):
             raise DataError(f"{path}:{number}: {len(fields)} fields, but the header (line {header_line}) "
@@ -71,6 +72,8 @@ def read_table(path: str | os.PathLike[str], required: Sequence[str],
         if column in required:
             table[column] = [_required_number(path, number, column, value, check)
                              for (number, _), value in zip(rows, columns[column], strict=True)]
+            continue
+        if column in text:
             continue
         converted = pd.to_numeric(table[column], errors="coerce")
         if converted.notna().all():

@@ -11,14 +11,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from calibration_synthetic import RATIOS, model_for, one_data_set, spec_text, write_data
+from calibration_synthetic import RATIOS, SAMPLER, TARGETS, WALKERS, model_for, one_data_set, spec_text, write_data
 from conftest import ROOT, one_error_line
 
 from friction_sweep.calibration.data import read_observations
 from friction_sweep.calibration.fit import fit_map
 from friction_sweep.calibration.model import ForwardModel
 from friction_sweep.calibration.posterior import Posterior
-from friction_sweep.calibration.sampler import sample
+from friction_sweep.calibration.sampler import WALKER_RHAT, Targets, converged, diagnose, sample, start_from_prior
 from friction_sweep.calibration.spec import load_calibration_spec, parse_calibration_text
 from friction_sweep.cli import main
 from friction_sweep.validation import read_measurements
@@ -215,6 +215,7 @@ def test_credible_intervals_hold_the_truth_as_often_as_they_say(method):
     with ProcessPoolExecutor(2) as pool:
         results = [r for r in pool.map(one_data_set, [method] * DATA_SETS, range(DATA_SETS)) if r is not None]
     assert len(results) >= 0.9 * DATA_SETS
+    assert sum(r[3] for r in results) >= 0.95 * len(results)  # runs that met their targets
     truth = np.array([r[0] for r in results])
     inside = np.array([(r[1] <= r[0]) & (r[0] <= r[2]) for r in results])
     coverage = inside.mean(axis=0)
@@ -238,7 +239,8 @@ def test_a_parameter_the_data_cannot_see_is_reported_not_identified(tmp_path):
     phases = maker.predict(truth)["phase"][0] + rng.normal(0.0, 2.0, len(RATIOS))
     model = model_for(write_data(tmp_path / "d.csv", phases, beta=0.15), "event", params)
     post = Posterior(model)
-    chains = sample(post, walkers=16, seed=3, autocorr_times=20, min_ess=300, max_steps=4000, check_every=100)
+    chains = sample(post, start_from_prior(post, WALKERS, np.random.default_rng(3)), seed=3, targets=TARGETS,
+                    **SAMPLER)
     fit = fit_map(post)
     table = report.summary(model, fit, chains).set_index("parameter")
     assert table.loc["static_friction_ratio", "identification"] == "not identified"
@@ -280,3 +282,56 @@ def test_prior_densities_are_scipys(kind, values):
     prior = Prior(kind, values)
     x = np.array([-1.0, 0.0, 0.1, 0.2, 0.7, 1.5, 2.0, 5.0])
     assert np.allclose(prior.logpdf(x), prior.dist.logpdf(x), rtol=1e-12, atol=1e-12, equal_nan=False)
+
+
+def test_walkers_stuck_apart_are_not_converged():
+    """Two groups of walkers that never cross, each well mixed on its own: tau and the ESS (each walker's
+    own) look fine, the walkers' R-hat does not, and the run is not converged; one group alone is."""
+    rng = np.random.default_rng(0)
+    steps, walkers = 4000, 32
+    chain = np.empty((steps, walkers, 1))
+    chain[0] = rng.standard_normal((walkers, 1))
+    for t in range(1, steps):  # AR(1) walkers, tau ~ (1 + 0.8) / (1 - 0.8) = 9
+        chain[t] = 0.8 * chain[t - 1] + 0.6 * rng.standard_normal((walkers, 1))
+    apart = chain.copy()
+    apart[:, walkers // 2:] += 10.0
+    targets = Targets(autocorr_times=50, min_ess=1000)
+    burn = steps // 4
+    for data, expected in ((chain, True), (apart, False)):
+        tau, rhat = diagnose(data, burn)
+        assert 7 < tau[0] < 11
+        assert (rhat[0] <= WALKER_RHAT) == expected
+        assert converged(tau, rhat, steps - burn, walkers, burn, targets) == expected
+
+
+def test_a_log_normal_prior_pulls_the_least_squares_towards_its_mode():
+    from friction_sweep.calibration.priors import Prior
+
+    prior = Prior("log_normal", (1.0, 0.5))
+    x = np.linspace(0.3, 3.0, 50)
+    # residual^2 + 2 log p is constant: the least squares' prior term is -2 log p
+    total = np.array([prior.residual(v) ** 2 for v in x]) + 2.0 * prior.logpdf(x)
+    assert np.ptp(total) < 1e-12
+    assert prior.residual(math.exp(-0.25)) == pytest.approx(0.0, abs=1e-15)  # the mode a e^(-s^2)
+
+
+def test_labels_and_columns(tmp_path, runner):
+    """A series column is read as text (its labels as written), a missing one is refused at the header,
+    drive frequencies need the natural frequency they are measured against, `starts` is refused."""
+    from friction_sweep.spec import SpecError
+
+    data = tmp_path / "d.csv"
+    data.write_text("r,beta,phase,run\n0.7,0.2,10,01\n1.3,0.2,170,01\n0.8,0.3,15,1.50\n")
+    text = spec_text(data, "event").replace("phase: phase}", "phase: phase, series: run}")
+    spec = parse_calibration_text(text, source=str(tmp_path / "s.yaml"))
+    assert read_observations(spec).series_labels == ("01", "1.50")
+    spec = parse_calibration_text(text.replace("series: run", "series: batch"), source=str(tmp_path / "s.yaml"))
+    from friction_sweep.measured import DataError
+
+    with pytest.raises(DataError, match=r"d\.csv:1: missing column\(s\) batch"):
+        read_observations(spec)
+    drive = text.replace("frequency_ratio: r", "drive_frequency: {column: r, unit: Hz}")
+    with pytest.raises(SpecError, match=r"data\.columns\.drive_frequency: drive frequencies need the natural "):
+        parse_calibration_text(drive, source=str(tmp_path / "s.yaml"))
+    with pytest.raises(SpecError, match=r"settings\.starts: a calibration computes each point from rest"):
+        parse_calibration_text(text + "settings: {starts: 2}\n", source=str(tmp_path / "s.yaml"))

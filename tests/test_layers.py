@@ -15,14 +15,14 @@ PACKAGE = Path(__file__).resolve().parents[1] / "friction_sweep"
 #: each module's layer, by its first dotted part below friction_sweep (a module may import its own
 #: layer and those below, never one above)
 LAYERS = {
-    "": 0, "catalogue": 0, "codes": 0, "ties": 0, "exits": 0, "errors": 0,
+    "": 0, "catalogue": 0, "codes": 0, "ties": 0, "exits": 0, "errors": 0, "progress": 0,
     "spec": 1,
     "theory": 2,
     "kernels": 3,
     "storage": 4,
     "methods": 5,
-    "bench": 6, "consistency": 6, "quicklook": 6,
-    "batch": 7,
+    "bench": 6, "consistency": 6, "quicklook": 6, "measured": 6,
+    "batch": 7, "calibration": 7,
     "api": 8, "cli": 8, "validation": 8, "__main__": 8,
 }
 #: the package root re-exports the Python API, loaded on first attribute access (friction_sweep/__init__.py)

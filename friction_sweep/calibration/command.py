@@ -9,6 +9,7 @@ evaluations that tell. Nothing is written until everything is computed, and then
 from __future__ import annotations
 
 import importlib.util
+import math
 import time
 from pathlib import Path
 
@@ -17,6 +18,7 @@ import numpy as np
 
 from friction_sweep.exits import EXIT_RUNTIME, fail
 from friction_sweep.measured import DataError
+from friction_sweep.progress import ProgressBar
 from friction_sweep.spec import SpecError
 from friction_sweep.storage import outputs
 
@@ -25,7 +27,7 @@ from .data import read_observations
 from .fit import fit_map
 from .model import ForwardModel
 from .posterior import Posterior
-from .sampler import NoLikelihood, sample, start_from_prior
+from .sampler import NoLikelihood, Targets, sample, start_from_prior
 from .spec import load_calibration_spec
 
 CALIBRATE_EXTRA = "pip install 'friction_sweep[calibrate]' (emcee and ArviZ)"
@@ -77,7 +79,7 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     rng = np.random.default_rng(seed)
     t0 = time.perf_counter()
     try:
-        start_from_prior(post, settings.walkers, rng)  # refuses a prior that explains no data (exit 2)
+        start = start_from_prior(post, settings.walkers, rng)  # refuses a prior that explains no data (exit 2)
     except NoLikelihood as err:
         fail(f"{spec.locate('parameters')}: {err}")
     t0 = time.perf_counter()  # the start's evaluations loaded the kernels: time a step now
@@ -97,17 +99,18 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     t0 = time.perf_counter()
     fit = fit_map(post)
     map_seconds = time.perf_counter() - t0
-    click.echo(f"MAP ({fit.intervals} natural-frequency interval(s) searched, {map_seconds:.1f} s): "
-               + ", ".join(f"{n} = {v:.5g}" for n, v in zip(model.names, fit.theta, strict=True)))
+    if math.isfinite(fit.log_posterior):
+        click.echo(f"MAP ({fit.intervals} natural-frequency interval(s) searched, {map_seconds:.1f} s): "
+                   + ", ".join(f"{n} = {v:.5g}" for n, v in zip(model.names, fit.theta, strict=True)))
+    else:
+        click.echo(f"MAP not found: every least-squares search ({fit.intervals}) ended where the model has no "
+                   "value at some row; its table shows the prior's median. The sampler goes on from the prior.",
+                   err=True)
 
-    progress, stop = _progress(quiet, settings.max_steps)
     before = model.evaluations
-    try:
-        chains = sample(post, walkers=settings.walkers, seed=seed, autocorr_times=settings.autocorr_times,
-                        min_ess=settings.min_ess, max_steps=settings.max_steps, check_every=settings.check_every,
-                        progress=progress)
-    finally:
-        stop()
+    with ProgressBar(quiet, settings.max_steps, "sampling", "steps") as advance:
+        chains = sample(post, start, seed=seed, targets=Targets(settings.autocorr_times, settings.min_ess),
+                        max_steps=settings.max_steps, check_every=settings.check_every, progress=advance)
     points = model.evaluations - before
     theta, replicated = report.predictive(post, chains, settings.predictive_draws, seed)
     params = report.summary(model, fit, chains)
@@ -117,6 +120,7 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
              "walkers": settings.walkers, "steps": chains.steps, "burn_in": chains.burn,
              "acceptance_fraction": chains.acceptance, "converged": int(chains.converged),
              "autocorr_time": chains.tau.tolist(), "autocorr_time_names": list(model.names),
+             "walker_rhat": chains.rhat.tolist(),
              "effective_sample_size": chains.ess.tolist(), "length_in_autocorr_times": chains.length_in_tau,
              "map": fit.theta.tolist(), "model_points_evaluated": points}
     idata = report.inference_data(post, fit, chains, fit.table, replicated, attrs)
@@ -135,26 +139,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     held = report.residual_stats(fit.table, False)
     if held:
         click.echo(f"held-out rows: RMS {held['rms_deg']:.2f} deg, max {held['max_deg']:.2f} deg")
-    click.echo(f"sampler: {chains.steps} steps, largest tau {np.max(chains.tau):.1f} (run {chains.length_in_tau:.0f} "
-               f"tau), smallest ESS {np.min(chains.ess):.0f}, acceptance {chains.acceptance:.2f}, "
+    click.echo(f"sampler: {chains.steps} steps, largest tau {np.max(chains.tau):.1f} (kept run "
+               f"{chains.length_in_tau:.0f} tau), smallest ESS {np.min(chains.ess):.0f}, walkers' R-hat "
+               f"{np.max(chains.rhat):.3f}, acceptance {chains.acceptance:.2f}, "
                f"{'converged' if chains.converged else 'NOT converged (max_steps reached)'}; "
                f"{timing['rate']:.0f} model evaluations/s; whole run {timing['total']:.1f} s")
     click.echo("wrote " + ", ".join(str(p) for p in paths))
-
-
-def _progress(quiet: bool, total: int):
-    """A rich progress bar over the sampler's steps (none when quiet or without a terminal)."""
-    import sys
-
-    if quiet or not sys.stderr.isatty():
-        return None, lambda: None
-    from rich.progress import Progress
-
-    bar = Progress(transient=True)
-    bar.start()
-    task = bar.add_task("sampling", total=total)
-
-    def update(steps: int, tau: float | None) -> None:
-        bar.update(task, completed=steps, description=f"sampling (tau ~ {tau:.0f})" if tau else "sampling")
-
-    return update, bar.stop

@@ -75,12 +75,12 @@ def read_observations(spec: CalibrationSpec) -> Observations:
             return f"must be positive (got {text})"
         return None
 
-    table, lines = read_table(path, tuple(wanted), check)
+    table, lines = read_table(path, tuple(wanted), check, text=(cols.series,) if cols.series is not None else ())
     lines_arr = np.asarray(lines)
     f_ref = spec.reference_frequency
     if cols.drive_frequency is not None:
         hz = table[frequency_col].to_numpy(float) * to_si(f"1 {cols.drive_frequency.unit}", FREQUENCY)
-        r = hz / f_ref if f_ref is not None else hz  # without a reference: relative to 1 Hz, the prior's unit
+        r = hz / f_ref  # the spec requires f_n with drive frequencies
     else:
         r = table[frequency_col].to_numpy(float)
     if cols.friction_force is not None:
@@ -88,16 +88,15 @@ def read_observations(spec: CalibrationSpec) -> Observations:
         beta = newtons / spec.reference_force
     else:
         beta = table[force_col].to_numpy(float)
-    if f_ref is not None or cols.drive_frequency is None:
-        _refuse(path, lines_arr, ~np.vectorize(grid.frequency_ratio_ok)(r), frequency_col, r,
-                f"is frequency ratio {{}} there: it must be {grid.FREQUENCY_RATIO_SPAN}")
+    _refuse(path, lines_arr, ~np.vectorize(grid.frequency_ratio_ok)(r), frequency_col, r,
+            f"is frequency ratio {{}} there: it must be {grid.FREQUENCY_RATIO_SPAN}")
     _refuse(path, lines_arr, ~np.vectorize(grid.force_ratio_ok)(beta), force_col, beta,
             f"is force ratio {{}} there: it must be {grid.FORCE_RATIO_SPAN}")
     never = ties.never_moves(scenes.forcing_amplitude(spec.excitation, r), beta)
     _refuse(path, lines_arr, never, force_col, beta, f"is force ratio {{}}: under {spec.excitation} excitation the "
             "mass never leaves rest there (no phase or amplitude to measure): a point outside the scene")
     if cols.series is not None:
-        keys = table[cols.series].astype(str).to_numpy()
+        keys = table[cols.series].to_numpy(str)
     else:
         keys = np.array([f"{b:.6g}" for b in table[force_col].to_numpy(float)])
     labels = tuple(dict.fromkeys(keys.tolist()))

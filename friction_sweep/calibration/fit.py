@@ -121,7 +121,7 @@ def _fit_box(post: Posterior, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, phy
             z = optimize.minimize(neg, np.log(np.maximum(x[noise], 1e-6)), method="Nelder-Mead",
                                   options={"xatol": 1e-8, "fatol": 1e-10})
             x[noise] = np.exp(z.x)
-        if np.allclose(x, before, rtol=1e-7, atol=0.0):
+        if np.allclose(x, before, rtol=1e-7, atol=1e-9 * scale):  # a parameter near 0 settles absolutely
             break
     lp = float(post(x[None, :])[0])
     return x, lp, evaluations + 1

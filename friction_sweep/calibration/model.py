@@ -1,5 +1,6 @@
 """The forward model of a calibration: a parameter vector -> the scene's phase and transmissibility at every
-measured row, computed by the spec's method (theory or event) exactly as `fsweep run` computes a cube.
+measured row, computed by the spec's method (theory or event) as `fsweep run` computes a cube's (event: the
+state reached from rest, `settings: {starts: 1}`).
 
 Parameters act on the rows as follows (docs/equations.md §1: everything depends on (r, beta) and the
 effects):
@@ -55,8 +56,7 @@ class ForwardModel:
         self.jobs = jobs
         self.excitation = spec.excitation
         self.method = spec.method
-        self.settings = dict(spec.settings)
-        self.settings.setdefault("starts", 1)  # the state from rest, as a rig started from rest shows
+        self.settings = dict(spec.settings)  # without `starts` (the spec refuses it): from rest
         params: list[Parameter] = []
         for name, prior in spec.priors.items():
             if name in ("friction_ratio", "friction_force"):
@@ -161,8 +161,7 @@ class ForwardModel:
         from friction_sweep.kernels import steady
         from friction_sweep.methods import event
 
-        settings = {k: v for k, v in self.settings.items() if k != "starts"}
-        raw = event.solve_flat(self.excitation, r, beta, effects, **settings)
+        raw = event.solve_flat(self.excitation, r, beta, effects, **self.settings)
         return {"phase": raw[:, steady.OUT_PHASE], "transmissibility": raw[:, steady.OUT_TRANSMISSIBILITY]}
 
 

@@ -26,9 +26,11 @@ from scipy import special
 
 from .model import ForwardModel
 
-#: what a row whose model value is missing counts as in the least-squares residuals (a von Mises residual
-#: of 180 degrees at this many sd's): large, finite, so that the search can leave the region
-MISSING_RESIDUAL = 30.0
+#: a row whose model value is missing counts in the least-squares residuals as this many sd's beyond the
+#: worst misfit the row can have (a phase 180 degrees off: 2/sigma; a transmissibility off by e^5): worse
+#: than any value, yet finite, so that the search can leave the region
+MISSING_BEYOND = 10.0
+MISSING_LOG_T = 5.0
 
 
 class Posterior:
@@ -108,10 +110,10 @@ class Posterior:
             sd = np.radians(self.phase_sd(theta)[0])
             d = np.radians(obs.phase - predicted["phase"][0] - self.offset(theta)[0])
             res = np.sign(np.sin(d)) * np.sqrt(2.0 * (1.0 - np.cos(d))) / sd
-            parts.append(np.where(np.isfinite(res), res, MISSING_RESIDUAL)[self.rows])
+            parts.append(np.where(np.isfinite(res), res, 2.0 / sd + MISSING_BEYOND)[self.rows])
         if obs.transmissibility is not None:
             sd = self.sd(theta, "transmissibility")[0]
             res = (np.log(obs.transmissibility) - np.log(predicted["transmissibility"][0])) / sd
-            parts.append(np.where(np.isfinite(res), res, MISSING_RESIDUAL)[self.rows])
+            parts.append(np.where(np.isfinite(res), res, MISSING_LOG_T / sd + MISSING_BEYOND)[self.rows])
         parts.append(np.array([p.prior.residual(float(theta[0, i])) for i, p in enumerate(self.model.parameters)]))
         return np.concatenate(parts)

@@ -104,12 +104,14 @@ class Prior:
 
     def residual(self, x: float) -> float:
         """The prior's least-squares residual: its square is -2 log prior up to a constant (0 for the
-        flat prior, whose support bounds the search instead; the half normal's mode sits on its bound)."""
+        flat prior, whose support bounds the search instead; the half normal's mode sits on its bound).
+        log_normal: -2 log p = z^2 + 2 log x + const with z = log(x/a)/s, and since log(x/a) = s z that
+        is (z + s)^2 + const: the residual z + s, whose zero is the density's mode a e^(-s^2)."""
         a, *rest = self.values
         if self.kind == "normal":
             return (x - a) / rest[0]
         if self.kind == "log_normal":
-            return math.log(max(x, 1e-300) / a) / rest[0]
+            return math.log(max(x, 1e-300) / a) / rest[0] + rest[0]
         if self.kind == "half_normal":
             return x / a
         return 0.0

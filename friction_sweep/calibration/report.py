@@ -29,6 +29,8 @@ OUTPUT_FILES = ("posterior.nc", "map.csv", "report.md", "predictive.png", "corne
 IDENTIFIED = 0.5
 NOT_IDENTIFIED = 0.1
 FIGURE_DPI = 130
+#: the report's section on the sampler (benchmarks/calibration_report.py copies it into the README)
+SAMPLER_TITLE = "Sampler diagnostics (emcee, differential-evolution moves, walkers started from the prior)"
 #: points along r of the predictive band's curves
 CURVE_POINTS = 80
 
@@ -59,7 +61,8 @@ def summary(model: ForwardModel, fit: MapFit, chains: Chains) -> pd.DataFrame:
         rows.append({"parameter": p.name, "unit": unit_of(model, p.kind), "map": fit.theta[i], "median": med,
                      "ci95_low": lo, "ci95_high": hi, "prior": p.prior.describe(), "prior_sd": prior_sd,
                      "posterior_sd": float(np.std(flat[:, i])), "contraction": contraction,
-                     "identification": verdict(contraction), "tau": chains.tau[i], "ess": chains.ess[i]})
+                     "identification": verdict(contraction), "tau": chains.tau[i], "ess": chains.ess[i],
+                     "walker_rhat": chains.rhat[i]})
     return pd.DataFrame(rows)
 
 
@@ -155,12 +158,14 @@ def markdown(model: ForwardModel, fit: MapFit, chains: Chains, params: pd.DataFr
         f"Contraction 1 − var(posterior)/var(prior): {IDENTIFIED} and above identified, below "
         f"{NOT_IDENTIFIED} not identified (the posterior is the prior).",
         "",
-        "## Sampler diagnostics (emcee, differential-evolution moves, walkers started from the prior)",
+        f"## {SAMPLER_TITLE}",
         "",
-        "| walkers | steps | burn-in | largest tau | length / tau | smallest ESS | acceptance | converged |",
-        "|---:|---:|---:|---:|---:|---:|---:|---|",
+        "| walkers | steps | burn-in | largest tau | kept run / tau | smallest ESS | walkers' R-hat | acceptance "
+        "| converged |",
+        "|---:|---:|---:|---:|---:|---:|---:|---:|---|",
         f"| {chains.samples.shape[0]} | {chains.steps} | {chains.burn} | {np.max(chains.tau):.1f} | "
-        f"{chains.length_in_tau:.0f} | {np.min(chains.ess):.0f} | {chains.acceptance:.2f} | "
+        f"{chains.length_in_tau:.0f} | {np.min(chains.ess):.0f} | {np.max(chains.rhat):.3f} | "
+        f"{chains.acceptance:.2f} | "
         f"{'yes' if chains.converged else 'NO: max_steps reached'} |",
         "",
         "## Fit",

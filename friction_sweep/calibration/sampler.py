@@ -6,13 +6,15 @@ moves are differential evolution (80 %) and its snooker variant (20 %), which ju
 better than the default stretch move: the natural frequency's posterior is cut into pieces where the
 rows cross resonance (posterior.py).
 
-Diagnostics valid for an ensemble sampler (the walkers are not independent chains, so per-chain R-hat
-does not apply): emcee's integrated autocorrelation time tau of every parameter, over the walkers' mean
-(Goodman & Weare 2010; Foreman-Mackey et al. 2013); the run's length in units of the largest tau; the
-effective sample size walkers x kept steps / tau per parameter; the mean acceptance fraction. The run
-goes on, check_every steps at a time, until the length is at least autocorr_times x tau and every
-effective sample size at least min_ess (or max_steps: then the result says it did not converge). The first
-quarter of the run is dropped as burn-in (at least BURN_TAUS x tau).
+Diagnostics valid for an ensemble sampler (the walkers are not independent chains, so the effective
+sample size of independent chains does not apply): emcee's integrated autocorrelation time tau of every
+parameter, from the walkers' autocorrelation functions averaged (Goodman & Weare 2010; Foreman-Mackey et
+al. 2013); the kept run's length in units of the largest tau; the effective sample size walkers x kept
+steps / tau per parameter; the mean acceptance fraction. tau cannot see walkers stuck apart in different
+modes (each walker is centred on its own mean), so the walkers' split R-hat must agree too (WALKER_RHAT).
+The run goes on, check_every steps at a time, until the kept run is at least autocorr_times x tau long,
+every effective sample size at least min_ess and the R-hat below its bound (or max_steps: then the result
+says it did not converge). The first quarter of the run is dropped as burn-in (at least BURN_TAUS x tau).
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ from .posterior import Posterior
 #: burn-in dropped: this share of the run, at least BURN_TAUS autocorrelation times of the slowest parameter
 BURN_FRACTION = 0.25
 BURN_TAUS = 5.0
+#: walkers in groups that never cross show an R-hat above 1 (two groups 10 sd apart: 1.68) while tau and
+#: the ESS, each walker's own, look fine; the ensemble's precision is tau's business, this only tells
+#: whether the walkers agree
+WALKER_RHAT = 1.05
 #: prior draws per walker tried before giving up on finding the walkers a start the data allow
 START_TRIES = 200
 
@@ -41,6 +47,7 @@ class Chains:
     samples: np.ndarray  # (walkers, kept steps, ndim) after burn-in
     log_posterior: np.ndarray  # (walkers, kept steps)
     tau: np.ndarray  # (ndim,) integrated autocorrelation time, steps
+    rhat: np.ndarray  # (ndim,) split R-hat with the walkers as chains: walkers stuck apart show here
     steps: int  # total steps run
     burn: int
     acceptance: float  # mean acceptance fraction
@@ -54,7 +61,38 @@ class Chains:
 
     @property
     def length_in_tau(self) -> float:
-        return self.steps / float(np.max(self.tau))
+        """The kept run (after burn-in), in autocorrelation times of the slowest parameter."""
+        return self.samples.shape[1] / float(np.max(self.tau))
+
+
+@dataclass(frozen=True)
+class Targets:
+    """What a run must meet to count as converged (the spec's sampler settings)."""
+
+    autocorr_times: float
+    min_ess: int
+
+
+def diagnose(chain: np.ndarray, burn: int) -> tuple[np.ndarray, np.ndarray]:
+    """(tau, rhat) per parameter of chain (steps, walkers, ndim) past `burn`: emcee's integrated
+    autocorrelation time (the walkers' autocorrelation functions averaged, each about its own mean) and
+    the split R-hat of the walkers as chains (ArviZ, rank-normalised). tau alone cannot see walkers that
+    sit in different modes and never cross (each is centred on its own mean); R-hat compares them."""
+    import arviz as az
+    import emcee
+
+    kept = chain[burn:]
+    tau = emcee.autocorr.integrated_time(kept, tol=0)
+    rhat = np.array([float(az.rhat(np.ascontiguousarray(kept[:, :, i].T))) for i in range(kept.shape[2])])
+    return tau, rhat
+
+
+def converged(tau: np.ndarray, rhat: np.ndarray, kept: int, walkers: int, burn: int, targets: Targets) -> bool:
+    """The kept run spans autocorr_times tau of every parameter, every ESS is at least min_ess, the
+    burn-in spans BURN_TAUS tau, and no two groups of walkers disagree (R-hat <= WALKER_RHAT)."""
+    slowest = float(np.max(tau))
+    return (kept >= targets.autocorr_times * slowest and float(np.min(walkers * kept / tau)) >= targets.min_ess
+            and burn >= BURN_TAUS * slowest and float(np.max(rhat)) <= WALKER_RHAT)
 
 
 def start_from_prior(post: Posterior, walkers: int, rng: np.random.Generator) -> np.ndarray:
@@ -71,18 +109,17 @@ def start_from_prior(post: Posterior, walkers: int, rng: np.random.Generator) ->
         raise NoLikelihood(f"{len(found)} of {tried} draws of the prior give the data a nonzero likelihood "
                            f"(needed {walkers}): at almost every parameter the prior allows, the {model.method} "
                            "model has no value at some fitted row (theory: the motion sticks there; event: "
-                           "unbounded or unsettled)")
+                           "unbounded or unsettled; either: the mass never leaves rest)")
     return np.asarray(found[:walkers])
 
 
-def sample(post: Posterior, *, walkers: int, seed: int, autocorr_times: float, min_ess: int, max_steps: int,
-           check_every: int, progress: Callable[[int, float | None], None] | None = None) -> Chains:
-    """Run emcee until the diagnostics are met (module docstring)."""
+def sample(post: Posterior, start: np.ndarray, *, seed: int, targets: Targets, max_steps: int, check_every: int,
+           progress: Callable[[int, str], None] | None = None) -> Chains:
+    """Run emcee from `start` (walkers x ndim, start_from_prior) until the targets are met (module
+    docstring), or max_steps."""
     import emcee
 
-    rng = np.random.default_rng(seed)
-    start = start_from_prior(post, walkers, rng)
-    ndim = start.shape[1]
+    walkers, ndim = start.shape
     calls = [0]
 
     def log_prob(theta):
@@ -91,33 +128,28 @@ def sample(post: Posterior, *, walkers: int, seed: int, autocorr_times: float, m
 
     sampler = emcee.EnsembleSampler(walkers, ndim, log_prob, vectorize=True,
                                     moves=[(emcee.moves.DEMove(), 0.8), (emcee.moves.DESnookerMove(), 0.2)])
-    sampler._random = np.random.mtrand.RandomState(seed)  # emcee's own generator, seeded for reproducibility
+    sampler.random_state = np.random.RandomState(seed).get_state()  # emcee's own generator: reproducible
     began = time.perf_counter()
     state = start
     steps = 0
-    tau = np.full(ndim, np.inf)
-    converged = False
-    burn = 0
+    ok = False
     previous = np.inf
     while steps < max_steps:
         n = min(check_every, max_steps - steps)
         state = sampler.run_mcmc(state, n, progress=False)
         steps += n
-        # tau over the run's last three quarters (the first quarter is burn-in, which must span at least
-        # BURN_TAUS tau); a run counts as converged only on an estimate that also held still since the
-        # last check (emcee's own advice: an estimate from a run shorter than ~50 tau is biased low)
+        # the first quarter is burn-in; a run counts as converged only on a tau estimate that also held
+        # still since the last check (emcee's advice: an estimate from a short run is biased low)
         burn = int(steps * BURN_FRACTION)
-        tau = sampler.get_autocorr_time(tol=0, discard=burn)
-        kept = steps - burn
-        steady = abs(np.max(tau) - previous) <= 0.05 * np.max(tau)
+        tau, rhat = diagnose(sampler.get_chain(), burn)
+        steady = abs(float(np.max(tau)) - previous) <= 0.05 * float(np.max(tau))
         previous = float(np.max(tau))
         if progress is not None:
-            progress(steps, previous)
-        if steady and steps >= autocorr_times * previous and np.min(walkers * kept / tau) >= min_ess \
-                and burn >= BURN_TAUS * previous:
-            converged = True
+            progress(n, f"tau ~ {previous:.0f}, R-hat {float(np.max(rhat)):.3f}")
+        if steady and converged(tau, rhat, steps - burn, walkers, burn, targets):
+            ok = True
             break
     chain = sampler.get_chain(discard=burn)  # (steps, walkers, ndim)
     lp = sampler.get_log_prob(discard=burn)
-    return Chains(np.swapaxes(chain, 0, 1), lp.T, tau, steps, burn, float(np.mean(sampler.acceptance_fraction)),
-                  converged, time.perf_counter() - began, calls[0])
+    return Chains(np.swapaxes(chain, 0, 1), lp.T, tau, rhat, steps, burn, float(np.mean(sampler.acceptance_fraction)),
+                  ok, time.perf_counter() - began, calls[0])

@@ -197,6 +197,10 @@ class CalibrationSpec(Sourced):
         problems = [problem(p.type, p.message(), ("data", "columns", *p.context["at"]))
                     for p in self.data.columns.unit_problems()]
         problems += setting_problems(self.method, self.settings) + self._parameter_problems()
+        if "starts" in self.settings:
+            problems.append(problem("calibration_starts", "a calibration computes each point from rest (the state a "
+                                    "rig shows after starting from rest): settings.starts does not apply",
+                                    ("settings", "starts")))
         raise_all("CalibrationSpec", problems)
         return self
 
@@ -258,11 +262,10 @@ class CalibrationSpec(Sourced):
             prior = _prior(value, kind, at, out)  # type: ignore[arg-type]
             if prior is not None:
                 self._priors[name] = prior
-        if columns.drive_frequency is not None and self.reference_frequency is None \
-                and "natural_frequency" not in self.parameters:
-            out.append(problem("needs_natural_frequency", "drive frequencies need the natural frequency: give "
-                               "system.natural_frequency or a natural_frequency prior", ("data", "columns",
-                                                                                          "drive_frequency")))
+        if columns.drive_frequency is not None and self.reference_frequency is None:
+            out.append(problem("needs_natural_frequency", "drive frequencies need the natural frequency they are "
+                               "measured against: give system.natural_frequency (or mass and stiffness)",
+                               ("data", "columns", "drive_frequency")))
         if columns.friction_force is not None and self.reference_force is None:
             out.append(problem("needs_force", "friction forces need the excitation's force to compare with: give "
                                "system.excitation_force", ("data", "columns", "friction_force")))
