@@ -109,6 +109,7 @@ def band_exit(u0, p0, pu0, m, hb, Ap, rho, zp, u_end, htol, hmax, budget, u_star
     step, at a grazing one the steps shrink until h <= htol. A start on an edge (a stick that begins
     where the slip ended, fc = bk = bs) that the force turns inwards (h'' > 0) skips that zero as
     find_stop does: h >= -|h'| u + h'' u^2/2 - M3 u^3/6; one it turns outwards (or a tie) exits at once.
+    That skip is cut to the safe step of the other edge (2 hb away), which it could otherwise step over.
     """
     ca = math.cos(rho * u0)
     sa = math.sin(rho * u0)
@@ -130,6 +131,16 @@ def band_exit(u0, p0, pu0, m, hb, Ap, rho, zp, u_end, htol, hmax, budget, u_star
                 if hd < 0.0 and s_tie <= 4.0 * (-hd) / hdd:
                     return 0.0, True, int(e), 0
                 u = max(u, s_tie)
+        if u > 0.0:
+            # the skip leaves one edge; it must not step over the other, 2 hb away (the swing of a short
+            # stick at a reversal crosses the band within the skip): the safe step below, from u = 0
+            a_max = Ap + rho_max * (1.0 + 2.0 * zp)
+            for e in (1.0, -1.0):
+                h = hb - e * (p0 - m)
+                if h > htol:
+                    hd = -e * pu0
+                    disc = math.sqrt(hd * hd + 2.0 * a_max * h)
+                    u = min(u, (hd + disc) / a_max if hd >= 0.0 else 2.0 * h / (disc - hd))
         u = min(u, hmax, u_end)
     work = 0
     while True:
