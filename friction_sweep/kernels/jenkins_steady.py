@@ -184,7 +184,14 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
         noise = MAP_ROUNDING * max(scale, p.A)
         res = abs(q1 - q) + abs(v1 - v) + (0.0 if _slipping(mode) else abs(w1 - w))
         if res <= tol * scale + noise and last_step <= 1e-8 * scale + noise:
-            # converged: measure the k periods from here
+            # converged: measure the k periods from here, with the creep anchor the orbit itself carries
+            # across the section (one unmeasured pass), not the one the march had where shooting began:
+            # the labels of a slip begun before t = 0 depend on it
+            _, _, _, _, anchor, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, False, acc)
+            work += wk
+            periods += k
+            if st != 0:
+                return q, v, w, mode, False, work, periods, radius
             _, _, _, _, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, True, acc)
             work += wk
             periods += k
