@@ -105,6 +105,12 @@ EFFECTS: Mapping[str, Effect] = MappingProxyType({
                                     "every excitation the grid allows",
                                     meaning="static over kinetic friction force (a stuck mass breaks loose above "
                                     "the static force)", off=1.0),
+    "contact_stiffness": Effect(1e-3, 1e8, "the contact spring k_t over the main spring k: below 1e-3 the slider "
+                                "barely moves the mass, beyond 1e8 a stick's swings on the contact spring "
+                                "(sqrt(kappa) per natural period) cost more than a point's work budget",
+                                meaning="stiffness kappa = k_t/k of a tangential spring in series with the slider "
+                                "(a Jenkins element; joined: on the relative motion; docs/equations.md §7)",
+                                off=0.0),
 })
 
 
@@ -216,6 +222,8 @@ _STEADY = {
 }
 _STARTS = _int(2, 1, 2, "1: from rest only; 2: also from a moving start where static exceeds kinetic friction")
 _SIMULATED = ("viscous_damping", "static_friction_ratio")
+#: the exact simulation also models the Jenkins contact (kernels/jenkins.py; rk4: a later step)
+_EXACT = (*_SIMULATED, "contact_stiffness")
 
 
 def _without(settings: dict[str, Setting], *names: str) -> dict[str, Setting]:
@@ -235,7 +243,7 @@ _METHODS = (
     ),
     Method(
         "event", "exact stick-slip: closed-form segments between events, steady state by march and shooting",
-        settings={**_STEADY, "starts": _STARTS}, effects=_SIMULATED, outputs=OUTPUTS,
+        settings={**_STEADY, "starts": _STARTS}, effects=_EXACT, outputs=OUTPUTS,
         accuracy_knobs=("stop_tol", "steady_tol"), calibrated_as="event", sweep=True,
     ),
     Method(

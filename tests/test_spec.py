@@ -416,7 +416,7 @@ def test_unknown_excitation():
 def test_unknown_effect():
     p = only(spec_error(spec_text(effects="{stribeck: true}")))
     assert p.key == "scene.effects.stribeck" and p.line == 3
-    assert p.reason == "unknown effect 'stribeck' (known: viscous_damping, static_friction_ratio)"
+    assert p.reason == "unknown effect 'stribeck' (known: viscous_damping, static_friction_ratio, contact_stiffness)"
 
 
 def test_unknown_method():

@@ -21,3 +21,17 @@ class Point(NamedTuple):
     bs: float  # static friction (>= bk)
     zeta: float  # viscous damping ratio
     c: float  # the excitation's share of the response: x = q + c cos(r t) (1 joined, 0 otherwise)
+
+
+class JenkinsPoint(NamedTuple):
+    """A point whose contact is a Jenkins element (effect contact_stiffness, docs/equations.md §7): Point's
+    parameters and the contact spring's stiffness over the main spring's, kappa. The rigid kernels never
+    see it: a point without the effect stays a Point, and its code path is untouched."""
+
+    A: float
+    r: float
+    bk: float
+    bs: float
+    zeta: float
+    c: float
+    kappa: float  # contact stiffness k_t / k

@@ -14,6 +14,10 @@ static = kinetic friction). Its variables are stored beside those from rest with
 `_moving`, and `steady_states` counts the distinct states found (a lower bound: more starts could
 find more). With static = kinetic friction the period map does not expand distances and one start
 suffices; nothing is added then.
+
+With the effect contact_stiffness (a Jenkins contact, docs/equations.md §7) a point runs the Jenkins
+kernels (kernels/jenkins.py, jenkins_steady.py) instead, from rest only, and writes `slips_per_period` and
+`floquet_multiplier` with the regime; a point without it never touches them.
 """
 
 from __future__ import annotations
@@ -46,6 +50,8 @@ VARIABLES = {
     "transmitted_force": ("transmitted_force",),
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
+#: written with the regime where the contact is a Jenkins element (effect contact_stiffness)
+JENKINS_VARIABLES = ("slips_per_period", "floquet_multiplier")
 
 #: one state found from two starts: first-harmonic transmissibilities within this relative difference
 #: (each solve settles to steady_tol on the state; near-neutral orbits carry that error amplified)
@@ -121,15 +127,31 @@ def kernel_settings(settings: dict | None = None) -> np.ndarray:
     return settings_record(values)
 
 
+def contact_stiffness(effects) -> float:
+    """The Jenkins contact's stiffness kappa = k_t/k; 0 (off) for the rigid contact."""
+    return catalogue.effect_value(effects, "contact_stiffness")
+
+
 def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     """Raw kernel outputs (n, OUT_SIZE) for 1-D arrays of points, phases against the excitation; start:
     per-point (q0, v0) arrays instead of the settings' one start. The start and end states (end_q, end_v)
-    are at the kernel's section, the forcing's maximum (forcing_lead)."""
+    are at the kernel's section, the forcing's maximum (forcing_lead). With a Jenkins contact the rows
+    are jenkins_steady's (n, JOUT_SIZE), whose first OUT_SIZE slots are these."""
     r = np.ascontiguousarray(r, dtype=float)
     beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
-    out = np.empty((r.size, steady.OUT_SIZE))
     sett = kernel_settings(settings)
+    kappa = contact_stiffness(effects)
+    if kappa > 0.0:
+        if start is not None or sett[SET_KERNEL] != KERNEL_EVENT:
+            raise ValueError("contact_stiffness: the Jenkins kernels run method event from the spec's start only")
+        from friction_sweep.kernels import jenkins_steady  # compiled only where the effect is declared
+
+        out = np.empty((r.size, jenkins_steady.JOUT_SIZE))
+        jenkins_steady.solve_points_jenkins(A, r, bk, bs, zeta, c, np.full(r.shape, kappa), sett, out)
+        _against_excitation(out, forcing_lead(excitation, r, effects))
+        return out
+    out = np.empty((r.size, steady.OUT_SIZE))
     gq, gv = newton_guess(A, r, bk, bs, zeta, sett)
     if start is None:
         steady.solve_points(A, r, bk, bs, zeta, c, sett, gq, gv, out)
@@ -183,8 +205,11 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     R, B = np.meshgrid(r, beta)
     raw = solve_flat(excitation, R.ravel(), B.ravel(), effects, **settings)
     names = variables_for(excitation, outputs)
+    jenkins = contact_stiffness(effects) > 0.0
+    if jenkins and "regime" in outputs:
+        names += JENKINS_VARIABLES
     result = _per_point(raw, names, excitation, R)
-    if starts > 1 and two_starts(effects):
+    if starts > 1 and two_starts(effects) and not jenkins:
         moving = solve_moving(excitation, R.ravel(), B.ravel(), effects, **settings)
         twins = _per_point(moving, names, excitation, R)
         result.update({name + MOVING_SUFFIX: values for name, values in twins.items()})
@@ -226,6 +251,10 @@ def kernel_variable(name: str, raw, excitation: str, r) -> np.ndarray:
     row, or `transmitted_force`, derived from the first harmonic (theory.transmitted)."""
     if name == "transmitted_force":
         return transmitted_force(excitation, r, raw[:, steady.OUT_TRANSMISSIBILITY], raw[:, steady.OUT_PHASE])
+    if name in JENKINS_VARIABLES:
+        from friction_sweep.kernels import jenkins_steady
+
+        return raw[:, jenkins_steady.JOUT[name]]
     return raw[:, steady.OUT[name]]
 
 

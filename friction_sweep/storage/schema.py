@@ -163,6 +163,22 @@ VARIABLES = {
         "1",
         valid_range=COUNT_VALID,  # not whole: a period-k orbit averages its stops over k periods
     ),
+    "slips_per_period": Variable(
+        GRID_DIMS,
+        np.float64,
+        "slips of the contact's slider per forcing period (effect contact_stiffness: a reversal is a slip, a "
+        "short stick and a slip the other way); NaN without friction",
+        "1",
+        valid_range=COUNT_VALID,
+    ),
+    "floquet_multiplier": Variable(
+        GRID_DIMS,
+        np.float64,
+        "largest modulus among the multipliers of the steady orbit's period map (effect contact_stiffness; "
+        "forward differences); NaN where undefined: the slider never slips, no steady state",
+        "1",
+        valid_range=NONNEGATIVE,
+    ),
     "continuous_limit": Variable(
         ("frequency_ratio",),
         np.float64,

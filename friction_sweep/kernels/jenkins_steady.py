@@ -1,0 +1,395 @@
+"""Steady state of one grid point with a Jenkins contact (effect contact_stiffness): march, shoot, measure.
+
+The driver of steady.py for the state (q, v, w) of kernels/jenkins.py, kept apart so that a point without
+the effect runs exactly the code it always ran. On the section (the excitation's maximum) a slipping
+slider sits where the slip puts it, w = q - sig bk / kappa, so Newton moves (q, v) there and (q, v, w)
+where the slider is stuck. The Jacobian is taken by forward differences of the period map (the exact
+3 x 3 monodromy matrix is a later step); its largest multiplier is the orbit's `floquet_multiplier`.
+
+Without damping a stuck slider dissipates nothing: where the forced motion of the stuck oscillator,
+q = A cos(r t) / (1 + kappa - r^2) with the slider at 0, keeps the contact force inside the static
+band, the march starts on it (as steady.py does for beta = 0: the limit of vanishing damping) and one
+measured period confirms it: regime `stuck` (the slider never slips; the mass vibrates on the contact
+spring). Points without friction (beta = 0) are the rigid model's, solved by steady.solve_point.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from friction_sweep.codes import Regime, SteadyState
+from friction_sweep.kernels.jenkins import JACC_JUMP, JACC_SIZE, JACC_SLIPS, STUCK_HELD, advance_period_jenkins
+from friction_sweep.kernels.jit import jit, jit_inline
+from friction_sweep.kernels.measure import (
+    ACC_IC,
+    ACC_IS,
+    ACC_QMAX,
+    ACC_SLIDE,
+    ACC_STOPS,
+    ACC_STUCK,
+    ACC_TMAX,
+    ACC_XMAX,
+    ACC_XMIN,
+    BUDGET,
+    reset_accumulator,
+)
+from friction_sweep.kernels.period_map import MAP_ROUNDING
+from friction_sweep.kernels.point import JenkinsPoint, Point
+from friction_sweep.kernels.segments import TWO_PI
+from friction_sweep.kernels.settings import (
+    SET_INITIAL_DISPLACEMENT,
+    SET_INITIAL_VELOCITY,
+    SET_MAX_ORBIT_PERIOD,
+    SET_MAX_PERIODS,
+    SET_SHOOT_AFTER,
+    SET_SHOOT_EVERY,
+    SET_STEADY_TOL,
+    SET_STOP_TOL,
+    SET_WORK_BUDGET,
+)
+from friction_sweep.kernels.steady import (
+    OUT_END_MODE,
+    OUT_END_Q,
+    OUT_END_V,
+    OUT_FRICTION_ENERGY,
+    OUT_ORBIT_PERIOD,
+    OUT_PEAK_PHASE,
+    OUT_PEAK_TRANSMISSIBILITY,
+    OUT_PERIODS,
+    OUT_PHASE,
+    OUT_REGIME,
+    OUT_SIZE,
+    OUT_STEADY_STATE,
+    OUT_STOPS_PER_PERIOD,
+    OUT_STUCK_FRACTION,
+    OUT_TRANSMISSIBILITY,
+    OUT_WORK,
+    OUTPUT_FIELDS,
+    RHO_HISTORY,
+    RUNAWAY,
+    _growing,
+    lag_degrees,
+    solve_point,
+)
+from friction_sweep.ties import TIE_RTOL
+
+#: what solve_point_jenkins writes for a point: steady.py's slots, then these
+JENKINS_OUTPUT_FIELDS = (
+    *OUTPUT_FIELDS,
+    "slips_per_period",  # slips of the slider per forcing period (NaN without friction)
+    "end_w",  # the slider's position where the march ended
+    "floquet_multiplier",  # largest |multiplier| of the converged orbit's period map (NaN where undefined)
+)
+JOUT = {name: i for i, name in enumerate(JENKINS_OUTPUT_FIELDS)}
+JOUT_SIZE = len(JENKINS_OUTPUT_FIELDS)
+JOUT_SLIPS = JOUT["slips_per_period"]
+JOUT_END_W = JOUT["end_w"]
+JOUT_FLOQUET = JOUT["floquet_multiplier"]
+
+#: evaluations of the period map a shooting solve may take (finite differences aside)
+NEWTON_ITERATIONS = 30
+#: forward-difference step, relative to the orbit's size
+FD_STEP = 1e-7
+
+
+@jit_inline
+def _period(q, v, w, mode, anchor, p, settings, budget, measure, acc):
+    reset_accumulator(acc)
+    return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc)
+
+
+@jit_inline
+def _map_k(q, v, w, mode, anchor, k, p, settings, budget, measure, acc):
+    """P^k from (q, v, w, mode, anchor), measured together in acc if asked. Returns (q, v, w, mode, anchor,
+    status, work)."""
+    reset_accumulator(acc)
+    work = 0
+    for _ in range(k):
+        q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL],
+                                                               budget - work, measure, acc)
+        work += wk
+        if st != 0:
+            return q, v, w, mode, anchor, st, work
+    return q, v, w, mode, anchor, 0, work
+
+
+@jit_inline
+def _slipping(mode):
+    return mode == 1 or mode == -1
+
+
+@jit_inline
+def _same_kind(m1, m2):
+    """Two modes of one orbit point: the same slip direction, or both stuck (held or not)."""
+    return m1 == m2 or (not _slipping(m1) and not _slipping(m2))
+
+
+@jit
+def _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget, acc):
+    """Forward differences of P^k at (q, v, w) (P^k = (q1, v1, w1) there) in the coordinates Newton moves:
+    (q, v) with the slider following where it slips, else (q, v, w). Returns (J, dim, ok, work)."""
+    dim = 2 if _slipping(mode) else 3
+    jac = np.zeros((3, 3))
+    scale = max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
+    h = FD_STEP * max(scale, p.A)
+    work = 0
+    base = np.array([q, v, w])
+    end = np.array([q1, v1, w1])
+    for j in range(dim):
+        x = base.copy()
+        x[j] += h
+        if dim == 2:
+            x[2] = x[0] - mode * p.bk / p.kappa
+        qa, va, wa, ma, _, st, wk = _map_k(x[0], x[1], x[2], mode, anchor, k, p, settings, budget - work, False,
+                                           acc)
+        work += wk
+        if st != 0 or not _same_kind(ma, mode):
+            return jac, dim, False, work
+        jac[0, j] = (qa - end[0]) / h
+        jac[1, j] = (va - end[1]) / h
+        jac[2, j] = (wa - end[2]) / h
+    return jac, dim, True, work
+
+
+@jit
+def _radius(jac, dim):
+    """Largest |eigenvalue| of the leading dim x dim block."""
+    ev = np.linalg.eigvals(jac[:dim, :dim].astype(np.complex128))
+    return np.max(np.abs(ev))
+
+
+@jit
+def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
+    """Newton with forward differences on P^k(x) = x from (q, v, w, mode) (anchor: jenkins.py's label, kept).
+    Returns (q, v, w, mode, ok,
+    work, periods, radius); on success acc holds the measurement of the k periods from the returned state
+    and radius the largest |multiplier| of the last Jacobian."""
+    work = 0
+    periods = 0
+    last_step = math.inf
+    radius = math.nan
+    size = max(math.hypot(q, v), 1e-300)
+    for _ in range(NEWTON_ITERATIONS):
+        if _slipping(mode):
+            w = q - mode * p.bk / p.kappa
+        q1, v1, w1, m1, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, False, acc)
+        work += wk
+        periods += k
+        if st != 0 or not _same_kind(m1, mode) or not (math.isfinite(q1) and math.isfinite(v1)):
+            return q, v, w, mode, False, work, periods, radius
+        size = max(size, acc[ACC_QMAX])
+        scale = max(math.hypot(q, v), size)
+        noise = MAP_ROUNDING * max(scale, p.A)
+        res = abs(q1 - q) + abs(v1 - v) + (0.0 if _slipping(mode) else abs(w1 - w))
+        if res <= tol * scale + noise and last_step <= 1e-8 * scale + noise:
+            # converged: measure the k periods from here, with the creep anchor the orbit itself carries
+            # across the section (one unmeasured pass), not the one the march had where shooting began:
+            # the labels of a slip begun before t = 0 depend on it
+            _, _, _, _, anchor, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, False, acc)
+            work += wk
+            periods += k
+            if st != 0:
+                return q, v, w, mode, False, work, periods, radius
+            _, _, _, _, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, True, acc)
+            work += wk
+            periods += k
+            ok = st == 0 and radius < 1.0
+            return q, v, w, mode, ok, work, periods, radius
+        jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget - work, acc)
+        work += wk
+        periods += dim * k
+        if not ok:
+            return q, v, w, mode, False, work, periods, radius
+        radius = _radius(jac, dim)
+        b = jac[:dim, :dim] - np.eye(dim)
+        f = np.array([q1 - q, v1 - v, w1 - w])[:dim]
+        if not np.all(np.isfinite(b)) or abs(np.linalg.det(b)) == 0.0:
+            return q, v, w, mode, False, work, periods, radius
+        dx = -np.linalg.solve(b, f)
+        step = np.sum(np.abs(dx))
+        # the map is only piecewise smooth: a step longer than the motion leaves the piece that proposed it
+        reach = max(scale, p.A)
+        if step > reach:
+            dx *= reach / step
+            step = reach
+        q += dx[0]
+        v += dx[1]
+        if dim == 3:
+            w += dx[2]
+        last_step = step
+        if not (math.isfinite(q) and math.isfinite(v) and math.isfinite(w)):
+            return q, v, w, mode, False, work, periods, radius
+    return q, v, w, mode, False, work, periods, radius
+
+
+@jit_inline
+def _repeat_lag(q, v, w, mode, n, hq, hv, hw, hm, kmax, tol, size, floor):
+    """The smallest k <= kmax at which the state repeats the one k periods back (0 if none)."""
+    for k in range(1, min(kmax, n) + 1):
+        j = (n - k) % (kmax + 1)
+        scale = max(size, math.hypot(hq[j], hv[j]))
+        near = abs(q - hq[j]) + abs(v - hv[j]) + abs(w - hw[j]) <= tol * scale + floor
+        if near and _same_kind(hm[j], mode):
+            return k
+    return 0
+
+
+@jit
+def _march(q, v, w, mode, anchor, p, settings, work, acc):
+    """March the period map until it repeats (period k), a shooting solve lands on the orbit, the motion
+    grows without bound (next to r = 1 below pi/4, steady.py's test), or the periods or the work run out.
+    Returns (q, v, w, mode, anchor, status, orbit, periods, work, shot, radius)."""
+    tol = settings[SET_STEADY_TOL]
+    max_periods = int(settings[SET_MAX_PERIODS])
+    kmax = int(settings[SET_MAX_ORBIT_PERIOD])
+    budget = int(settings[SET_WORK_BUDGET])
+    shoot_every = int(settings[SET_SHOOT_EVERY])
+    hq = np.empty(kmax + 1)
+    hv = np.empty(kmax + 1)
+    hw = np.empty(kmax + 1)
+    hm = np.empty(kmax + 1, dtype=np.int64)
+    rho_hist = np.empty(RHO_HISTORY)
+    hq[0], hv[0], hw[0], hm[0] = q, v, w, mode
+    n = 0
+    periods = 0
+    # shoot from the second period on (the first leaves the start), and again every shoot_every periods
+    next_shot = max(2, int(settings[SET_SHOOT_AFTER]))
+    while n < max_periods:
+        n += 1
+        periods += 1
+        q, v, w, mode, anchor, st, wk = _period(q, v, w, mode, anchor, p, settings, budget - work, False, acc)
+        work += wk
+        if st == BUDGET or work > budget:
+            return q, v, w, mode, anchor, SteadyState.EVENT_BUDGET, 0, periods, work, False, math.nan
+        if not (math.isfinite(q) and math.isfinite(v) and math.isfinite(w)):
+            return q, v, w, mode, anchor, SteadyState.NONFINITE, 0, periods, work, False, math.nan
+        rho = math.hypot(q, v)
+        rho_hist[n % RHO_HISTORY] = rho
+        size = max(rho, acc[ACC_QMAX])
+        if rho > RUNAWAY * max(p.A, 1.0):
+            return q, v, w, mode, anchor, SteadyState.GROWING, 0, periods, work, False, math.nan
+        floor = MAP_ROUNDING * max(size, p.A) if n > shoot_every else 0.0
+        orbit = _repeat_lag(q, v, w, mode, n, hq, hv, hw, hm, kmax, tol, size, floor)
+        if orbit > 0:
+            return q, v, w, mode, anchor, SteadyState.CONVERGED, orbit, periods, work, False, math.nan
+        i = n % (kmax + 1)
+        hq[i], hv[i], hw[i], hm[i] = q, v, w, mode
+        # shooting needs a period in which the slider slipped: a stuck slider's position is a neutral
+        # direction of the map (multiplier 1), and there the march settles by itself
+        if n >= next_shot and acc[JACC_SLIPS] > 0.0:
+            qs, vs, ws, ms, ok, wk, k, radius = shoot_jenkins(q, v, w, mode, anchor, 1, p, settings, tol,
+                                                               budget - work, acc)
+            work += wk
+            periods += k
+            next_shot = n + shoot_every
+            if ok:
+                return qs, vs, ws, ms, anchor, SteadyState.CONVERGED, 1, periods, work, True, radius
+        if _growing(rho_hist, n, p):
+            return q, v, w, mode, anchor, SteadyState.GROWING, 0, periods, work, False, math.nan
+    return q, v, w, mode, anchor, SteadyState.PERIOD_CAP, 0, periods, work, False, math.nan
+
+
+@jit_inline
+def _record(out, acc, orbit, p):
+    """The outputs of the orbit measured in acc over `orbit` periods (steady._record_measurement's, with
+    the Jenkins labels: `stuck` where the slider never slips)."""
+    r, c = p.r, p.c
+    total = orbit * (TWO_PI / r)
+    slips = acc[JACC_SLIPS]
+    all_stuck = slips == 0.0
+    a1 = r / math.pi * acc[ACC_IC] / orbit + c
+    b1 = r / math.pi * acc[ACC_IS] / orbit
+    amp = math.hypot(a1, b1)
+    out[OUT_TRANSMISSIBILITY] = amp
+    out[OUT_PEAK_TRANSMISSIBILITY] = max(acc[ACC_XMAX], -acc[ACC_XMIN])
+    if amp > 0.0:
+        out[OUT_PHASE] = lag_degrees(math.atan2(b1, a1))
+    if out[OUT_PEAK_TRANSMISSIBILITY] > 0.0:
+        out[OUT_PEAK_PHASE] = lag_degrees(r * acc[ACC_TMAX])
+    out[OUT_STOPS_PER_PERIOD] = 0.0 if all_stuck else acc[ACC_STOPS] / orbit
+    out[OUT_STUCK_FRACTION] = 1.0 if all_stuck else acc[ACC_STUCK] / total
+    out[OUT_FRICTION_ENERGY] = 0.0 if all_stuck else (p.bk * acc[ACC_SLIDE] + acc[JACC_JUMP]) / orbit
+    out[OUT_ORBIT_PERIOD] = orbit
+    out[JOUT_SLIPS] = slips / orbit
+    if all_stuck:
+        out[OUT_REGIME] = Regime.STUCK.value
+    elif acc[ACC_STOPS] > 0.0:
+        out[OUT_REGIME] = Regime.STICK_SLIP.value
+    else:
+        out[OUT_REGIME] = Regime.CONTINUOUS.value
+
+
+@jit
+def solve_point_jenkins(p, settings, out):
+    """Steady state and measurements of one grid point with a Jenkins contact; results in `out` (slots of
+    JENKINS_OUTPUT_FIELDS)."""
+    out[:] = math.nan
+    if p.bk == 0.0 and p.bs == 0.0:
+        # no friction, no contact force: the rigid model's point, exactly
+        solve_point(Point(p.A, p.r, 0.0, 0.0, p.zeta, p.c), settings, math.nan, math.nan, out[:OUT_SIZE])
+        return
+    acc = np.empty(JACC_SIZE)
+    budget = int(settings[SET_WORK_BUDGET])
+    q0 = settings[SET_INITIAL_DISPLACEMENT]
+    q, v, w, mode = q0, settings[SET_INITIAL_VELOCITY], q0, 0  # at rest on a relaxed contact spring
+    anchor = math.nan
+    status = SteadyState.PERIOD_CAP
+    orbit = 0
+    work = 0
+    periods = 0
+    shot = False
+    radius = math.nan
+    om2 = 1.0 + p.kappa
+    detuning = (math.sqrt(om2) - p.r) * (math.sqrt(om2) + p.r)
+    if p.zeta == 0.0 and detuning != 0.0 and p.kappa * abs(p.A / detuning) < p.bs * (1.0 - TIE_RTOL):
+        # the stuck oscillator's forced motion stays inside the band: start on it, one period confirms it
+        qf = p.A / detuning
+        q1, v1, w1, m1, _, st, work = _map_k(qf, 0.0, 0.0, STUCK_HELD, math.nan, 1, p, settings, budget, True, acc)
+        periods = 1
+        if st == 0 and acc[JACC_SLIPS] == 0.0 and abs(q1 - qf) + abs(v1) <= settings[SET_STEADY_TOL] * abs(qf) + \
+                MAP_ROUNDING * max(abs(qf), p.A):
+            q, v, w, mode, status, orbit, shot = qf, 0.0, 0.0, STUCK_HELD, SteadyState.CONVERGED, 1, True
+    if status != SteadyState.CONVERGED:
+        q, v, w, mode, anchor, status, orbit, marched, work, shot, radius = _march(q, v, w, mode, anchor, p, settings,
+                                                                                   work, acc)
+        periods += marched
+    out[OUT_PERIODS] = periods
+    out[OUT_STEADY_STATE] = status.value
+    out[OUT_WORK] = work
+    out[OUT_END_Q], out[OUT_END_V], out[OUT_END_MODE] = q, v, mode
+    out[JOUT_END_W] = w
+    if status == SteadyState.GROWING:
+        out[OUT_REGIME] = Regime.UNBOUNDED.value
+        return
+    if status != SteadyState.CONVERGED:
+        out[OUT_REGIME] = Regime.UNSETTLED.value
+        return
+    if not shot:
+        q1, v1, w1, m1, _, st, wk = _map_k(q, v, w, mode, anchor, orbit, p, settings, budget - work, True, acc)
+        work += wk
+        out[OUT_WORK] = work
+        out[OUT_PERIODS] = periods + orbit
+        if st != 0:
+            out[OUT_STEADY_STATE] = SteadyState.EVENT_BUDGET.value
+            out[OUT_REGIME] = Regime.UNSETTLED.value
+            return
+        if acc[JACC_SLIPS] > 0.0:
+            # the marched orbit's multipliers, by forward differences of P^k (acc is measured again after)
+            acc2 = np.empty(JACC_SIZE)
+            reset_accumulator(acc2)
+            acc2[ACC_QMAX] = acc[ACC_QMAX]
+            jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, orbit, q1, v1, w1, p, settings, budget - work, acc2)
+            if ok:
+                radius = _radius(jac, dim)
+    _record(out, acc, orbit, p)
+    # where the slider never slips its position is neutral (multiplier 1 of a continuum): undefined
+    out[JOUT_FLOQUET] = radius if acc[JACC_SLIPS] > 0.0 else math.nan
+
+
+@jit
+def solve_points_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out):
+    """solve_point_jenkins over 1-D arrays of points; out has shape (n, JOUT_SIZE)."""
+    for i in range(r.size):
+        solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), settings, out[i])
