@@ -77,7 +77,6 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     model = ForwardModel(spec, obs, jobs=jobs)
     post = Posterior(model)
     rng = np.random.default_rng(seed)
-    t0 = time.perf_counter()
     try:
         start = start_from_prior(post, settings.walkers, rng)  # refuses a prior that explains no data (exit 2)
     except NoLikelihood as err:
@@ -123,9 +122,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
              "walker_rhat": chains.rhat.tolist(),
              "effective_sample_size": chains.ess.tolist(), "length_in_autocorr_times": chains.length_in_tau,
              "map": fit.theta.tolist(), "model_points_evaluated": points}
-    idata = report.inference_data(post, fit, chains, fit.table, replicated, attrs)
-    md = report.markdown(model, fit, chains, params, fit.table, timing, obs.path)
-    figures = (report.predictive_figure(post, theta, fit.table), report.corner_figure(model, chains, fit))
+    idata = report.inference_data(post, chains, replicated, attrs)
+    md = report.markdown(model, chains, params, fit.table, timing, obs.path)
+    figures = (report.predictive_figure(post, theta), report.corner_figure(model, chains, fit))
     try:
         paths = report.write(folder, idata, fit.table, md, figures)
     except OSError as err:

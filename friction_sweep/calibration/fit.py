@@ -30,7 +30,6 @@ class MapFit:
     theta: np.ndarray  # (ndim,)
     log_posterior: float
     table: pd.DataFrame  # one row per measured row
-    evaluations: int  # model evaluations (parameter vectors)
     intervals: int  # natural-frequency intervals searched
 
 
@@ -57,18 +56,16 @@ def fit_map(post: Posterior) -> MapFit:
             box_lo[fn_index], box_hi[fn_index] = a + pad, b - pad
             start[fn_index] = 0.5 * (a + b)
             boxes.append((box_lo, box_hi, start))
-    evaluations = 0
     best: tuple[float, np.ndarray] | None = None
     for box_lo, box_hi, start in boxes:
-        theta, lp, n = _fit_box(post, start, box_lo, box_hi, physical, noise)
-        evaluations += n
+        theta, lp = _fit_box(post, start, box_lo, box_hi, physical, noise)
         if math.isfinite(lp) and (best is None or lp > best[0]):
             best = (lp, theta)
     if best is None:
         lp, theta = -math.inf, x0
     else:
         lp, theta = best
-    return MapFit(theta, lp, residual_table(post, theta), evaluations, len(boxes))
+    return MapFit(theta, lp, residual_table(post, theta), len(boxes))
 
 
 def _start(prior) -> float:
@@ -78,10 +75,9 @@ def _start(prior) -> float:
 
 
 def _fit_box(post: Posterior, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, physical: list[int],
-             noise: list[int]) -> tuple[np.ndarray, float, int]:
+             noise: list[int]) -> tuple[np.ndarray, float]:
     model = post.model
     x = np.clip(x, lo, hi)
-    evaluations = 0
     span = np.array([p.prior.std() for p in model.parameters])
     scale = np.where(np.isfinite(span) & (span > 0), span, 1.0)
     for _ in range(ROUNDS):
@@ -106,11 +102,9 @@ def _fit_box(post: Posterior, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, phy
 
             ys = optimize.least_squares(fun, x[physical], jac=jac, bounds=(lo[physical], hi[physical]),
                                         x_scale=scale[physical], method="trf")
-            evaluations += ys.nfev + ys.njev * (1 + len(physical))
             x[physical] = ys.x
         if noise:
             predicted = model.predict(x[None, :])
-            evaluations += 1
 
             def neg(z, x=x, predicted=predicted):
                 theta = x.copy()
@@ -123,8 +117,7 @@ def _fit_box(post: Posterior, x: np.ndarray, lo: np.ndarray, hi: np.ndarray, phy
             x[noise] = np.exp(z.x)
         if np.allclose(x, before, rtol=1e-7, atol=1e-9 * scale):  # a parameter near 0 settles absolutely
             break
-    lp = float(post(x[None, :])[0])
-    return x, lp, evaluations + 1
+    return x, float(post(x[None, :])[0])
 
 
 def residual_table(post: Posterior, theta: np.ndarray) -> pd.DataFrame:

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from friction_sweep.spec import grid
 from friction_sweep.theory import den_hartog as dh
 
 from .data import Observations
@@ -109,10 +110,12 @@ class ForwardModel:
         none (theory off continuous motion; unbounded or unsettled points; a mass that never moves)."""
         theta = np.atleast_2d(theta)
         r, beta = self.points(theta)
-        ok = (r >= 0.01) & (r <= 100.0) & (beta >= 0.0) & np.isfinite(r) & np.isfinite(beta)
+        # the ranges a sweep spec accepts (spec.grid); NaN fails both comparisons
+        low, high = grid.FREQUENCY_RATIO_RANGE
+        ok = (r >= low) & (r <= high) & (beta >= 0.0) & (beta <= grid.FORCE_RATIO_MAX)
         out = {name: np.full(r.shape, np.nan) for name in OUTPUTS}
         if any(name in self._index for name in EFFECT_PARAMETERS):
-            groups = [(self.effects(theta[i:i + 1])[0], np.array([i])) for i in range(theta.shape[0])]
+            groups = [(effects, np.array([i])) for i, effects in enumerate(self.effects(theta))]
         else:
             groups = [({}, np.arange(theta.shape[0]))]
         tasks = []
@@ -163,7 +166,6 @@ class ForwardModel:
 
         raw = event.solve_flat(self.excitation, r, beta, effects, **self.settings)
         return {"phase": raw[:, steady.OUT_PHASE], "transmissibility": raw[:, steady.OUT_TRANSMISSIBILITY]}
-
 
     def _continuous_limit(self, r: np.ndarray) -> np.ndarray:
         """Den Hartog's beta*(r) (theory.den_hartog.continuous_limit), computed once per distinct r: the

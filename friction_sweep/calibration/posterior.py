@@ -36,10 +36,9 @@ MISSING_LOG_T = 5.0
 class Posterior:
     """log prior, log likelihood and their sum for parameter vectors (rows of a 2-D array)."""
 
-    def __init__(self, model: ForwardModel, *, fitted_only: bool = True):
+    def __init__(self, model: ForwardModel):
         self.model = model
-        obs = model.obs
-        self.rows = obs.fitted if fitted_only else np.ones(obs.size, dtype=bool)
+        self.rows = model.obs.fitted  # the likelihood's rows: held-out rows are predicted, not fitted
 
     def log_prior(self, theta: np.ndarray) -> np.ndarray:
         theta = np.atleast_2d(theta)

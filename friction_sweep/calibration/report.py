@@ -99,7 +99,7 @@ def predictive(post: Posterior, chains: Chains, draws: int, seed: int) -> tuple[
     return theta, out
 
 
-def inference_data(post: Posterior, fit: MapFit, chains: Chains, table: pd.DataFrame, replicated, attrs: dict):
+def inference_data(post: Posterior, chains: Chains, replicated, attrs: dict):
     """ArviZ InferenceData: posterior (walkers as chains; per-series parameters on dim `series`), sample
     stats (lp), observed data and the posterior predictive on dim `row` (the data file's line numbers)."""
     import arviz as az
@@ -135,7 +135,7 @@ def inference_data(post: Posterior, fit: MapFit, chains: Chains, table: pd.DataF
     return idata
 
 
-def markdown(model: ForwardModel, fit: MapFit, chains: Chains, params: pd.DataFrame, table: pd.DataFrame,
+def markdown(model: ForwardModel, chains: Chains, params: pd.DataFrame, table: pd.DataFrame,
              timing: dict[str, float], data_path: str) -> str:
     fitted, held = residual_stats(table, True), residual_stats(table, False)
     lines = [
@@ -199,7 +199,7 @@ def _table_md(table: pd.DataFrame) -> str:
     return "\n".join(out)
 
 
-def predictive_figure(post: Posterior, theta: np.ndarray, table: pd.DataFrame):
+def predictive_figure(post: Posterior, theta: np.ndarray):
     """Measured phases (or transmissibilities) against r at the reference natural frequency, one colour per
     series, over the posterior's 95 % band of the model curve (noise-free) and its median."""
     import matplotlib

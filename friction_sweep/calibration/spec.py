@@ -28,7 +28,6 @@ Validated like a sweep spec (ruamel.yaml + pydantic; every problem as `file:line
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 from typing import Annotated, Any
@@ -42,15 +41,13 @@ from friction_sweep.spec.errors import SpecError
 from friction_sweep.spec.load import KeyPath, parse_yaml, read_text
 from friction_sweep.spec.model import setting_problems
 from friction_sweep.spec.parse import problems_of
-from friction_sweep.spec.quantities import FORCE, FREQUENCY, RATIO, Kind, QuantityError, registry, to_si
+from friction_sweep.spec.quantities import ANGLE, FORCE, FREQUENCY, RATIO, Kind, QuantityError, to_si
 from friction_sweep.spec.system import System
 
 from .priors import KINDS, Prior
 
 #: methods a calibration can use: the closed form where it is valid, the exact simulation everywhere
 CALIBRATION_METHODS = ("theory", "event")
-#: an angle (degrees): a bare number is degrees, a string any angle unit pint knows (deg, rad, arcmin)
-ANGLE = Kind("an angle", "degree", "5 deg")
 
 #: the parameters a calibration can infer, and what each is measured in (None: decided by the spec)
 PARAMETERS: dict[str, Kind | None] = {
@@ -67,26 +64,6 @@ PARAMETERS: dict[str, Kind | None] = {
 FRICTION_PARAMETERS = ("friction_ratio", "friction_force", "friction_scale")
 #: the measured quantities a spec's data may hold, with the noise parameter each needs
 MEASURED = {"phase": "noise_phase", "transmissibility": "noise_transmissibility"}
-
-
-def to_degrees(value: Any) -> float:
-    """An angle in degrees: a bare number is degrees already, a string any angle unit (QuantityError)."""
-    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
-        raise QuantityError(f"must be {ANGLE.name} such as '{ANGLE.example}' (got {show(value)})")
-    if not isinstance(value, str):
-        return float(value)
-    ureg = registry()
-    try:
-        quantity = ureg.Quantity(value.strip())
-    except Exception as err:  # pint's parser raises what its tokens lead to
-        raise QuantityError(f"cannot read {value!r} as {ANGLE.name}: {' '.join(str(err).split())}") from None
-    if not isinstance(quantity, ureg.Quantity) or not quantity.dimensionless \
-            or "radian" not in dict(quantity.to_root_units().unit_items()):
-        raise QuantityError(f"must be {ANGLE.name} such as '{ANGLE.example}' (got {value!r})")
-    degrees = float(quantity.to("degree").magnitude)
-    if not math.isfinite(degrees):
-        raise QuantityError(f"must be finite (got {value!r})")
-    return degrees
 
 
 class ColumnUnit(Model):
@@ -288,7 +265,7 @@ def _prior(value: Any, kind: Kind, at: KeyPath, problems: list) -> Prior | None:
     read = []
     for i, x in enumerate(numbers):
         try:
-            read.append(to_degrees(x) if kind is ANGLE else to_si(x, kind))
+            read.append(to_si(x, kind))
         except QuantityError as err:
             problems.append(problem("quantity", str(err), (*at, name, i) if len(numbers) > 1 else (*at, name)))
     if len(read) != len(numbers):

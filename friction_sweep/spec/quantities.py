@@ -38,7 +38,9 @@ MASS = Kind("a mass", "kg", "2 kg")
 LENGTH = Kind("a length", "m", "1 mm")
 ACCELERATION = Kind("an acceleration", "m/s**2", "0.5 g or 4.9 m/s**2")
 RATIO = Kind("a dimensionless number", "dimensionless", "0.3")
-KINDS = (FREQUENCY, FORCE, STIFFNESS, MASS, LENGTH, ACCELERATION, RATIO)
+#: an angle, in degrees: a bare number is degrees already, a string any angle unit (deg, rad, arcmin)
+ANGLE = Kind("an angle", "degree", "5 deg")
+KINDS = (FREQUENCY, FORCE, STIFFNESS, MASS, LENGTH, ACCELERATION, RATIO, ANGLE)
 
 
 #: a quantity is a number and a unit: longer text is not one
@@ -76,8 +78,8 @@ def to_si(value: Any, kind: Kind) -> float:
     if isinstance(value, bool) or not isinstance(value, (str, int, float)):
         raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {value!r})")
     if not isinstance(value, str):
-        if kind is RATIO:
-            return float(value)
+        if kind is RATIO or kind is ANGLE:
+            return _finite(float(value), str(value), kind)
         raise QuantityError(f"must be {kind.name} with its unit, such as '{kind.example}' (got {value!r}: "
                             "a number without a unit)")
     if len(value) > MAX_TEXT or _BAD_EXPONENT.search(value):
@@ -94,6 +96,10 @@ def to_si(value: Any, kind: Kind) -> float:
     if kind is ACCELERATION and quantity.dimensionality == _dimensionality(MASS) \
             and dict(quantity.unit_items()) == {"gram": 1}:
         quantity = quantity.magnitude * ureg.standard_gravity
+    if kind is ANGLE:  # pint's angles are dimensionless: an angle is one whose units hold the radian
+        if not quantity.dimensionless or "radian" not in dict(quantity.to_root_units().unit_items()):
+            raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {value!r})")
+        return _finite(float(quantity.to("degree").magnitude), value, kind)
     if kind is RATIO:
         if not quantity.dimensionless:
             raise QuantityError(f"must be {kind.name} (got {value!r}: {_describe(quantity.dimensionality)})")
