@@ -39,12 +39,16 @@ def run(spec: Path, out: Path) -> float:
 
 def plain_residuals() -> pd.Series:
     """The plain model's phase misfit per row (degrees, wrapped): event at the rig's stated f_n and
-    friction forces, no offset, at the drive frequencies the calibration reads."""
+    friction forces, no offset, at the (r, beta) the calibration reads from rig.yaml (drive frequencies
+    over its f_n, friction forces over its F_k)."""
     from friction_sweep import validation
+    from friction_sweep.calibration.data import read_observations
+    from friction_sweep.calibration.spec import load_calibration_spec
 
+    obs = read_observations(load_calibration_spec(RIG))
     table = validation.read_measurements()
-    table["frequency_ratio"] = table["drive_omega_rad_s"] / 19.5721
-    table["force_ratio"] = table["friction_force_N"] / 2.5
+    table["frequency_ratio"] = obs.frequency_ratio
+    table["force_ratio"] = obs.force_ratio
     predicted = validation.predict(table)
     return -predicted["event_phase_error_deg"]  # measured - predicted, as the calibration's table
 
