@@ -220,6 +220,23 @@ def test_damped_cube_skips_resonance_and_theory(event_cube, tmp_path):
     assert found["resonance"]["status"] == found["theory"]["status"] == "skipped"
 
 
+def test_a_jenkins_cube_passes_the_rules_that_hold_for_it(tmp_path):
+    """A contact spring (kappa = 100) passes on a force bounded by the static friction, so the friction's
+    bound and the resonance rule at r = 1 hold as for the rigid contact, and are checked; Den Hartog's
+    closed form is the rigid contact's, so rule `theory` is skipped."""
+    spec = tmp_path / "jenkins.yaml"
+    spec.write_text("scene: {excitation: base, effects: {contact_stiffness: 100}}\n"
+                    "grid: {frequency_ratio: [0.5, 1.0, 3.0], force_ratio: [0.3, 0.9, 1.2]}\nmethod: event\n"
+                    "output: j.h5\n")
+    with in_dir(tmp_path):
+        assert CliRunner().invoke(main, ["run", str(spec), "-q"]).exit_code == 0
+    code, found = findings(tmp_path / "j.h5")
+    assert code == 0
+    assert (found["resonance"]["status"], found["resonance"]["checked"]) == ("ok", 3)
+    assert (found["bound"]["status"], found["bound"]["violations"]) == ("ok", 0)
+    assert found["theory"]["status"] == "skipped"
+
+
 @pytest.mark.parametrize("content", [b"not a cube\n", None])
 def test_a_foreign_file_is_bad_input(tmp_path, content):
     path = tmp_path / "junk.h5"
