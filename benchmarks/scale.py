@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from friction_sweep.catalogue import GRID_OUTPUTS as OUTPUTS
+from friction_sweep.catalogue import MODEL_OUTPUTS as OUTPUTS
 from friction_sweep.methods import event, paper, theory
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -20,7 +20,10 @@ EXCITATIONS = ("force", "base", "joined")
 DEFAULT_OUTPUTS = ("transmissibility", "phase", "regime")  # what a spec that names none gets
 #: design quantities (docs/equations.md §6): friction's energy per period, the force on the supports
 DESIGN_OUTPUTS = ("friction_energy", "transmitted_force")
-GRID_OUTPUTS = (*DEFAULT_OUTPUTS, *DESIGN_OUTPUTS)  # per grid point
+MODEL_OUTPUTS = (*DEFAULT_OUTPUTS, *DESIGN_OUTPUTS)  # what the closed form gives as well as a simulation
+#: the steady orbit's stability (its largest Floquet multiplier): only a simulation has a period map
+STABILITY_OUTPUTS = ("stability",)
+GRID_OUTPUTS = (*MODEL_OUTPUTS, *STABILITY_OUTPUTS)  # per grid point
 OUTPUTS = (*GRID_OUTPUTS, "time_history")  # time histories: of chosen points, on their own dims
 
 
@@ -233,7 +236,7 @@ def _without(settings: dict[str, Setting], *names: str) -> dict[str, Setting]:
 _METHODS = (
     Method(
         "theory", "Den Hartog's closed form: exact where the motion is continuous, a forecast of the regime "
-        "elsewhere", settings={}, outputs=GRID_OUTPUTS,
+        "elsewhere", settings={}, outputs=MODEL_OUTPUTS,
         algorithm={
             "first_harmonic": "exact x0 cos(r t) term plus Gauss-Legendre projection of the friction part, "
             "40 + ceil((1 + r) pi / r) nodes over a half period",

@@ -177,13 +177,13 @@ def test_rigid_path_unchanged_without_the_effect():
 
 
 def test_tile_writes_slips_and_floquet():
-    tile = event.compute_tile("base", np.array([0.5, 1.5]), np.array([0.0, 0.5]), OUTPUTS,
+    tile = event.compute_tile("base", np.array([0.5, 1.5]), np.array([0.0, 0.5]), (*OUTPUTS, "stability"),
                               {"contact_stiffness": 100.0})
     assert {"slips_per_period", "floquet_multiplier"} <= set(tile)
     assert np.isnan(tile["slips_per_period"][0]).all()  # beta = 0: no contact force, nothing slips
     assert np.all(tile["floquet_multiplier"][1] < 1.0)
     plain = event.compute_tile("base", np.array([0.5, 1.5]), np.array([0.0, 0.5]), OUTPUTS)
-    assert "slips_per_period" not in plain
+    assert "slips_per_period" not in plain and "floquet_multiplier" not in plain
 
 
 @pytest.mark.parametrize("method", ["theory", "paper", "auto", "rk4"])

@@ -138,7 +138,8 @@ def test_empty_effects_value_means_none():
 def test_constants():
     assert EXCITATIONS == ("force", "base", "joined")
     assert list(METHODS)[0] == "theory" and "event" in METHODS
-    assert OUTPUTS == ("transmissibility", "phase", "regime", "friction_energy", "transmitted_force", "time_history")
+    assert OUTPUTS == ("transmissibility", "phase", "regime", "friction_energy", "transmitted_force", "stability",
+                       "time_history")
 
 
 def test_model_dump_round_trips():

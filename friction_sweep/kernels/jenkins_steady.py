@@ -45,6 +45,7 @@ from friction_sweep.kernels.settings import (
     SET_MAX_PERIODS,
     SET_SHOOT_AFTER,
     SET_SHOOT_EVERY,
+    SET_STABILITY,
     SET_STEADY_TOL,
     SET_STOP_TOL,
     SET_WORK_BUDGET,
@@ -80,13 +81,12 @@ JENKINS_OUTPUT_FIELDS = (
     *OUTPUT_FIELDS,
     "slips_per_period",  # slips of the slider per forcing period (NaN without friction)
     "end_w",  # the slider's position where the march ended
-    "floquet_multiplier",  # largest |multiplier| of the converged orbit's period map (NaN where undefined)
 )
 JOUT = {name: i for i, name in enumerate(JENKINS_OUTPUT_FIELDS)}
 JOUT_SIZE = len(JENKINS_OUTPUT_FIELDS)
 JOUT_SLIPS = JOUT["slips_per_period"]
 JOUT_END_W = JOUT["end_w"]
-JOUT_FLOQUET = JOUT["floquet_multiplier"]
+JOUT_FLOQUET = JOUT["floquet_multiplier"]  # steady.py's slot
 
 #: evaluations of the period map a shooting solve may take (finite differences aside)
 NEWTON_ITERATIONS = 30
@@ -375,17 +375,20 @@ def solve_point_jenkins(p, settings, out):
             out[OUT_STEADY_STATE] = SteadyState.EVENT_BUDGET.value
             out[OUT_REGIME] = Regime.UNSETTLED.value
             return
-        if acc[JACC_SLIPS] > 0.0:
+        if acc[JACC_SLIPS] > 0.0 and settings[SET_STABILITY] != 0.0:
             # the marched orbit's multipliers, by forward differences of P^k (acc is measured again after)
             acc2 = np.empty(JACC_SIZE)
             reset_accumulator(acc2)
             acc2[ACC_QMAX] = acc[ACC_QMAX]
             jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, orbit, q1, v1, w1, p, settings, budget - work, acc2)
+            out[OUT_WORK] += wk
+            out[OUT_PERIODS] += dim * orbit
             if ok:
                 radius = _radius(jac, dim)
     _record(out, acc, orbit, p)
     # where the slider never slips its position is neutral (multiplier 1 of a continuum): undefined
-    out[JOUT_FLOQUET] = radius if acc[JACC_SLIPS] > 0.0 else math.nan
+    if settings[SET_STABILITY] != 0.0 and acc[JACC_SLIPS] > 0.0:
+        out[JOUT_FLOQUET] = radius
 
 
 @jit

@@ -23,6 +23,7 @@ SETTING_FIELDS = (
     "steps_per_period",  # RK4 steps per forcing period (rk4 kernel only)
     "initial_displacement",  # the march starts here at forcing phase 0 ...
     "initial_velocity",  # ... with this velocity
+    "stability",  # 1: measure the orbit's largest Floquet multiplier (output group `stability`), 0: not
 )
 SET = {name: i for i, name in enumerate(SETTING_FIELDS)}
 SET_STEADY_TOL = SET["steady_tol"]
@@ -36,6 +37,7 @@ SET_KERNEL = SET["kernel"]
 SET_STEPS_PER_PERIOD = SET["steps_per_period"]
 SET_INITIAL_DISPLACEMENT = SET["initial_displacement"]
 SET_INITIAL_VELOCITY = SET["initial_velocity"]
+SET_STABILITY = SET["stability"]
 
 #: values of the `kernel` setting
 KERNEL_EVENT, KERNEL_RK4 = 0, 1

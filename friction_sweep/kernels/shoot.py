@@ -17,7 +17,7 @@ from friction_sweep.kernels.period_map import map_error, map_k
 
 
 @jit
-def _spectral_radius(m11, m12, m21, m22):
+def spectral_radius(m11, m12, m21, m22):
     """Largest |eigenvalue| of a 2 x 2 matrix."""
     half = 0.5 * (m11 + m22)
     disc = half * half - (m11 * m22 - m12 * m21)
@@ -154,7 +154,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
         settled = measure and abs(fq) + abs(fv) <= tol * scale + noise
         if settled and floor:
             if acc[ACC_JAC_OK] == 1.0:
-                radius = _spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3])
+                radius = spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3])
                 b11, b12 = acc[ACC_JAC] - 1.0, acc[ACC_JAC + 1]
                 b21, b22 = acc[ACC_JAC + 2], acc[ACC_JAC + 3] - 1.0
             ok = (radius < 1.0 and _resolvable(b11, b12, b21, b22, error)
@@ -179,7 +179,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
             j21 = (va - v1) / h
             j12 = (qb - q1) / h
             j22 = (vb - v1) / h - 1.0
-        radius = _spectral_radius(j11 + 1.0, j12, j21, j22 + 1.0)
+        radius = spectral_radius(j11 + 1.0, j12, j21, j22 + 1.0)
         b11, b12, b21, b22 = j11, j12, j21, j22
         det = j11 * j22 - j12 * j21
         if det == 0.0 or not math.isfinite(det):

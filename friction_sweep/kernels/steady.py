@@ -24,6 +24,7 @@ from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
     ACC_IC,
     ACC_IS,
+    ACC_JAC,
     ACC_JAC_OK,
     ACC_QHI,
     ACC_QLO,
@@ -38,20 +39,23 @@ from friction_sweep.kernels.measure import (
     BUDGET,
     reset_accumulator,
 )
-from friction_sweep.kernels.period_map import advance, map_error, mode_of, period
+from friction_sweep.kernels.period_map import advance, map_error, map_k, mode_of, period
 from friction_sweep.kernels.point import Point
 from friction_sweep.kernels.segments import TWO_PI
 from friction_sweep.kernels.settings import (
+    KERNEL_RK4,
     SET_INITIAL_DISPLACEMENT,
     SET_INITIAL_VELOCITY,
+    SET_KERNEL,
     SET_MAX_ORBIT_PERIOD,
     SET_MAX_PERIODS,
     SET_SHOOT_AFTER,
     SET_SHOOT_EVERY,
+    SET_STABILITY,
     SET_STEADY_TOL,
     SET_WORK_BUDGET,
 )
-from friction_sweep.kernels.shoot import FIRST_GIVEN, FIRST_MEASURED, FIRST_PLAIN, shoot
+from friction_sweep.kernels.shoot import FIRST_GIVEN, FIRST_MEASURED, FIRST_PLAIN, shoot, spectral_radius
 from friction_sweep.kernels.stick import stuck_for_good
 from friction_sweep.theory import phase
 from friction_sweep.ties import RESONANCE_FRICTION_LIMIT, TIE_RTOL
@@ -63,6 +67,7 @@ OUTPUT_FIELDS = (
     "work",  # stop-search steps, RK4 steps and events spent
     "end_q", "end_v", "end_mode",  # where the march ended (on the orbit, or where it gave up): a seed
     "friction_energy",  # kinetic friction x sliding distance of q, per forcing period (docs/equations.md §6)
+    "floquet_multiplier",  # largest |multiplier| of the orbit's period map P^k (setting stability only)
 )
 OUT = {name: i for i, name in enumerate(OUTPUT_FIELDS)}
 OUT_SIZE = len(OUTPUT_FIELDS)
@@ -81,6 +86,7 @@ OUT_END_Q = OUT["end_q"]
 OUT_END_V = OUT["end_v"]
 OUT_END_MODE = OUT["end_mode"]
 OUT_FRICTION_ENERGY = OUT["friction_energy"]
+OUT_FLOQUET = OUT["floquet_multiplier"]
 
 #: the phase convention of friction_sweep.theory.phase, compiled
 wrap_degrees = jit_inline(phase.wrap_degrees)
@@ -428,6 +434,61 @@ def _record_measurement(out, acc, orbit, p, tol):
         out[OUT_REGIME] = Regime.CONTINUOUS.value
 
 
+#: central-difference step of the Floquet multiplier where the integrator has no monodromy matrix (rk4),
+#: relative to the orbit's size: the rk4 map is smooth between events to rounding, so the truncation
+#: error (~FD_STEP^2) and the rounding (~1e-16 / FD_STEP) balance near here
+FLOQUET_FD_STEP = 1e-5
+
+
+@jit_inline
+def _floquet(q, v, mode, orbit, p, settings, budget, acc):
+    """The largest modulus among the multipliers of the period-k map P^k (k = orbit) at the orbit's state
+    (q, v, mode), with `acc` holding the orbit's measurement (the monodromy matrix of its last period).
+    Returns (multiplier, periods, work): the periods and work spent on it.
+
+    Event kernel: the exact monodromy matrix (kernels/event.py, saltations included): for k = 1 the
+    measured period's, free; for k > 1 the product of the k periods' matrices, replayed. NaN where the
+    map is not smooth at the orbit (event.advance_period's jac_ok = 0: a stop that grazes, a stick that
+    ends as it begins or where the force only touches the band, a period that starts held by static
+    friction alone). RK4 kernel: central differences of P^k, 4 k periods. With a stick the matrix has
+    rank 1 (a stop forgets the velocity): one multiplier is 0 and the other decides attraction.
+    """
+    if settings[SET_KERNEL] != KERNEL_RK4:
+        if orbit == 1:
+            if acc[ACC_JAC_OK] != 1.0:
+                return math.nan, 0, 0
+            return spectral_radius(acc[ACC_JAC], acc[ACC_JAC + 1], acc[ACC_JAC + 2], acc[ACC_JAC + 3]), 0, 0
+        scratch = np.empty(ACC_SIZE)
+        m11, m12, m21, m22 = 1.0, 0.0, 0.0, 1.0
+        work = 0
+        for _ in range(orbit):
+            reset_accumulator(scratch)
+            q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, False, scratch)
+            work += w
+            if st != 0 or scratch[ACC_JAC_OK] != 1.0:
+                return math.nan, orbit, work
+            j11, j12 = scratch[ACC_JAC], scratch[ACC_JAC + 1]
+            j21, j22 = scratch[ACC_JAC + 2], scratch[ACC_JAC + 3]
+            m11, m12, m21, m22 = (j11 * m11 + j12 * m21, j11 * m12 + j12 * m22,
+                                  j21 * m11 + j22 * m21, j21 * m12 + j22 * m22)
+        return spectral_radius(m11, m12, m21, m22), orbit, work
+    scratch = np.empty(ACC_SIZE)
+    h = FLOQUET_FD_STEP * max(math.hypot(q, v), acc[ACC_QMAX], 1e-300)
+    cols = np.empty(8)  # P^k(q + h), P^k(q - h), P^k(v + h), P^k(v - h): (q, v) each
+    work = 0
+    for j in range(4):
+        dq = h if j == 0 else (-h if j == 1 else 0.0)
+        dv = h if j == 2 else (-h if j == 3 else 0.0)
+        qa, va, st, w = map_k(q + dq, v + dv, orbit, p, settings, budget - work, False, scratch)
+        work += w
+        if st != 0:
+            return math.nan, (j + 1) * orbit, work
+        cols[2 * j], cols[2 * j + 1] = qa, va
+    d = 2.0 * h
+    return (spectral_radius((cols[0] - cols[2]) / d, (cols[4] - cols[6]) / d,
+                            (cols[1] - cols[3]) / d, (cols[5] - cols[7]) / d), 4 * orbit, work)
+
+
 @jit
 def solve_point(p, settings, guess_q, guess_v, out):
     """Steady state and measurements of one grid point; results in `out` (slots of OUTPUT_FIELDS): the
@@ -478,6 +539,14 @@ def solve_point(p, settings, guess_q, guess_v, out):
             out[OUT_REGIME] = Regime.UNSETTLED.value
             return
     _record_measurement(out, acc, orbit, p, settings[SET_STEADY_TOL])
+    # undefined on the family (a continuum: multiplier 1 along it) and at rest (a continuum of rest
+    # positions); an aperiodic motion has no orbit
+    if (settings[SET_STABILITY] != 0.0 and status == SteadyState.CONVERGED
+            and out[OUT_REGIME] != Regime.STUCK.value):
+        out[OUT_FLOQUET], k, w = _floquet(q, v, mode, orbit, p, settings,
+                                          int(settings[SET_WORK_BUDGET]) - int(out[OUT_WORK]), acc)
+        out[OUT_PERIODS] += k
+        out[OUT_WORK] += w
 
 
 @jit

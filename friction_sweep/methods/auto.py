@@ -40,7 +40,7 @@ def theory_mask(th, r, beta, margin):
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
     if effects:
         raise ValueError(f"method auto models no effects (got {sorted(effects)}); use event")
-    settings = dict(settings or {})
+    settings = event.for_outputs(settings, outputs)
     margin = float(settings.pop("theory_margin", CATALOGUE.defaults["theory_margin"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)

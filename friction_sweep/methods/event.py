@@ -16,8 +16,9 @@ find more). With static = kinetic friction the period map does not expand distan
 suffices; nothing is added then.
 
 With the effect contact_stiffness (a Jenkins contact, docs/equations.md §7) a point runs the Jenkins
-kernels (kernels/jenkins.py, jenkins_steady.py) instead, from rest only, and writes `slips_per_period` and
-`floquet_multiplier` with the regime; a point without it never touches them.
+kernels (kernels/jenkins.py, jenkins_steady.py) instead, from rest only, and writes `slips_per_period`
+with the regime; a point without it never touches them. The output group `stability` adds each orbit's
+largest Floquet multiplier, `floquet_multiplier`, in every scene.
 """
 
 from __future__ import annotations
@@ -48,10 +49,11 @@ VARIABLES = {
     "regime": ("regime", "stops_per_period", "stuck_fraction", "periods", "steady_state", "orbit_period"),
     "friction_energy": ("friction_energy",),
     "transmitted_force": ("transmitted_force",),
+    "stability": ("floquet_multiplier",),
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
 #: written with the regime where the contact is a Jenkins element (effect contact_stiffness)
-JENKINS_VARIABLES = ("slips_per_period", "floquet_multiplier")
+JENKINS_VARIABLES = ("slips_per_period",)
 
 #: one state found from two starts: first-harmonic transmissibilities within this relative difference
 #: (each solve settles to steady_tol on the state; near-neutral orbits carry that error amplified)
@@ -122,9 +124,16 @@ def kernel_settings(settings: dict | None = None) -> np.ndarray:
     """The steady-state kernel's settings record: `settings` (kernel: KERNEL_RK4 for method rk4) over the
     catalogue's defaults, the event kernel's (which ignores rk4's steps_per_period); `starts` is this
     module's business, not the kernel's."""
-    values = {**CATALOGUE.defaults, **catalogue.method("rk4").defaults, "kernel": KERNEL_EVENT, **(settings or {})}
+    values = {**CATALOGUE.defaults, **catalogue.method("rk4").defaults, "kernel": KERNEL_EVENT, "stability": 0,
+              **(settings or {})}
     values.pop("starts")
     return settings_record(values)
+
+
+def for_outputs(settings: dict | None, outputs) -> dict:
+    """The kernel settings a tile's outputs call for: the orbit's Floquet multiplier is measured only where
+    the output group `stability` asks (for rk4 and for orbits of k > 1 periods it costs periods)."""
+    return {**(settings or {}), "stability": int("stability" in outputs)}
 
 
 def contact_stiffness(effects) -> float:
@@ -198,7 +207,7 @@ def count_states(first, second):
 
 
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
-    settings = dict(settings or {})
+    settings = for_outputs(settings, outputs)
     starts = int(settings.pop("starts", CATALOGUE.defaults["starts"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
@@ -231,7 +240,7 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
     order = np.argsort(r, kind="stable")
     if direction == "down":
         order = order[::-1]
-    sett = kernel_settings(settings)
+    sett = kernel_settings(for_outputs(settings, outputs))
     rs = np.ascontiguousarray(r[order])
     raw = np.empty((beta.size, r.size, steady.OUT_SIZE))
     for j, b in enumerate(beta):

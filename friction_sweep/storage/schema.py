@@ -174,8 +174,12 @@ VARIABLES = {
     "floquet_multiplier": Variable(
         GRID_DIMS,
         np.float64,
-        "largest modulus among the multipliers of the steady orbit's period map (effect contact_stiffness; "
-        "forward differences); NaN where undefined: the slider never slips, no steady state",
+        "output stability: largest modulus among the multipliers of the steady orbit's period map over its "
+        "orbit_period periods (below 1: attracting); NaN where undefined: at rest (regime stuck, or a Jenkins "
+        "slider that never slips: a continuum of rest states), on the r = 1/(2n) family (steady_state family), "
+        "without a periodic steady state (regime unbounded or unsettled, steady_state aperiodic), and where the "
+        "period map is not smooth at the orbit (a grazing stop or band exit, a period that starts held by static "
+        "friction alone: regime stick_slip or continuous with steady_state converged)",
         "1",
         valid_range=NONNEGATIVE,
     ),
