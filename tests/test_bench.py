@@ -24,7 +24,8 @@ def test_quick_bench_writes_dataset_figure_and_table(quick):
     out, output = quick
     ds = xr.open_dataset(out, engine="h5netcdf")
     assert set(ds["error"].dims) == {"method", "setting", "region", "excitation"}
-    assert set(ds.method.values) == {"event", "rk4", "paper"}
+    assert set(ds.method.values) == {"event", "rk4", "paper", "event_jenkins"}
+    assert json.loads(ds.attrs["effects"]) == {"event_jenkins": {"contact_stiffness": 100.0}}
     assert set(ds.region.values) == {"continuous", "two_stops", "many_stops"}
     assert out.with_suffix(".png").stat().st_size > 10_000
     assert "for 1e-06 in transmissibility, method event at" in out.with_suffix(".md").read_text()
@@ -34,7 +35,7 @@ def test_quick_bench_writes_dataset_figure_and_table(quick):
 @pytest.mark.slow
 def test_errors_shrink_as_settings_tighten(quick):
     ds = xr.open_dataset(quick[0], engine="h5netcdf")
-    for m in ("event", "rk4"):
+    for m in ("event", "rk4", "event_jenkins"):
         err = ds["error"].sel({"method": m}).max(["region", "excitation"]).values
         err = err[np.isfinite(err)]
         assert err[-1] < 1e-3 * err[0]  # the tightest setting is far more accurate than the loosest

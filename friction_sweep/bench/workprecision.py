@@ -5,11 +5,17 @@ Reference: Den Hartog's closed form in the continuous region; elsewhere the even
 tightest setting, cross-checked against an independent integrator (SciPy's DOP853 with event
 switching, friction_sweep.bench.reference). Error: the largest relative error of the first-harmonic
 transmissibility over the region's points (a point a setting fails on counts as an infinite error).
+
+The rows `event_jenkins` (and those of any other VARIANTS) measure a method on a scene with an effect, the
+Jenkins contact at CONTACT_STIFFNESS: the same points (their regions named after the rigid model's
+regimes), against the same method at its tightest setting with the effect (no closed form covers it;
+tests/test_jenkins.py checks that reference against an independent DOP853 integrator of the contact).
 """
 
 from __future__ import annotations
 
 import json
+import math
 import os
 import time
 from pathlib import Path
@@ -40,9 +46,22 @@ SETTINGS: dict[str, list[dict[str, float]]] = {
     "paper": [{"rtol": a, "atol": b, "samples_per_period": n, "max_evaluations": 300_000}
               for a, b, n in ((1e-3, 1e-6, 64), (1e-5, 1e-8, 64), (1e-7, 1e-10, 64), (1e-7, 1e-10, 256))],
 }
-QUICK_SETTINGS = {"event": SETTINGS["event"][:5:2], "rk4": SETTINGS["rk4"][1::2], "paper": SETTINGS["paper"][:1]}
+#: the contact stiffness of the Jenkins rows: stiff enough to keep the rigid model's regimes at most points,
+#: soft enough that the contact's own swings (sqrt(1 + kappa) per natural period) show in the cost
+CONTACT_STIFFNESS = 100.0
+#: rows of a method on a scene with an effect: name -> (method, effects)
+VARIANTS = {"event_jenkins": ("event", {"contact_stiffness": CONTACT_STIFFNESS})}
+SETTINGS["event_jenkins"] = SETTINGS["event"]
+QUICK_SETTINGS = {"event": SETTINGS["event"][:5:2], "rk4": SETTINGS["rk4"][1::2], "paper": SETTINGS["paper"][:1],
+                  "event_jenkins": SETTINGS["event"][:5:2]}
 REFERENCE_SETTINGS = {"stop_tol": 1e-13, "steady_tol": 1e-12}
 METHODS = {"event": event, "rk4": rk4, "paper": paper}
+ALL_ROWS = ("event", "rk4", "paper", *VARIANTS)
+
+
+def method_and_effects(name: str) -> tuple[str, dict]:
+    """The method a row runs and the scene effects it runs with."""
+    return VARIANTS.get(name, (name, {}))
 
 
 def label(settings: dict) -> str:
@@ -54,10 +73,13 @@ def _points(region, excitation, quick):
     return pts[:1] if quick else pts
 
 
-def reference(region, excitation, quick):
-    """Reference transmissibilities of a region's points, and the cross-check discrepancy."""
+def reference(region, excitation, quick, effects=None):
+    """Reference transmissibilities of a region's points, and the cross-check discrepancy (NaN: none here)."""
     pts = np.array(_points(region, excitation, quick))
     r, b = pts[:, 0], pts[:, 1]
+    if effects:
+        return event.solve_flat(excitation, r, b, effects, **REFERENCE_SETTINGS)[:, steady.OUT_TRANSMISSIBILITY], \
+            math.nan
     if region == "continuous":
         th = theory.compute_tile(excitation, r, b, OUTPUTS)["transmissibility"].diagonal() if r.size > 1 else \
             theory.compute_tile(excitation, r, b, OUTPUTS)["transmissibility"][0]
@@ -76,8 +98,9 @@ def reference(region, excitation, quick):
     return ref, worst
 
 
-def _time_points(method_name, excitation, pts, settings, repeat):
+def _time_points(row, excitation, pts, settings, repeat):
     """(transmissibility per point, seconds per point)."""
+    method_name, effects = method_and_effects(row)
     r, b = pts[:, 0], pts[:, 1]
     if method_name == "paper":
         values, t = [], time.perf_counter()
@@ -85,14 +108,14 @@ def _time_points(method_name, excitation, pts, settings, repeat):
             values.append(paper.solve_point(excitation, rr, bb, settings)["transmissibility"])
         return np.array(values), (time.perf_counter() - t) / len(pts)
     full = {**settings, "kernel": KERNEL_RK4} if method_name == "rk4" else dict(settings)
-    event.solve_flat(excitation, r[:1], b[:1], **full)  # compiled before timing
+    event.solve_flat(excitation, r[:1], b[:1], effects, **full)  # compiled before timing
     rr, bb = np.tile(r, repeat), np.tile(b, repeat)
     t = time.perf_counter()
-    raw = event.solve_flat(excitation, rr, bb, **full)
+    raw = event.solve_flat(excitation, rr, bb, effects, **full)
     return raw[: r.size, steady.OUT_TRANSMISSIBILITY], (time.perf_counter() - t) / rr.size
 
 
-def run(quick: bool = False, methods=("event", "rk4", "paper"), log=print) -> xr.Dataset:
+def run(quick: bool = False, methods=ALL_ROWS, log=print) -> xr.Dataset:
     table = QUICK_SETTINGS if quick else SETTINGS
     methods = list(methods)
     n_set = max(len(table[m]) for m in methods)
@@ -106,13 +129,15 @@ def run(quick: bool = False, methods=("event", "rk4", "paper"), log=print) -> xr
             pts = np.array(_points(region, exc, quick))
             ref, disc = reference(region, exc, quick)
             crosscheck[f"{exc}/{region}"] = disc
+            refs = {name: reference(region, exc, quick, effects)[0] for name, (_, effects) in VARIANTS.items()
+                    if name in methods}
             for i, m in enumerate(methods):
                 if m == "paper" and (quick and region != "continuous"):
                     continue  # the chattering baseline is slow off the continuous region; full runs only
                 for s, settings in enumerate(table[m]):
                     labels[i, s] = label(settings)
                     values, sec = _time_points(m, exc, pts, settings, repeat=1 if m == "paper" else 20)
-                    rel = np.abs(values / ref - 1)
+                    rel = np.abs(values / refs.get(m, ref) - 1)
                     error[i, s, j, k] = np.inf if not np.all(np.isfinite(rel)) else rel.max()
                     seconds[i, s, j, k] = sec
                     log(f"{exc:6s} {region:10s} {m:5s} {labels[i, s]:32s} error {error[i, s, j, k]:.2e} "
@@ -127,7 +152,9 @@ def run(quick: bool = False, methods=("event", "rk4", "paper"), log=print) -> xr
         },
         coords={"method": methods, "setting": np.arange(n_set), "region": list(REGIONS),
                 "excitation": list(EXCITATIONS)},
-        attrs={"reference": "theory (continuous); event at " + json.dumps(REFERENCE_SETTINGS) + " elsewhere",
+        attrs={"reference": "theory (continuous); event at " + json.dumps(REFERENCE_SETTINGS) + " elsewhere; "
+               "rows with effects: their method at that setting with the effects, everywhere",
+               "effects": json.dumps({name: effects for name, (_, effects) in VARIANTS.items() if name in methods}),
                "reference_crosscheck_dop853_max_rel": json.dumps(crosscheck),
                "settings": json.dumps({m: table[m] for m in methods}), "quick": int(quick)},
     )
