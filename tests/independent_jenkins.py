@@ -6,8 +6,9 @@ on each mode's equation in the original time and variables, the mode changes as 
     slider stuck: w fixed; ends where fc reaches +-bs (slips that way, w jumping to q -+ bk / kappa)
 
 Labels as docs/equations.md §7 defines them: a stick becomes a stop at the first zero of q' inside it; a
-slip begun from a held stick that moves the slider by less than 2 bs / kappa (a creep) leaves the next
-stick held from its start, no new stop.
+slip begun from a held stick during which the load never exceeds the kinetic friction (sig q'' <= 0
+throughout, watched by an event on q'' = 0: a creep) leaves the next stick held from its start, no new
+stop.
 """
 
 import warnings
@@ -40,9 +41,17 @@ def jenkins_orbit(A, r, bk, bs, kappa, q, v, w, mode, c=0.0, zeta=0.0, max_perio
 
                 def stop(tt, y):
                     return y[1]
+
+                def driven(tt, y, s=s):
+                    return s * (A * np.cos(r * tt) - y[0] - 2 * zeta * y[1] - s * bk)
                 stop.terminal, stop.direction = True, -s
-                sol = solve_ivp(rhs, (t, T), [q, v], method="DOP853", events=stop, rtol=RTOL, atol=ATOL,
-                                dense_output=True, first_step=1e-10)
+                driven.direction = 1
+                if anchor is not None and driven(t, [q, v]) > 0:
+                    anchor = None  # the load drives the slip from its start: no creep
+                sol = solve_ivp(rhs, (t, T), [q, v], method="DOP853", events=[stop, driven], rtol=RTOL,
+                                atol=ATOL, dense_output=True, first_step=1e-10)
+                if sol.t_events[1].size:
+                    anchor = None
                 pieces.append((t, sol.t[-1], sol.sol))
                 energy += bk * abs(sol.y[0, -1] - q)
                 q, v, t = sol.y[0, -1], sol.y[1, -1], sol.t[-1]
@@ -50,7 +59,7 @@ def jenkins_orbit(A, r, bk, bs, kappa, q, v, w, mode, c=0.0, zeta=0.0, max_perio
                 if sol.status == 1:
                     v = 0.0
                     on_edge = s if bs == bk else 0  # the slider sticks with fc = s bk: on that edge if bs = bk
-                    mode = 2 if anchor is not None and abs(w - anchor) < 2 * bs / kappa else 0
+                    mode = 0 if anchor is None else 2
                     anchor = None
             else:
                 ws = w

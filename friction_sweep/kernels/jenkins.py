@@ -24,10 +24,14 @@ where the slider sticks. A stick during which the mass's velocity returns to zer
 holds the mass, which swings on the contact spring as the rigid mass rests); a stick that ends before
 (the contact spring unloading through 2 bk / kappa after a reversal, or loading further at a touch) is
 part of continuous motion. While the contact holds the mass, its swing on the contact spring reaches the
-band's edge again and again as the force drifts (about sqrt(kappa) times per rigid stop): the slider
-creeps by less than the band's width, 2 bs / kappa, each time. Such a creep (a slip begun from a held
-stick that slides less than CREEP_WIDTHS band widths, tracked by `anchor`, the slider's position where
-it began) does not end the stop: the stick after it is held from its start and no new stop. mode: +-1
+band's edge again and again as the force drifts (about sqrt(kappa) times per rigid stop), and the slider
+creeps a little each time. Such a creep does not end the stop: a slip begun from a held stick during
+which the load on the mass, A cos(r t) - q - 2 zeta q', never exceeds the kinetic friction in the slip's
+direction (sig q'' <= 0 throughout: the mass coasts on the swing's momentum against friction, which a
+rigid held mass never does; `_driven`), tracked by `anchor` (the slider's position where the slip began,
+NaN once the load drives it). The stick after a creep is held from its start and no new stop. A slip
+the load drives is the rigid model's break-away, however short (next to r = 1 with beta close to A the
+rigid slides are shorter than the band, 2 bs / kappa, at kappa = 1000). mode: +-1
 slipping, 0 stuck and not (yet) a stop, STUCK_HELD stuck and a stop. The period's stuck time is the time
 held (from the velocity zero that makes the stick a stop).
 
@@ -56,15 +60,14 @@ from friction_sweep.kernels.measure import (
     note_stop,
     offer_extreme,
 )
-from friction_sweep.kernels.segments import TWO_PI, find_stop, slip_state
+from friction_sweep.kernels.segments import TWO_PI, acceleration, find_stop, slip_state
 from friction_sweep.kernels.stick import TANGENT_SKIP
 
 #: mode of a stick that has become a stop (the mass's velocity returned to zero within it)
 STUCK_HELD = 2
-#: a slip begun from a held stick that slides less than this many band widths (2 bs / kappa) is a creep of
-#: the slider within the stop (it slides at most about bs / kappa: the swing's speed squared over twice its
-#: deceleration), not the end of the stop
-CREEP_WIDTHS = 1.0
+#: golden-section iterations that refine the largest sampled sig q'' of a slip piece (_driven): a bracket
+#: of two sample spacings shrinks below 1e-8 of it
+DRIVEN_REFINE = 40
 
 #: the Jenkins accumulator: the rigid record (measure.ACC_FIELDS) and these slots after it
 JACC_SLIPS = ACC_SIZE  # slips begun (stick exits from which the slider moved)
@@ -96,6 +99,43 @@ def stick_state(s, t0, q0, v0, w, A, r, zeta, kappa):
     p0 = (q0 - w) + m
     p, pu = slip_state(om * s, p0, v0 / om, 1, A / (om * om), rho, 0.0, zp, math.cos(r * t0), math.sin(r * t0))
     return p + (w - m), om * pu
+
+
+@jit
+def _driven(t0, q0, v0, sig, s_end, A, r, bk, zeta, ca, sa):
+    """Whether the load drives the slip piece from (q0, v0) at t0 in direction sig (cos/sin(r t0) = ca, sa)
+    somewhere in [0, s_end]: sig q'' > 0, i.e. A cos(r t) - q - 2 zeta q' beyond the kinetic friction.
+
+    q'' moves at the frequencies 1 and r, so samples EXTREME_SPACING/(1 + r) apart (as for the extremes of
+    x) cannot step over a hump of it; the best sample's bracket is refined by golden section."""
+    n = max(2, int(math.ceil(s_end * (1.0 + r) / EXTREME_SPACING)))
+    h = s_end / n
+    best = -math.inf
+    jbest = 0
+    for j in range(n + 1):
+        q, v = slip_state(j * h, q0, v0, sig, A, r, bk, zeta, ca, sa)
+        f = sig * acceleration(q, v, sig, A, bk, zeta, math.cos(r * (t0 + j * h)))
+        if f > 0.0:
+            return True
+        if f > best:
+            best, jbest = f, j
+    a = max(0.0, (jbest - 1) * h)
+    b = min(s_end, (jbest + 1) * h)
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(DRIVEN_REFINE):
+        x1 = b - g * (b - a)
+        x2 = a + g * (b - a)
+        q, v = slip_state(x1, q0, v0, sig, A, r, bk, zeta, ca, sa)
+        f1 = sig * acceleration(q, v, sig, A, bk, zeta, math.cos(r * (t0 + x1)))
+        q, v = slip_state(x2, q0, v0, sig, A, r, bk, zeta, ca, sa)
+        f2 = sig * acceleration(q, v, sig, A, bk, zeta, math.cos(r * (t0 + x2)))
+        if f1 > 0.0 or f2 > 0.0:
+            return True
+        if f1 >= f2:
+            b = x2
+        else:
+            a = x1
+    return False
 
 
 @jit
@@ -295,7 +335,10 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             ca = math.cos(r * t)
             sa = math.sin(r * t)
             q1, v1 = slip_state(s, q, v, mode, A, r, bk, zeta, ca, sa)
-        # a slip piece from (q, v) at t, direction mode, of length s, ending at (q1, v1)
+        # a slip piece from (q, v) at t, direction mode, of length s, ending at (q1, v1); one the load drives
+        # is no creep
+        if not math.isnan(anchor) and _driven(t, q, v, mode, s, A, r, bk, zeta, ca, sa):
+            anchor = math.nan
         if measure:
             _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
         t = t + s
@@ -306,8 +349,8 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             return q, v, w, mode, anchor, OK, work
         v = 0.0
         note_stop(acc, q)
-        # a creep within a stop leaves the mass held (math.nan never compares below)
-        mode = STUCK_HELD if abs(w - anchor) < CREEP_WIDTHS * 2.0 * hb else 0
+        # a creep within a stop leaves the mass held
+        mode = 0 if math.isnan(anchor) else STUCK_HELD
         anchor = math.nan
         if t >= T:
             return q, v, w, mode, anchor, OK, work
