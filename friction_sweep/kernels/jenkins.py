@@ -332,6 +332,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
                                             u_start)
             work += wk + 1
             if work > budget:
+                acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                 return q, v, w, mode, anchor, BUDGET, work
             held_from = 0.0
             if mode == 0 and ub > 0.0:
@@ -346,6 +347,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
                     us, hit, wk = find_stop(u0, p0, pu0, sig_v, Ap, rho, 0.0, zp, ub, htol, hmax_u, budget - work)
                     work += wk
                     if work > budget:
+                        acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                         return q, v, w, mode, anchor, BUDGET, work
                     if hit and 0.0 < us < ub:
                         mode = STUCK_HELD
@@ -375,6 +377,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
                                    budget - work)
             work += wk + 1
             if work > budget:
+                acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                 return q_exit, v_exit, w, mode, anchor, BUDGET, work
             ca = math.cos(r * t_exit)
             sa = math.sin(r * t_exit)
@@ -395,6 +398,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             s, hit, wk = find_stop(t, q, v, mode, A, r, bk, zeta, T - t, vtol, hmax, budget - work)
             work += wk + 1
             if work > budget:
+                acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                 return q, v, w, mode, anchor, BUDGET, work
             ca = math.cos(r * t)
             sa = math.sin(r * t)
