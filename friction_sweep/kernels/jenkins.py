@@ -37,7 +37,35 @@ held (from the velocity zero that makes the stick a stop).
 
 Measurement: slip pieces as event.py measures them; stick pieces by the same projection onto the forcing
 frequency in their own variables, and their extremes by sampling and refining (q is not monotone on a
-stick). No monodromy matrix (jac_ok = 0): shooting takes finite differences.
+stick).
+
+Monodromy: acc[JACC_JAC:JACC_JAC + 9] gets M = d(q, v, w)(T)/d(q, v, w)(0) (row-major) and
+acc[JACC_JAC_OK] = 1 where the period map is smooth there, built piece by piece as J <- S_event Phi_piece J
+(docs/equations.md §7). With a(q, v, t) = A cos(r t) - 2 zeta v - q:
+
+- slip piece of length s, direction sig: (q, v) flows by the rigid slip flow Phi(s) of
+  q'' + 2 zeta q' + q = 0 (event._jac_flow; friction and forcing do not depend on the state), and the slider
+  is slaved, w = q - sig bk/kappa, so w's row is q's and the column of w at the piece's start is zero (a
+  slip is defined on |fc| = bk only; where it starts the reset below, or the section's w = q - sig bk/kappa,
+  has put it there):  [Phi 0; Phi_1. 0];
+- stick piece of stick time u: w fixed, p = q - cK w (cK = kappa/Omega^2) obeys p_uu + 2 (zeta/Omega) p_u
+  + p = 0 homogeneously, with flow Phi_u(u) in (p, p_u); in (q, v), v = Omega p_u,
+      dq1 = P11 (dq0 - cK dw) + P12/Omega dv0 + cK dw,  dv1 = Omega P21 (dq0 - cK dw) + P22 dv0,  dw1 = dw;
+- an event g(x) = 0 (no explicit t in either event below) with reset x+ = R(x) changes J by the
+  saltation S = R_x + (f+(R(x)) - R_x f-) g_x / (g_x . f-), f-/f+ the fields before and after, f =
+  (v, a - fc, w'):
+  - slip -> stick at a velocity zero (g = v, no reset): there fc = sig bk on both sides and w' = v = 0, so
+    f+ = f- and S = I. It needs the crossing g_x . f- = a - sig bk (the slip's acceleration) of sign
+    -sig; a velocity that only touches zero is not smooth (jac_ok = 0);
+  - stick -> slip at the band edge e (g = e kappa (q - w) - bs, g_x = e kappa (1, 0, -1), g_x . f- =
+    e kappa v): R sets w = q - e bk/kappa (a jump by e (bs - bk)/kappa), R_x = [1 0 0; 0 1 0; 1 0 0], and
+    f+ - R_x f- = (0, e (bs - bk), 0), the acceleration the unloading spring adds. So q's row stays,
+    w's row becomes q's, and v's row gains g_v (q's row - w's row), g_v = e (bs - bk)/v: a later exit
+    leaves the mass slower. Only a transversal exit (e v > 0) is smooth: an exit at a stick's start (a
+    velocity that touched zero on the edge), a tangential exit and a stalled slip after it are not;
+- the period's end is at fixed time T: no event.
+Every slip resets the slider onto q, so M has rank <= 2 over a period with a slip (an eigenvalue 0; the
+others are those of the map that Newton solves in (q, v) where the slider slips at the section).
 """
 
 from __future__ import annotations
@@ -72,7 +100,9 @@ DRIVEN_REFINE = 40
 #: the Jenkins accumulator: the rigid record (measure.ACC_FIELDS) and these slots after it
 JACC_SLIPS = ACC_SIZE  # slips begun (stick exits from which the slider moved)
 JACC_JUMP = ACC_SIZE + 1  # energy dissipated by the break-away jumps, (bs^2 - bk^2)/(2 kappa) each
-JACC_SIZE = ACC_SIZE + 2
+JACC_JAC = ACC_SIZE + 2  # the period's monodromy matrix d(q, v, w)(T)/d(q, v, w)(0), 9 slots row-major
+JACC_JAC_OK = ACC_SIZE + 11  # 1 where that matrix is valid (the period map is smooth there)
+JACC_SIZE = ACC_SIZE + 12
 
 
 def new_jenkins_accumulator():
@@ -82,6 +112,67 @@ def new_jenkins_accumulator():
     acc = np.zeros(JACC_SIZE)
     reset_accumulator(acc)
     return acc
+
+
+@jit
+def _flow_coefficients(s, zeta):
+    """Phi(s) = (p11, p12, p21, p22), the flow of q'' + 2 zeta q' + q = 0 over time s (0 <= zeta < 1)."""
+    if zeta == 0.0:
+        p11 = math.cos(s)
+        p12 = math.sin(s)
+        return p11, p12, -p12, p11
+    wd = math.sqrt(1.0 - zeta * zeta)
+    e = math.exp(-zeta * s)
+    cw = math.cos(wd * s)
+    sw = math.sin(wd * s)
+    p12 = e * sw / wd
+    return e * (cw + zeta / wd * sw), p12, -p12, e * (cw - zeta / wd * sw)
+
+
+@jit
+def _mono_slip(acc, s, zeta):
+    """J <- L J over a slip piece of length s: L = [Phi 0; Phi_1. 0] (w slaved to q, its start column zero)."""
+    p11, p12, p21, p22 = _flow_coefficients(s, zeta)
+    j = JACC_JAC
+    for col in range(3):
+        a = acc[j + col]
+        b = acc[j + 3 + col]
+        acc[j + col] = p11 * a + p12 * b
+        acc[j + 3 + col] = p21 * a + p22 * b
+        acc[j + 6 + col] = acc[j + col]
+
+
+@jit
+def _mono_stick(acc, u, zp, om, kappa):
+    """J <- G J over a stick piece of stick time u (w fixed, q about its rest cK w, cK = kappa/Omega^2):
+    G = [P11, P12/Omega, cK (1 - P11); Omega P21, P22, -cK Omega P21; 0, 0, 1], Phi_u(u) at damping zeta/Omega."""
+    p11, p12, p21, p22 = _flow_coefficients(u, zp)
+    ck = kappa / (om * om)
+    g12 = p12 / om
+    g13 = ck * (1.0 - p11)
+    g21 = om * p21
+    g23 = -ck * g21
+    j = JACC_JAC
+    for col in range(3):
+        a = acc[j + col]
+        b = acc[j + 3 + col]
+        c = acc[j + 6 + col]
+        acc[j + col] = p11 * a + g12 * b + g13 * c
+        acc[j + 3 + col] = g21 * a + p22 * b + g23 * c
+        # w's row is unchanged
+
+
+@jit
+def _mono_exit(acc, edge, v, bs, bk):
+    """J <- S J at a stick's exit through edge e at velocity v (e v > 0): S = [1 0 0; g_v 1 -g_v; 1 0 0],
+    g_v = e (bs - bk)/v: the exit time moves by -(dq - dw)/v, and a later exit starts the slip with the
+    spring unloaded from bs to bk that much later."""
+    gv = edge * (bs - bk) / v
+    j = JACC_JAC
+    for col in range(3):
+        a = acc[j + col]
+        acc[j + 3 + col] += gv * (a - acc[j + 6 + col])
+        acc[j + 6 + col] = a
 
 
 @jit
@@ -249,7 +340,8 @@ def _measure_stick_piece(acc, scratch, t0, u_end, p0, pu0, K, Ap, rho, zp, om, r
 def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, acc):
     """March one forcing period of the Jenkins contact from t = 0 to T. Returns (q, v, w, mode, anchor,
     status, work); acc (JACC_SIZE slots) gathers what measure.py describes plus the slips and the jumps'
-    energy. anchor: where the slider was when the current slip began from a held stick (NaN otherwise)."""
+    energy, and the period's monodromy matrix (JACC_JAC, JACC_JAC_OK; the module's docstring). anchor: where
+    the slider was when the current slip began from a held stick (NaN otherwise)."""
     A, r, bk, bs, zeta, c, kappa = p
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
@@ -258,6 +350,10 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
     hb = bs / kappa
     hmax_u = min(1.0, 1.0 / rho)
     acc[ACC_JAC_OK] = 0.0
+    j = JACC_JAC
+    for i in range(9):
+        acc[j + i] = 1.0 if i % 4 == 0 else 0.0
+    acc[JACC_JAC_OK] = 1.0
     scratch = np.empty(2)
     t = 0.0
     work = 0
@@ -276,6 +372,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
                                             u_start)
             work += wk + 1
             if work > budget:
+                acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                 return q, v, w, mode, anchor, BUDGET, work
             held_from = 0.0
             if mode == 0 and ub > 0.0:
@@ -290,6 +387,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
                     us, hit, wk = find_stop(u0, p0, pu0, sig_v, Ap, rho, 0.0, zp, ub, htol, hmax_u, budget - work)
                     work += wk
                     if work > budget:
+                        acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                         return q, v, w, mode, anchor, BUDGET, work
                     if hit and 0.0 < us < ub:
                         mode = STUCK_HELD
@@ -299,12 +397,19 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
                 acc[ACC_STUCK] += (ub - held_from) / om
             if measure:
                 _measure_stick_piece(acc, scratch, t, ub, p0, pu0, K, Ap, rho, zp, om, r, c)
+            _mono_stick(acc, ub, zp, om, kappa)
             if not found:
                 p1, pu1 = slip_state(u_end, p0, pu0, 1, Ap, rho, 0.0, zp, math.cos(r * t), math.sin(r * t))
                 return p1 + K, om * pu1, w, mode, anchor, OK, work
             p1, pu1 = slip_state(ub, p0, pu0, 1, Ap, rho, 0.0, zp, math.cos(r * t), math.sin(r * t))
             q_exit = p1 + K
             v_exit = om * pu1
+            if ub > 0.0 and edge * v_exit > 0.0:
+                _mono_exit(acc, edge, v_exit, bs, bk)
+            else:
+                # an exit where the stick began (the velocity touched zero on the edge) or a tangential one:
+                # the exit time is not smooth in the state
+                acc[JACC_JAC_OK] = 0.0
             t_exit = t + ub / om
             # the slider slips towards the edge it reached; try the slip before committing to it
             vtol = vtol_rel * max(A, math.hypot(q_exit, v_exit))
@@ -312,6 +417,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
                                    budget - work)
             work += wk + 1
             if work > budget:
+                acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                 return q_exit, v_exit, w, mode, anchor, BUDGET, work
             ca = math.cos(r * t_exit)
             sa = math.sin(r * t_exit)
@@ -320,6 +426,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             if hit and (s == 0.0 or q1 == q_exit):
                 # the force on the slider left the band tangentially and turned back: it stays stuck
                 stalled = True
+                acc[JACC_JAC_OK] = 0.0
                 continue
             stalled = False
             anchor = w if mode == STUCK_HELD else math.nan
@@ -331,6 +438,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             s, hit, wk = find_stop(t, q, v, mode, A, r, bk, zeta, T - t, vtol, hmax, budget - work)
             work += wk + 1
             if work > budget:
+                acc[JACC_JAC_OK] = 0.0  # a budget stop: no period map to differentiate
                 return q, v, w, mode, anchor, BUDGET, work
             ca = math.cos(r * t)
             sa = math.sin(r * t)
@@ -341,12 +449,16 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             anchor = math.nan
         if measure:
             _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
+        _mono_slip(acc, s, zeta)
         t = t + s
         q = q1
         v = v1
         w = q - mode * bk / kappa
         if not hit:
             return q, v, w, mode, anchor, OK, work
+        # the velocity zero is smooth (saltation I) where the slip's acceleration crosses it, against mode
+        if s == 0.0 or mode * (A * math.cos(r * t) - q - mode * bk) >= 0.0:
+            acc[JACC_JAC_OK] = 0.0
         v = 0.0
         note_stop(acc, q)
         # a creep within a stop leaves the mass held

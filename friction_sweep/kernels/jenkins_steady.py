@@ -3,8 +3,10 @@
 The driver of steady.py for the state (q, v, w) of kernels/jenkins.py, kept apart so that a point without
 the effect runs exactly the code it always ran. On the section (the excitation's maximum) a slipping
 slider sits where the slip puts it, w = q - sig bk / kappa, so Newton moves (q, v) there and (q, v, w)
-where the slider is stuck. The Jacobian is taken by forward differences of the period map (the exact
-3 x 3 monodromy matrix is a later step); its largest multiplier is the orbit's `floquet_multiplier`.
+where the slider is stuck. The Jacobian is jenkins.py's exact 3 x 3 monodromy matrix M of P^k where it
+is valid (restricted to (q, v) where the slider slips at the section: M's column of w is zero there, so
+its eigenvalues are those of the 2 x 2 block and 0), forward differences of the period map elsewhere; the
+largest |eigenvalue| of the converged orbit's is its `floquet_multiplier`.
 
 Without damping a stuck slider dissipates nothing: where the forced motion of the stuck oscillator,
 q = A cos(r t) / (1 + kappa - r^2) with the slider at 0, keeps the contact force inside the static
@@ -20,7 +22,15 @@ import math
 import numpy as np
 
 from friction_sweep.codes import Regime, SteadyState
-from friction_sweep.kernels.jenkins import JACC_JUMP, JACC_SIZE, JACC_SLIPS, STUCK_HELD, advance_period_jenkins
+from friction_sweep.kernels.jenkins import (
+    JACC_JAC,
+    JACC_JAC_OK,
+    JACC_JUMP,
+    JACC_SIZE,
+    JACC_SLIPS,
+    STUCK_HELD,
+    advance_period_jenkins,
+)
 from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
     ACC_IC,
@@ -95,6 +105,12 @@ FD_STEP = 1e-7
 
 
 @jit_inline
+def _monodromy(acc):
+    """The monodromy matrix d(q, v, w)(end)/d(q, v, w)(start) in acc's JACC_JAC slots, as a 3 x 3 array."""
+    return acc[JACC_JAC:JACC_JAC + 9].copy().reshape((3, 3))
+
+
+@jit_inline
 def _period(q, v, w, mode, anchor, p, settings, budget, measure, acc):
     reset_accumulator(acc)
     return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc)
@@ -102,16 +118,24 @@ def _period(q, v, w, mode, anchor, p, settings, budget, measure, acc):
 
 @jit_inline
 def _map_k(q, v, w, mode, anchor, k, p, settings, budget, measure, acc):
-    """P^k from (q, v, w, mode, anchor), measured together in acc if asked. Returns (q, v, w, mode, anchor,
-    status, work)."""
+    """P^k from (q, v, w, mode, anchor), measured together in acc if asked, with P^k's monodromy matrix (the
+    product of the periods') in acc's JACC_JAC slots. Returns (q, v, w, mode, anchor, status, work)."""
     reset_accumulator(acc)
     work = 0
+    chain = np.eye(3) if k > 1 else np.empty((0, 0))
+    chain_ok = True
     for _ in range(k):
         q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL],
                                                                budget - work, measure, acc)
         work += wk
         if st != 0:
             return q, v, w, mode, anchor, st, work
+        if k > 1:
+            chain = _monodromy(acc) @ chain
+            chain_ok = chain_ok and acc[JACC_JAC_OK] == 1.0
+    if k > 1:
+        acc[JACC_JAC:JACC_JAC + 9] = chain.ravel()
+        acc[JACC_JAC_OK] = 1.0 if chain_ok else 0.0
     return q, v, w, mode, anchor, 0, work
 
 
@@ -162,10 +186,11 @@ def _radius(jac, dim):
 
 @jit
 def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
-    """Newton with forward differences on P^k(x) = x from (q, v, w, mode) (anchor: jenkins.py's label, kept).
-    Returns (q, v, w, mode, ok,
-    work, periods, radius); on success acc holds the measurement of the k periods from the returned state
-    and radius the largest |multiplier| of the last Jacobian."""
+    """Newton on P^k(x) = x from (q, v, w, mode) (anchor: jenkins.py's label, kept), with P^k's exact
+    monodromy matrix where the map is smooth there, forward differences elsewhere. Returns (q, v, w, mode,
+    ok, work, periods, radius); on success acc holds the measurement of the k periods from the returned
+    state and radius the largest |multiplier| of the exact matrix there (of the last Jacobian where that
+    is not valid)."""
     work = 0
     periods = 0
     last_step = math.inf
@@ -195,13 +220,19 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
             _, _, _, _, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, True, acc)
             work += wk
             periods += k
+            if st == 0 and acc[JACC_JAC_OK] == 1.0:
+                radius = _radius(_monodromy(acc), 2 if _slipping(mode) else 3)
             ok = st == 0 and radius < 1.0
             return q, v, w, mode, ok, work, periods, radius
-        jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget - work, acc)
-        work += wk
-        periods += dim * k
-        if not ok:
-            return q, v, w, mode, False, work, periods, radius
+        if acc[JACC_JAC_OK] == 1.0:
+            jac = _monodromy(acc)
+            dim = 2 if _slipping(mode) else 3
+        else:
+            jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget - work, acc)
+            work += wk
+            periods += dim * k
+            if not ok:
+                return q, v, w, mode, False, work, periods, radius
         radius = _radius(jac, dim)
         b = jac[:dim, :dim] - np.eye(dim)
         f = np.array([q1 - q, v1 - v, w1 - w])[:dim]
@@ -375,7 +406,9 @@ def solve_point_jenkins(p, settings, out):
             out[OUT_STEADY_STATE] = SteadyState.EVENT_BUDGET.value
             out[OUT_REGIME] = Regime.UNSETTLED.value
             return
-        if acc[JACC_SLIPS] > 0.0 and settings[SET_STABILITY] != 0.0:
+        if acc[JACC_SLIPS] > 0.0 and acc[JACC_JAC_OK] == 1.0:
+            radius = _radius(_monodromy(acc), 2 if _slipping(mode) else 3)
+        elif acc[JACC_SLIPS] > 0.0 and settings[SET_STABILITY] != 0.0:
             # the marched orbit's multipliers, by forward differences of P^k (acc is measured again after)
             acc2 = np.empty(JACC_SIZE)
             reset_accumulator(acc2)
