@@ -6,7 +6,10 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
+from click.testing import CliRunner
 
+from friction_sweep.cli import main
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import event as event_kernel
 from friction_sweep.kernels import steady
@@ -133,6 +136,22 @@ def test_cube_variable_and_its_moving_twin(tmp_path):
                               {"static_friction_ratio": 1.5})
     assert tile["floquet_multiplier"].shape == (1, 2) and tile["floquet_multiplier_moving"].shape == (1, 2)
     assert (tile["floquet_multiplier"] < 1.0).all()
+
+
+@pytest.mark.parametrize("effects", ["{static_friction_ratio: 1.5}",
+                                     "{static_friction_ratio: 1.5, contact_stiffness: 100}"])
+def test_run_writes_the_variable_and_its_moving_twin(tmp_path, effects):
+    spec = tmp_path / "s.yaml"
+    spec.write_text(f"scene: {{excitation: base, effects: {effects}}}\n"
+                    "grid: {frequency_ratio: [0.5, 1.5], force_ratio: [0.3]}\n"
+                    "method: event\noutputs: [transmissibility, regime, stability]\n")
+    out = tmp_path / "s.h5"
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(out), "--quiet"])
+    assert res.exit_code == 0, res.output
+    cube = xr.open_dataset(out, engine="h5netcdf")
+    for name in ("floquet_multiplier", "floquet_multiplier_moving"):
+        assert cube[name].attrs["long_name"].startswith("output stability")
+        assert (cube[name].values < 1.0).all()
 
 
 def test_theory_refuses_the_group(tmp_path):

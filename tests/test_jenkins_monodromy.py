@@ -28,6 +28,9 @@ ORBITS = [
 IDS = [f"{e}-r{r}-b{b}-k{k:g}-{'-'.join(f'{n}{v}' for n, v in f.items())}" for e, r, b, k, f, *_ in ORBITS]
 
 
+NONE = np.empty(0)  # no samples
+
+
 def orbit_start(excitation, r, beta, kappa, effects):
     """The converged orbit's state at the section (q, v, w), its mode, period k and the point's parameters."""
     row = event.solve_flat(excitation, np.array([r]), np.array([beta]), {"contact_stiffness": kappa, **effects},
@@ -46,7 +49,8 @@ def period_map(x, mode, p, periods=1):
     q, v, w, anchor = x[0], x[1], x[2], np.nan
     m = np.eye(3)
     for _ in range(periods):
-        q, v, w, mode, anchor, st, _ = jk.advance_period_jenkins(q, v, w, mode, anchor, p, 1e-12, 10**7, False, acc)
+        q, v, w, mode, anchor, st, _ = jk.advance_period_jenkins(q, v, w, mode, anchor, p, 1e-12, 10**7, False, acc,
+                                                                 NONE, NONE, NONE)
         assert st == 0
         valid = acc[jk.JACC_JAC_OK] == 1.0
         m = acc[jk.JACC_JAC:jk.JACC_JAC + 9].reshape(3, 3) @ m if valid and m is not None else None

@@ -337,11 +337,27 @@ def _measure_stick_piece(acc, scratch, t0, u_end, p0, pu0, K, Ap, rho, zp, om, r
 
 
 @jit
-def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, acc):
+def _sample(ts, sq, sv, i, ta, tb, stuck, t0, q0, v0, w, sig, p):
+    """Fill the samples with ta <= ts[i] < tb from the piece that starts at (q0, v0) at t0: a stick with the
+    slider at w, or a slip in direction sig. Returns the next i."""
+    A, r, bk, bs, zeta, c, kappa = p
+    while i < ts.size and ts[i] < tb:
+        if ts[i] >= ta:
+            if stuck:
+                sq[i], sv[i] = stick_state(ts[i] - t0, t0, q0, v0, w, A, r, zeta, kappa)
+            else:
+                sq[i], sv[i] = slip_state(ts[i] - t0, q0, v0, sig, A, r, bk, zeta, math.cos(r * t0), math.sin(r * t0))
+        i += 1
+    return i
+
+
+@jit
+def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     """March one forcing period of the Jenkins contact from t = 0 to T. Returns (q, v, w, mode, anchor,
     status, work); acc (JACC_SIZE slots) gathers what measure.py describes plus the slips and the jumps'
     energy, and the period's monodromy matrix (JACC_JAC, JACC_JAC_OK; the module's docstring). anchor: where
-    the slider was when the current slip began from a held stick (NaN otherwise)."""
+    the slider was when the current slip began from a held stick (NaN otherwise). ts: sorted period-local
+    sample times (empty when not sampling); q, v there go to sq, sv (event.advance_period's contract)."""
     A, r, bk, bs, zeta, c, kappa = p
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
@@ -357,6 +373,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
     scratch = np.empty(2)
     t = 0.0
     work = 0
+    i_sample = 0
     stalled = False  # the last slip could not start from its stick exit (a tangential exit)
     while True:
         if mode == 0 or mode == STUCK_HELD:
@@ -398,6 +415,9 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             if measure:
                 _measure_stick_piece(acc, scratch, t, ub, p0, pu0, K, Ap, rho, zp, om, r, c)
             _mono_stick(acc, ub, zp, om, kappa)
+            if ts.size:
+                i_sample = _sample(ts, sq, sv, i_sample, t, t + ub / om if found else math.inf, True, t, q, v, w,
+                                   0, p)
             if not found:
                 p1, pu1 = slip_state(u_end, p0, pu0, 1, Ap, rho, 0.0, zp, math.cos(r * t), math.sin(r * t))
                 return p1 + K, om * pu1, w, mode, anchor, OK, work
@@ -450,6 +470,8 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
         if measure:
             _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
         _mono_slip(acc, s, zeta)
+        if ts.size:
+            i_sample = _sample(ts, sq, sv, i_sample, t, t + s if hit else math.inf, False, t, q, v, w, mode, p)
         t = t + s
         q = q1
         v = v1

@@ -113,7 +113,9 @@ def _monodromy(acc):
 @jit_inline
 def _period(q, v, w, mode, anchor, p, settings, budget, measure, acc):
     reset_accumulator(acc)
-    return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc)
+    none = np.empty(0)  # no samples
+    return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc, none,
+                                  none, none)
 
 
 @jit_inline
@@ -122,11 +124,12 @@ def _map_k(q, v, w, mode, anchor, k, p, settings, budget, measure, acc):
     product of the periods') in acc's JACC_JAC slots. Returns (q, v, w, mode, anchor, status, work)."""
     reset_accumulator(acc)
     work = 0
+    none = np.empty(0)  # no samples
     chain = np.eye(3) if k > 1 else np.empty((0, 0))
     chain_ok = True
     for _ in range(k):
         q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL],
-                                                               budget - work, measure, acc)
+                                                               budget - work, measure, acc, none, none, none)
         work += wk
         if st != 0:
             return q, v, w, mode, anchor, st, work
@@ -353,9 +356,11 @@ def _record(out, acc, orbit, p):
 
 
 @jit
-def solve_point_jenkins(p, settings, out):
+def solve_point_jenkins(p, settings, start_w, start_mode, out):
     """Steady state and measurements of one grid point with a Jenkins contact; results in `out` (slots of
-    JENKINS_OUTPUT_FIELDS)."""
+    JENKINS_OUTPUT_FIELDS). The march starts from the settings' (q, v) with the slider at start_w in mode
+    start_mode (NaN and 0: at rest on a relaxed contact spring, w = q; a sweep's or a second start's state
+    is a settled orbit's, w and mode consistent with it)."""
     out[:] = math.nan
     if p.bk == 0.0 and p.bs == 0.0:
         # no friction, no contact force: the rigid model's point, exactly
@@ -364,7 +369,7 @@ def solve_point_jenkins(p, settings, out):
     acc = np.empty(JACC_SIZE)
     budget = int(settings[SET_WORK_BUDGET])
     q0 = settings[SET_INITIAL_DISPLACEMENT]
-    q, v, w, mode = q0, settings[SET_INITIAL_VELOCITY], q0, 0  # at rest on a relaxed contact spring
+    q, v, w, mode = q0, settings[SET_INITIAL_VELOCITY], q0 if math.isnan(start_w) else start_w, start_mode
     anchor = math.nan
     status = SteadyState.PERIOD_CAP
     orbit = 0
@@ -426,6 +431,58 @@ def solve_point_jenkins(p, settings, out):
 
 @jit
 def solve_points_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out):
-    """solve_point_jenkins over 1-D arrays of points; out has shape (n, JOUT_SIZE)."""
+    """solve_point_jenkins over 1-D arrays of points from the settings' start; out has shape (n, JOUT_SIZE)."""
     for i in range(r.size):
-        solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), settings, out[i])
+        solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), settings, math.nan, 0,
+                            out[i])
+
+
+@jit
+def solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappa, settings, q0, v0, w0, m0, out):
+    """solve_points_jenkins with a start (q0[i], v0[i], w0[i], m0[i]) of its own for each point (at the
+    excitation's maximum): the second, moving start where static friction exceeds kinetic."""
+    own = settings.copy()
+    for i in range(r.size):
+        own[SET_INITIAL_DISPLACEMENT] = q0[i]
+        own[SET_INITIAL_VELOCITY] = v0[i]
+        solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), own, w0[i],
+                            int(m0[i]), out[i])
+
+
+@jit
+def solve_sweep_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out):
+    """A stepped-sine sweep over the points in the order given (steady.solve_sweep's rule): each point starts
+    from the state (q, v, w, mode) at the excitation's maximum of the orbit the previous one settled on;
+    the first, and any after a point with no steady state, from the settings' start."""
+    own = settings.copy()
+    w0 = math.nan
+    m0 = 0
+    for i in range(r.size):
+        solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), own, w0, m0, out[i])
+        regime = out[i, OUT_REGIME]
+        if regime == Regime.UNBOUNDED.value or regime == Regime.UNSETTLED.value or math.isnan(out[i, JOUT_END_W]):
+            own[SET_INITIAL_DISPLACEMENT] = settings[SET_INITIAL_DISPLACEMENT]
+            own[SET_INITIAL_VELOCITY] = settings[SET_INITIAL_VELOCITY]
+            w0, m0 = math.nan, 0
+        else:
+            own[SET_INITIAL_DISPLACEMENT] = out[i, OUT_END_Q]
+            own[SET_INITIAL_VELOCITY] = out[i, OUT_END_V]
+            w0, m0 = out[i, JOUT_END_W], int(out[i, OUT_END_MODE])
+
+
+@jit
+def sample_orbit_jenkins(q, v, w, mode, p, vtol, budget, periods, ts, sq, sv):
+    """Replay `periods` forcing periods from a state (q, v, w, mode) on the orbit, sampling q, v at the local
+    times ts (sorted, in [0, T)) of every period; sq, sv have shape (periods, ts.size). Returns BUDGET if the
+    replay ran out of `budget` (the samples are then incomplete), else 0 (steady.sample_orbit's contract)."""
+    acc = np.empty(JACC_SIZE)
+    anchor = math.nan  # labels only: the motion does not depend on it
+    work = 0
+    for k in range(periods):
+        reset_accumulator(acc)
+        q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, vtol, budget - work, False,
+                                                               acc, ts, sq[k], sv[k])
+        work += wk
+        if st == BUDGET or work > budget:
+            return BUDGET
+    return 0

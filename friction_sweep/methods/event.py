@@ -28,7 +28,7 @@ import numpy as np
 from friction_sweep import catalogue
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import steady
-from friction_sweep.kernels.point import Point
+from friction_sweep.kernels.point import JenkinsPoint, Point
 from friction_sweep.kernels.settings import (
     KERNEL_EVENT,
     SET_KERNEL,
@@ -145,19 +145,25 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     """Raw kernel outputs (n, OUT_SIZE) for 1-D arrays of points, phases against the excitation; start:
     per-point (q0, v0) arrays instead of the settings' one start. The start and end states (end_q, end_v)
     are at the kernel's section, the forcing's maximum (forcing_lead). With a Jenkins contact the rows
-    are jenkins_steady's (n, JOUT_SIZE), whose first OUT_SIZE slots are these."""
+    are jenkins_steady's (n, JOUT_SIZE), whose first OUT_SIZE slots are these, and a start is per-point
+    (q0, v0, w0, mode0) arrays (a settled orbit's end_q, end_v, end_w, end_mode)."""
     r = np.ascontiguousarray(r, dtype=float)
     beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
     sett = kernel_settings(settings)
     kappa = contact_stiffness(effects)
     if kappa > 0.0:
-        if start is not None or sett[SET_KERNEL] != KERNEL_EVENT:
-            raise ValueError("contact_stiffness: the Jenkins kernels run method event from the spec's start only")
+        if sett[SET_KERNEL] != KERNEL_EVENT:
+            raise ValueError("contact_stiffness: the Jenkins kernels run method event only")
         from friction_sweep.kernels import jenkins_steady  # compiled only where the effect is declared
 
         out = np.empty((r.size, jenkins_steady.JOUT_SIZE))
-        jenkins_steady.solve_points_jenkins(A, r, bk, bs, zeta, c, np.full(r.shape, kappa), sett, out)
+        kappas = np.full(r.shape, kappa)
+        if start is None:
+            jenkins_steady.solve_points_jenkins(A, r, bk, bs, zeta, c, kappas, sett, out)
+        else:
+            q0, v0, w0, m0 = (np.ascontiguousarray(x, dtype=float) for x in start)
+            jenkins_steady.solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappas, sett, q0, v0, w0, m0, out)
         _against_excitation(out, forcing_lead(excitation, r, effects))
         return out
     out = np.empty((r.size, steady.OUT_SIZE))
@@ -182,8 +188,16 @@ def solve_moving(excitation, r, beta, effects=None, **settings):
     the state where its march gave up (a start that the model with static friction then follows)."""
     kinetic = {k: v for k, v in (effects or {}).items() if k != "static_friction_ratio"}
     seed = solve_flat(excitation, r, beta, kinetic, **settings)
-    start = (np.nan_to_num(seed[:, steady.OUT_END_Q], nan=0.0, posinf=0.0, neginf=0.0),
-             np.nan_to_num(seed[:, steady.OUT_END_V], nan=0.0, posinf=0.0, neginf=0.0))
+    start = [np.nan_to_num(seed[:, steady.OUT_END_Q], nan=0.0, posinf=0.0, neginf=0.0),
+             np.nan_to_num(seed[:, steady.OUT_END_V], nan=0.0, posinf=0.0, neginf=0.0)]
+    if contact_stiffness(effects) > 0.0:
+        from friction_sweep.kernels import jenkins_steady
+
+        # the slider where the seed left it, in its mode; where the seed has no state, at rest relaxed
+        w0 = seed[:, jenkins_steady.JOUT_END_W]
+        m0 = seed[:, steady.OUT_END_MODE]
+        known = np.isfinite(w0) & np.isfinite(m0) & np.isfinite(seed[:, steady.OUT_END_Q])
+        start += [np.where(known, w0, np.nan), np.where(known, m0, 0.0)]
     return solve_flat(excitation, r, beta, effects, start, **settings)
 
 
@@ -218,7 +232,7 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     if jenkins and "regime" in outputs:
         names += JENKINS_VARIABLES
     result = _per_point(raw, names, excitation, R)
-    if starts > 1 and two_starts(effects) and not jenkins:
+    if starts > 1 and two_starts(effects):
         moving = solve_moving(excitation, R.ravel(), B.ravel(), effects, **settings)
         twins = _per_point(moving, names, excitation, R)
         result.update({name + MOVING_SUFFIX: values for name, values in twins.items()})
@@ -242,15 +256,26 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
         order = order[::-1]
     sett = kernel_settings(for_outputs(settings, outputs))
     rs = np.ascontiguousarray(r[order])
-    raw = np.empty((beta.size, r.size, steady.OUT_SIZE))
+    kappa = contact_stiffness(effects)
+    names = variables_for(excitation, outputs)
+    size = steady.OUT_SIZE
+    if kappa > 0.0:
+        from friction_sweep.kernels import jenkins_steady  # compiled only where the effect is declared
+
+        size = jenkins_steady.JOUT_SIZE
+        if "regime" in outputs:
+            names += JENKINS_VARIABLES
+    raw = np.empty((beta.size, r.size, size))
     for j, b in enumerate(beta):
         A, c, bk, bs, zeta = point_parameters(excitation, rs, np.full(rs.shape, b), effects)
-        row = np.empty((r.size, steady.OUT_SIZE))
-        steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row)
+        row = np.empty((r.size, size))
+        if kappa > 0.0:
+            jenkins_steady.solve_sweep_jenkins(A, rs, bk, bs, zeta, c, np.full(rs.shape, kappa), sett, row)
+        else:
+            steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row)
         _against_excitation(row, forcing_lead(excitation, rs, effects))
         raw[j, order] = row
-    result = _per_point(raw.reshape(-1, steady.OUT_SIZE), variables_for(excitation, outputs), excitation,
-                        np.broadcast_to(r, (beta.size, r.size)))
+    result = _per_point(raw.reshape(-1, size), names, excitation, np.broadcast_to(r, (beta.size, r.size)))
     result["continuous_limit"] = theory.continuous_limit(excitation, r)
     return result
 
@@ -296,6 +321,9 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     sett = kernel_settings(settings)
     A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
     lead = forcing_lead(excitation, r, effects)
+    kappa = contact_stiffness(effects)
+    if kappa > 0.0:
+        from friction_sweep.kernels import jenkins_steady
     orbit = np.where(np.isfinite(raw[:, steady.OUT_ORBIT_PERIOD]), raw[:, steady.OUT_ORBIT_PERIOD], 0).astype(int)
     n = samples_per_period * max(1, int(orbit.max(initial=1)))
     shape = (pts.shape[0], n)
@@ -318,10 +346,15 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         periods = k + (delay != 0.0)
         sq = np.empty((periods, samples_per_period))
         sv = np.empty((periods, samples_per_period))
-        point = Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i])
-        status = steady.sample_orbit(raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V],
-                                     int(raw[i, steady.OUT_END_MODE]), point, sett[SET_STOP_TOL],
-                                     int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
+        q0, v0, mode0 = raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V], int(raw[i, steady.OUT_END_MODE])
+        if kappa > 0.0 and np.isfinite(raw[i, jenkins_steady.JOUT_END_W]):
+            status = jenkins_steady.sample_orbit_jenkins(
+                q0, v0, raw[i, jenkins_steady.JOUT_END_W], mode0,
+                JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa), sett[SET_STOP_TOL],
+                int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
+        else:  # the rigid model's (a Jenkins point without friction is one: no slider position)
+            status = steady.sample_orbit(q0, v0, mode0, Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]),
+                                         sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
         if status != 0:  # the replay ran out of budget: incomplete samples are not shown
             continue
         m = k * samples_per_period

@@ -564,12 +564,6 @@ class Spec(_Sourced):
             if name not in METHODS[self.method].effects:
                 yield _error("effect_unsupported", f"method {self.method!r} does not model {name} "
                              f"(methods that do: {', '.join(able(name))})", ("scene", "effects", name))
-        if "contact_stiffness" in self.scene.effects:
-            # the Jenkins kernels solve each point from the spec's start (kernels/jenkins_steady.py)
-            for what, given in (("sweep", self.sweep), ("time_history", self.time_history)):
-                if given is not None:
-                    yield _error("effect_unsupported", f"contact_stiffness does not run with {what} yet",
-                                 (what,))
 
     @property
     def frequency_ratio(self) -> np.ndarray:

@@ -301,7 +301,7 @@ MOVING_SUFFIX = "_moving"
 STATE_VARIABLES = ("transmissibility", "peak_transmissibility", "phase", "peak_phase", "regime", "stops_per_period",
                    "stuck_fraction", "periods", "steady_state", "orbit_period", "friction_energy",
                    "transmitted_force", "displacement_amplitude", "peak_displacement", "dissipated_energy",
-                   "force_amplitude")
+                   "force_amplitude", "floquet_multiplier", "slips_per_period")
 for _name in STATE_VARIABLES:
     _v = VARIABLES[_name]
     VARIABLES[_name + MOVING_SUFFIX] = replace(
