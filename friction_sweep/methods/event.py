@@ -16,7 +16,8 @@ find more). With static = kinetic friction the period map does not expand distan
 suffices; nothing is added then.
 
 With the effect contact_stiffness (a Jenkins contact, docs/equations.md §7) a point runs the Jenkins
-kernels (kernels/jenkins.py, jenkins_steady.py) instead, from rest only, and writes `slips_per_period` and
+kernels (kernels/jenkins.py, or jenkins_rk4.py for method rk4, driven by jenkins_steady.py) instead, from
+rest only, and writes `slips_per_period` and
 `floquet_multiplier` with the regime; a point without it never touches them.
 """
 
@@ -143,8 +144,8 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     sett = kernel_settings(settings)
     kappa = contact_stiffness(effects)
     if kappa > 0.0:
-        if start is not None or sett[SET_KERNEL] != KERNEL_EVENT:
-            raise ValueError("contact_stiffness: the Jenkins kernels run method event from the spec's start only")
+        if start is not None:
+            raise ValueError("contact_stiffness: the Jenkins kernels run from the spec's start only")
         from friction_sweep.kernels import jenkins_steady  # compiled only where the effect is declared
 
         out = np.empty((r.size, jenkins_steady.JOUT_SIZE))
