@@ -17,6 +17,8 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 from conftest import in_dir
+from test_jenkins import CREEPING
+from test_jenkins import POINTS as CHECKED
 
 from friction_sweep.cli import main
 from friction_sweep.codes import Regime, SteadyState
@@ -82,6 +84,21 @@ def test_fourth_order_against_the_exact_method(excitation, r, beta, effects, kap
     if ref[steady.OUT_REGIME] != Regime.STUCK:
         # the orbit's multipliers: finite differences of a map that converges to the exact one
         assert abs(row[js.JOUT_FLOQUET] - ref[js.JOUT_FLOQUET]) < 1e-4
+
+
+@pytest.mark.parametrize(("excitation", "r", "beta", "kappa", "effects"), [p[:5] for p in CHECKED] + [CREEPING])
+def test_the_independently_checked_points_at_512_steps(excitation, r, beta, kappa, effects):
+    """The points test_jenkins.py checks against DOP853 (every regime and scene, kappa 30 to 1000, damping,
+    static friction, creeps of a held orbit): at 512 steps rk4 has event's regime, stops, slips and orbit
+    period, and its transmissibility and friction energy within 1e-8 (measured: at most 3e-9)."""
+    effects = {"contact_stiffness": kappa, **effects}
+    ref = exact(excitation, r, beta, effects)
+    row = rk4(excitation, r, beta, effects, 512)
+    for slot in (steady.OUT_REGIME, steady.OUT_STOPS_PER_PERIOD, js.JOUT_SLIPS, steady.OUT_ORBIT_PERIOD):
+        assert row[slot] == ref[slot], slot
+    assert abs(row[steady.OUT_TRANSMISSIBILITY] / ref[steady.OUT_TRANSMISSIBILITY] - 1) < 1e-8
+    if ref[steady.OUT_REGIME] != Regime.STUCK:
+        assert abs(row[steady.OUT_FRICTION_ENERGY] / ref[steady.OUT_FRICTION_ENERGY] - 1) < 1e-8
 
 
 def _on_orbit(p, periods=300):
