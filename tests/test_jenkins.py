@@ -192,7 +192,7 @@ def test_tile_writes_slips_and_floquet():
     assert "slips_per_period" not in plain and "floquet_multiplier" not in plain
 
 
-@pytest.mark.parametrize("method", ["theory", "paper", "auto", "rk4"])
+@pytest.mark.parametrize("method", ["theory", "paper", "auto"])
 def test_methods_without_the_effect_refuse_it(method, tmp_path):
     spec = tmp_path / "s.yaml"
     spec.write_text("scene: {excitation: base, effects: {contact_stiffness: 100}}\n"

@@ -31,6 +31,7 @@ from friction_sweep.kernels.jenkins import (
     STUCK_HELD,
     advance_period_jenkins,
 )
+from friction_sweep.kernels.jenkins_rk4 import advance_period_jenkins_rk4, stick_substeps
 from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
     ACC_IC,
@@ -45,18 +46,21 @@ from friction_sweep.kernels.measure import (
     BUDGET,
     reset_accumulator,
 )
-from friction_sweep.kernels.period_map import MAP_ROUNDING
+from friction_sweep.kernels.period_map import MAP_ROUNDING, map_error
 from friction_sweep.kernels.point import JenkinsPoint, Point
 from friction_sweep.kernels.segments import TWO_PI
 from friction_sweep.kernels.settings import (
+    KERNEL_RK4,
     SET_INITIAL_DISPLACEMENT,
     SET_INITIAL_VELOCITY,
+    SET_KERNEL,
     SET_MAX_ORBIT_PERIOD,
     SET_MAX_PERIODS,
     SET_SHOOT_AFTER,
     SET_SHOOT_EVERY,
     SET_STABILITY,
     SET_STEADY_TOL,
+    SET_STEPS_PER_PERIOD,
     SET_STOP_TOL,
     SET_WORK_BUDGET,
 )
@@ -111,11 +115,33 @@ def _monodromy(acc):
 
 
 @jit_inline
+def _advance(q, v, w, mode, anchor, p, settings, budget, measure, acc):
+    """One period with the integrator the settings choose (a runtime switch, as period_map.advance)."""
+    none = np.empty(0)  # no samples
+    if settings[SET_KERNEL] == KERNEL_RK4:
+        return advance_period_jenkins_rk4(q, v, w, mode, anchor, p, int(settings[SET_STEPS_PER_PERIOD]), budget,
+                                          measure, acc)
+    return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc,
+                                  none, none, none)
+
+
+@jit_inline
+def _map_error(p, settings):
+    """period_map.map_error for the Jenkins kernels: for RK4 also the stick's truncation over a period, in the
+    stuck oscillator's time (frequency Omega = sqrt(1 + kappa), step Omega h / m, jenkins_rk4.stick_substeps):
+    T Omega (Omega h / m)^4 / 120."""
+    error = map_error(p.r, settings)
+    if settings[SET_KERNEL] == KERNEL_RK4:
+        om = math.sqrt(1.0 + p.kappa)
+        hs = om * TWO_PI / (p.r * settings[SET_STEPS_PER_PERIOD] * stick_substeps(p.kappa))
+        error = max(error, om * TWO_PI / p.r * hs ** 4 / 120.0)
+    return error
+
+
+@jit_inline
 def _period(q, v, w, mode, anchor, p, settings, budget, measure, acc):
     reset_accumulator(acc)
-    none = np.empty(0)  # no samples
-    return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc, none,
-                                  none, none)
+    return _advance(q, v, w, mode, anchor, p, settings, budget, measure, acc)
 
 
 @jit_inline
@@ -124,12 +150,10 @@ def _map_k(q, v, w, mode, anchor, k, p, settings, budget, measure, acc):
     product of the periods') in acc's JACC_JAC slots. Returns (q, v, w, mode, anchor, status, work)."""
     reset_accumulator(acc)
     work = 0
-    none = np.empty(0)  # no samples
     chain = np.eye(3) if k > 1 else np.empty((0, 0))
     chain_ok = True
     for _ in range(k):
-        q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL],
-                                                               budget - work, measure, acc, none, none, none)
+        q, v, w, mode, anchor, st, wk = _advance(q, v, w, mode, anchor, p, settings, budget - work, measure, acc)
         work += wk
         if st != 0:
             return q, v, w, mode, anchor, st, work
@@ -385,7 +409,7 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
         q1, v1, w1, m1, _, st, work = _map_k(qf, 0.0, 0.0, STUCK_HELD, math.nan, 1, p, settings, budget, True, acc)
         periods = 1
         if st == 0 and acc[JACC_SLIPS] == 0.0 and abs(q1 - qf) + abs(v1) <= settings[SET_STEADY_TOL] * abs(qf) + \
-                MAP_ROUNDING * max(abs(qf), p.A):
+                _map_error(p, settings) * max(abs(qf), p.A):
             q, v, w, mode, status, orbit, shot = qf, 0.0, 0.0, STUCK_HELD, SteadyState.CONVERGED, 1, True
     if status != SteadyState.CONVERGED:
         q, v, w, mode, anchor, status, orbit, marched, work, shot, radius = _march(q, v, w, mode, anchor, p, settings,

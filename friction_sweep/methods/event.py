@@ -16,9 +16,9 @@ find more). With static = kinetic friction the period map does not expand distan
 suffices; nothing is added then.
 
 With the effect contact_stiffness (a Jenkins contact, docs/equations.md §7) a point runs the Jenkins
-kernels (kernels/jenkins.py, jenkins_steady.py) instead, from rest only, and writes `slips_per_period`
-with the regime; a point without it never touches them. The output group `stability` adds each orbit's
-largest Floquet multiplier, `floquet_multiplier`, in every scene.
+kernels (kernels/jenkins.py, or jenkins_rk4.py for method rk4, driven by jenkins_steady.py) instead and
+writes `slips_per_period` with the regime; a point without it never touches them. The output group
+`stability` adds each orbit's largest Floquet multiplier, `floquet_multiplier`, in every scene.
 """
 
 from __future__ import annotations
@@ -153,8 +153,6 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     sett = kernel_settings(settings)
     kappa = contact_stiffness(effects)
     if kappa > 0.0:
-        if sett[SET_KERNEL] != KERNEL_EVENT:
-            raise ValueError("contact_stiffness: the Jenkins kernels run method event only")
         from friction_sweep.kernels import jenkins_steady  # compiled only where the effect is declared
 
         out = np.empty((r.size, jenkins_steady.JOUT_SIZE))

@@ -1,6 +1,8 @@
 """method: rk4 -- the same steady-state search and measurements as `event`, but each forcing period
 is integrated by classical fixed-step Runge-Kutta (`steps_per_period`) with a real stick mode
-(kernels/rk4.py). Fourth order in the step; a baseline that shows what the closed forms buy.
+(kernels/rk4.py). Fourth order in the step; a baseline that shows what the closed forms buy. With the
+effect contact_stiffness the Jenkins contact's periods are integrated the same way (kernels/jenkins_rk4.py,
+sticks sub-stepped ceil(sqrt(1 + kappa)) times), driven by event's Jenkins path.
 """
 
 from __future__ import annotations
