@@ -41,9 +41,12 @@ CUBES_fig22  := $(NUM)/fig22_joined_stick_slip_history.h5
 # beyond the paper: stepped-sine sweeps up and down with static friction, over the two states
 CUBES_hysteresis := $(NUM)/hysteresis_joined_up.h5 $(NUM)/hysteresis_joined_down.h5 \
                     $(NUM)/hysteresis_joined_starts.h5
+# beyond the paper: the Jenkins contact (effect contact_stiffness) at several kappa, and the rigid contact
+CUBES_jenkins := $(NUM)/jenkins_base_kappa1.h5 $(NUM)/jenkins_base_kappa10.h5 $(NUM)/jenkins_base_kappa100.h5 \
+                 $(NUM)/jenkins_base_kappa1000.h5 $(NUM)/jenkins_base_rigid.h5
 
 FIGURE_NAMES := fig01b fig04 fig05 fig07 fig08 fig10 fig11 fig13 fig14 fig15 fig16 \
-                fig17 fig18 fig19 fig20 fig21 fig22 hysteresis
+                fig17 fig18 fig19 fig20 fig21 fig22 hysteresis jenkins
 FIGURES      := $(FIGURE_NAMES:%=$(FIG_OUT)/%.png)
 QUICK_FIGURES := $(FIGURE_NAMES:%=$(FIG_OUT)/quick/%.png)
 

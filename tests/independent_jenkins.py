@@ -21,12 +21,15 @@ RTOL, ATOL = 1e-12, 1e-14
 SKIP = 1e-6
 
 
-def jenkins_orbit(A, r, bk, bs, kappa, q, v, w, mode, c=0.0, zeta=0.0, max_periods=200, tol=1e-11, kmax=8):
+def jenkins_orbit(A, r, bk, bs, kappa, q, v, w, mode, c=0.0, zeta=0.0, max_periods=200, tol=1e-11, kmax=8,
+                  harmonics=()):
     """March periods from (q, v, w, mode) at t = 0 (mode +-1 slipping, 0 stuck, 2 stuck and held) until the
     state repeats to tol, k <= kmax periods back (not counting the first period, whose labels may lack the
     creep anchor carried from before t = 0); returns, per period of those k, the first-harmonic amplitude of
     x = q + c cos(r t), its lag (degrees), slips and stops, and the energy friction dissipated (bk x slide +
-    the jumps), and the orbit's period k."""
+    the jumps), and the orbit's period k; with harmonics = (n, ...) also "harmonics": {n: the amplitude of q
+    at the frequency n r}, (2 / kT) |int_0^kT q e^(-i n r t) dt| (q, not x: the c cos(r t) of x is all first
+    harmonic)."""
     T = 2 * np.pi / r
 
     def period(q, v, w, mode, anchor):
@@ -135,6 +138,7 @@ def jenkins_orbit(A, r, bk, bs, kappa, q, v, w, mode, c=0.0, zeta=0.0, max_perio
         raise AssertionError("no steady state")
     a = b = energy = 0.0
     slips = stops = 0
+    proj = {n: [0.0, 0.0] for n in harmonics}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", IntegrationWarning)
         for pieces, n_slips, n_stops, n_energy in records[-k:]:
@@ -145,7 +149,12 @@ def jenkins_orbit(A, r, bk, bs, kappa, q, v, w, mode, c=0.0, zeta=0.0, max_perio
                               epsabs=1e-15, limit=400)[0]
                     b += quad(lambda s, f=f: (f(s)[0] + c * np.cos(r * s)) * np.sin(r * s), lo, hi,
                               epsabs=1e-15, limit=400)[0]
+                    for n, ab in proj.items():
+                        ab[0] += quad(lambda s, f=f, n=n: f(s)[0] * np.cos(n * r * s), lo, hi, epsabs=1e-15,
+                                      limit=400)[0]
+                        ab[1] += quad(lambda s, f=f, n=n: f(s)[0] * np.sin(n * r * s), lo, hi, epsabs=1e-15,
+                                      limit=400)[0]
     amplitude = 2 / (k * T) * np.hypot(a, b)
     lag = (np.degrees(np.arctan2(b, a)) + 90.0) % 360.0 - 90.0
     return {"amplitude": amplitude, "lag": lag, "slips": slips / k, "stops": stops / k, "friction_energy": energy / k,
-            "orbit_period": k}
+            "orbit_period": k, "harmonics": {n: 2 / (k * T) * np.hypot(*ab) for n, ab in proj.items()}}

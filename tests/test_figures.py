@@ -94,6 +94,12 @@ scene: {excitation: joined, effects: {static_friction_ratio: 1.5}}
 grid: {frequency_ratio: [0.7, 0.8, 0.9, 1.5], force_ratio: [0.5]}
 method: event
 """,
+    **{f"jenkins_{name}": f"""\
+scene: {{excitation: base, effects: {{{effect}}}}}
+grid: {{frequency_ratio: [0.5, 1.2, 1.5, 3.0], force_ratio: [0.3, 1.5]}}
+method: event
+outputs: [transmissibility, regime]
+""" for name, effect in (("k10", "contact_stiffness: 10"), ("k100", "contact_stiffness: 100"), ("rigid", ""))},
 }
 
 # script -> the cubes it takes, in order
@@ -116,6 +122,7 @@ CALLS = {
     "fig21": ["joined_event", "joined_theory"],
     "fig22": ["joined_history"],
     "hysteresis": ["sweep_up", "sweep_down", "static_starts"],
+    "jenkins": ["jenkins_rigid", "jenkins_k100", "jenkins_k10"],  # any order: the script sorts by kappa
 }
 
 
