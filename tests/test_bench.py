@@ -86,6 +86,19 @@ def test_accuracy_in_a_spec_is_honoured_and_recorded(tmp_path):
     assert np.nanmax(np.abs(ds["transmissibility"].values / t - 1)) <= 1e-6
 
 
+def test_accuracy_with_the_jenkins_contact_reads_its_own_rows():
+    """The contact costs and errs otherwise than the rigid model: `accuracy:` on such a scene reads the rows
+    the benchmark measured with it (event_jenkins), not the rigid ones."""
+    row = {"worst_error": 1e-8, "seconds_per_point": 1e-5, "settings": {"stop_tol": 1e-10, "steady_tol": 1e-7}}
+    slow = {"worst_error": 1e-9, "seconds_per_point": 1e-3, "settings": {"stop_tol": 1e-12, "steady_tol": 1e-9}}
+    table = {"event": [row], "event_jenkins": [{**row, "worst_error": 1e-5}, slow]}
+    assert wp.choose("event", 1e-6, table)[0] == row["settings"]
+    settings, choice = wp.choose("event", 1e-6, table, {"contact_stiffness": 30.0, "viscous_damping": 0.01})
+    assert settings == slow["settings"] and choice["measured_as"] == "event_jenkins"
+    with pytest.raises(LookupError, match="as measured with contact_stiffness"):
+        wp.choose("event", 1e-12, table, {"contact_stiffness": 30.0})
+
+
 def test_accuracy_and_knobs_together_are_refused(tmp_path):
     spec = tmp_path / "s.yaml"
     spec.write_text("scene: {excitation: base}\ngrid: {frequency_ratio: 2.0, force_ratio: 0.3}\nmethod: event\n"

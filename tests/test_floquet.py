@@ -28,12 +28,12 @@ def rows(excitation, r, beta, effects=None, **settings):
 
 
 @pytest.mark.parametrize("zeta", [0.05, 0.3])
-@pytest.mark.parametrize("excitation", ["force", "base"])
-def test_linear_damped_orbit_decays_by_its_damping(excitation, zeta):
+@pytest.mark.parametrize(("excitation", "contact"), [("force", {}), ("base", {}), ("base", {"contact_stiffness": 50.0})])
+def test_linear_damped_orbit_decays_by_its_damping(excitation, contact, zeta):
     """Without friction the period map is linear: eigenvalues exp((-zeta +- i sqrt(1 - zeta^2)) 2 pi / r), whose
-    modulus exp(-2 pi zeta / r) does not depend on the spring."""
+    modulus exp(-2 pi zeta / r) does not depend on the spring (nor on a contact that carries no force)."""
     r = np.array([0.3, 0.9, 1.0, 1.7, 4.0])
-    out = rows(excitation, r, np.zeros_like(r), {"viscous_damping": zeta})
+    out = rows(excitation, r, np.zeros_like(r), {"viscous_damping": zeta, **contact})
     np.testing.assert_allclose(out[:, steady.OUT_FLOQUET], np.exp(-2 * np.pi * zeta / r), rtol=1e-12)
 
 

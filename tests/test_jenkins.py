@@ -141,10 +141,24 @@ def test_slider_that_never_slips_is_the_linear_oscillator(r, beta, kappa):
     """Where kappa x the stuck oscillator's amplitude stays below beta the slider never slips: the forced
     motion of stiffness 1 + kappa, |X|/|Y| = 1/|1 + kappa - r^2|, labelled stuck (the slider's)."""
     assert kappa / abs(1 + kappa - r * r) < beta
-    row = jenkins("base", r, beta, kappa)[0]
+    row = event.solve_flat("base", np.array([r]), np.array([beta]), {"contact_stiffness": kappa}, stability=1)[0]
     assert row[steady.OUT_REGIME] == Regime.STUCK
-    assert row[js.JOUT_SLIPS] == 0 and np.isnan(row[js.JOUT_FLOQUET])
+    assert row[js.JOUT_SLIPS] == 0 and np.isnan(row[js.JOUT_FLOQUET])  # the slider's position is neutral
     assert abs(row[steady.OUT_TRANSMISSIBILITY] * abs(1 + kappa - r * r) - 1) <= 1e-12
+
+
+@pytest.mark.parametrize(("kappa", "beta"), [(3.0, 1.5), (3.0, 5.0), (8.0, 2.0)])
+def test_the_stuck_oscillators_resonance_is_bounded(kappa, beta):
+    """At r = sqrt(1 + kappa) the stuck oscillator's forced motion is infinite, so the contact force leaves the
+    band and the slider slips, dissipating 4 beta (a - beta/kappa) a cycle: a bounded, attracting orbit, not
+    `unbounded` (the forcing's work pi A a sin(phase) cannot outgrow it off r = 1). DOP853 agrees."""
+    r = np.sqrt(1.0 + kappa)
+    row = event.solve_flat("base", np.array([r]), np.array([beta]), {"contact_stiffness": kappa}, stability=1)[0]
+    assert row[steady.OUT_REGIME] == Regime.CONTINUOUS and 0.0 < row[steady.OUT_FLOQUET] < 1.0
+    ind = jenkins_orbit(1.0, r, beta, beta, kappa, row[steady.OUT_END_Q], row[steady.OUT_END_V], row[js.JOUT_END_W],
+                        int(row[steady.OUT_END_MODE]))
+    assert ind["amplitude"] == pytest.approx(row[steady.OUT_TRANSMISSIBILITY], rel=1e-8)
+    assert ind["slips"] == row[js.JOUT_SLIPS] == 2
 
 
 # kappa -> oo: the rigid model, at a rate measured here (README, "The Jenkins contact")

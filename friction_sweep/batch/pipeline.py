@@ -29,7 +29,7 @@ def run_settings(spec: Spec, table: dict | None = None) -> tuple[dict[str, Any],
     from friction_sweep.bench.workprecision import choose  # reads the calibration file
 
     record = catalogue.method(spec.method)
-    chosen, row = choose(record.calibrated_as or record.name, spec.accuracy, table)
+    chosen, row = choose(record.calibrated_as or record.name, spec.accuracy, table, spec.scene.effects)
     settings.update(chosen)
     return settings, {"accuracy_requested": spec.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
 
