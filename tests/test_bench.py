@@ -24,8 +24,9 @@ def test_quick_bench_writes_dataset_figure_and_table(quick):
     out, output = quick
     ds = xr.open_dataset(out, engine="h5netcdf")
     assert set(ds["error"].dims) == {"method", "setting", "region", "excitation"}
-    assert set(ds.method.values) == {"event", "rk4", "paper", "event_jenkins"}
-    assert json.loads(ds.attrs["effects"]) == {"event_jenkins": {"contact_stiffness": 100.0}}
+    assert set(ds.method.values) == {"event", "rk4", "paper", "event_jenkins", "rk4_jenkins"}
+    assert json.loads(ds.attrs["effects"]) == {name: {"contact_stiffness": 100.0} for name in ("event_jenkins",
+                                                                                            "rk4_jenkins")}
     assert set(ds.region.values) == {"continuous", "two_stops", "many_stops"}
     assert out.with_suffix(".png").stat().st_size > 10_000
     assert "for 1e-06 in transmissibility, method event at" in out.with_suffix(".md").read_text()
@@ -35,7 +36,7 @@ def test_quick_bench_writes_dataset_figure_and_table(quick):
 @pytest.mark.slow
 def test_errors_shrink_as_settings_tighten(quick):
     ds = xr.open_dataset(quick[0], engine="h5netcdf")
-    for m in ("event", "rk4", "event_jenkins"):
+    for m in ("event", "rk4", "event_jenkins", "rk4_jenkins"):
         err = ds["error"].sel({"method": m}).max(["region", "excitation"]).values
         err = err[np.isfinite(err)]
         assert err[-1] < 1e-3 * err[0]  # the tightest setting is far more accurate than the loosest
@@ -97,6 +98,22 @@ def test_accuracy_with_the_jenkins_contact_reads_its_own_rows():
     assert settings == slow["settings"] and choice["measured_as"] == "event_jenkins"
     with pytest.raises(LookupError, match="as measured with contact_stiffness"):
         wp.choose("event", 1e-12, table, {"contact_stiffness": 30.0})
+
+
+def test_accuracy_with_the_contact_is_met_against_the_tightest_run(tmp_path):
+    """The packaged calibration's Jenkins rows, end to end: a spec at kappa = 100 asking 1e-6 gets it."""
+    spec = tmp_path / "s.yaml"
+    head = ("scene: {excitation: base, effects: {contact_stiffness: 100}}\n"
+            "grid: {frequency_ratio: [0.3, 0.7, 1.5, 2.5], force_ratio: [0.2, 0.7]}\nmethod: event\n")
+    spec.write_text(head + "accuracy: 1.0e-6\n")
+    out, tight = tmp_path / "o.h5", tmp_path / "t.h5"
+    assert CliRunner().invoke(main, ["run", str(spec), "-o", str(out), "-q"]).exit_code == 0
+    spec.write_text(head + "settings: {stop_tol: 1.0e-13, steady_tol: 1.0e-12}\n")
+    assert CliRunner().invoke(main, ["run", str(spec), "-o", str(tight), "-q"]).exit_code == 0
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert json.loads(ds.attrs["accuracy_choice"])["measured_as"] == "event_jenkins"
+    t = xr.open_dataset(tight, engine="h5netcdf")["transmissibility"].values
+    assert np.nanmax(np.abs(ds["transmissibility"].values / t - 1)) <= 1e-6
 
 
 def test_accuracy_and_knobs_together_are_refused(tmp_path):
