@@ -41,10 +41,29 @@ def test_second_start_with_static_friction_finds_genuine_orbits():
         assert row[steady.OUT_REGIME] in (Regime.STICK_SLIP, Regime.CONTINUOUS)
         A, c, bk, bs, zeta = (float(x[0]) for x in event.point_parameters("base", [r], [beta], effects))
         ind = jenkins_orbit(A, r, bk, bs, 100.0, row[steady.OUT_END_Q], row[steady.OUT_END_V], row[js.JOUT_END_W],
-                            int(row[steady.OUT_END_MODE]), c=c, zeta=zeta)
+                            int(row[steady.OUT_END_MODE]), c=c, zeta=zeta, kmax=16)
         assert ind["orbit_period"] == row[steady.OUT_ORBIT_PERIOD]
         assert (ind["slips"], ind["stops"]) == (row[js.JOUT_SLIPS], row[steady.OUT_STOPS_PER_PERIOD])
         assert ind["amplitude"] == pytest.approx(row[steady.OUT_TRANSMISSIBILITY], rel=1e-8)
+
+
+@pytest.mark.parametrize(("excitation", "r", "beta"), [("base", [0.3, 0.6, 0.9, 1.1], 0.7),
+                                                      ("joined", [0.7], 0.4), ("joined", [0.9], 0.6)])
+def test_undamped_stiff_contact_keeps_the_rigid_models_two_states(excitation, r, beta):
+    """Static friction, no damping, kappa = 1e4: where the rigid mass stays stuck from rest but keeps moving
+    from the moving start, so does the contact's (the stuck oscillator's free motion decides whether a start
+    settles without slipping, not a shortcut to the stuck orbit), and a sweep down keeps it moving."""
+    r = np.array(r)
+    effects = {"static_friction_ratio": 1.5}
+    rigid = event.compute_tile(excitation, r, np.array([beta]), OUTPUTS, effects)
+    contact = event.compute_tile(excitation, r, np.array([beta]), OUTPUTS, {**effects, "contact_stiffness": 1e4})
+    assert (rigid["steady_states"] == 2).all() and (rigid["regime"] == Regime.STUCK).all()
+    assert (contact["steady_states"] == 2).all() and (contact["regime"] == Regime.STUCK).all()
+    assert np.isin(contact["regime_moving"], [Regime.STICK_SLIP, Regime.CONTINUOUS]).all()
+    down = event.compute_sweep_tile(excitation, r, np.array([beta]), OUTPUTS, {**effects, "contact_stiffness": 1e4},
+                                    direction="down")
+    rigid_down = event.compute_sweep_tile(excitation, r, np.array([beta]), OUTPUTS, effects, direction="down")
+    np.testing.assert_array_equal(down["regime"] != Regime.STUCK, rigid_down["regime"] != Regime.STUCK)
 
 
 @pytest.mark.parametrize("excitation", ["base", "joined"])

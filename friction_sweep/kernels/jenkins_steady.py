@@ -8,11 +8,14 @@ is valid (restricted to (q, v) where the slider slips at the section: M's column
 its eigenvalues are those of the 2 x 2 block and 0), forward differences of the period map elsewhere; the
 largest |eigenvalue| of the converged orbit's is its `floquet_multiplier`.
 
-Without damping a stuck slider dissipates nothing: where the forced motion of the stuck oscillator,
-q = A cos(r t) / (1 + kappa - r^2) with the slider at 0, keeps the contact force inside the static
-band, the march starts on it (as steady.py does for beta = 0: the limit of vanishing damping) and one
-measured period confirms it: regime `stuck` (the slider never slips; the mass vibrates on the contact
-spring). Points without friction (beta = 0) are the rigid model's, solved by steady.solve_point.
+Without damping a stuck slider dissipates nothing, so the stuck oscillator's free motion never dies out.
+Where the start (or a state the march reaches after a period without slips) can never carry the contact
+force across the band, forced and free motion together (_held_forever), the limit of vanishing damping is
+the forced motion about the slider's place, q = kappa w/(1 + kappa) + A cos(r t)/(1 + kappa - r^2): the
+point settles there, confirmed by one measured period, regime `stuck` (the slider never slips; the mass
+vibrates on the contact spring). A start whose free motion reaches the band slips first, and with static
+above kinetic friction those slips can leave the mass moving: the march decides. Points without friction
+(beta = 0) are the rigid model's, solved by steady.solve_point.
 """
 
 from __future__ import annotations
@@ -65,6 +68,7 @@ from friction_sweep.kernels.settings import (
     SET_WORK_BUDGET,
 )
 from friction_sweep.kernels.steady import (
+    FLOQUET_FD_STEP,
     OUT_END_MODE,
     OUT_END_Q,
     OUT_END_V,
@@ -206,9 +210,43 @@ def _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget, acc):
 
 @jit
 def _radius(jac, dim):
-    """Largest |eigenvalue| of the leading dim x dim block."""
-    ev = np.linalg.eigvals(jac[:dim, :dim].astype(np.complex128))
+    """Largest |eigenvalue| of the leading dim x dim block; NaN where it is not finite (eigvals would raise)."""
+    block = jac[:dim, :dim]
+    if not np.all(np.isfinite(block)):
+        return math.nan
+    ev = np.linalg.eigvals(block.astype(np.complex128))
     return np.max(np.abs(ev))
+
+
+@jit
+def _central_radius(q, v, w, mode, anchor, k, p, settings, budget, size):
+    """The largest |multiplier| of P^k at the orbit's state by central differences (the rk4 kernel, which
+    builds no monodromy matrix), in Newton's coordinates (_jacobian), step steady.FLOQUET_FD_STEP of the
+    larger of the orbit and the forcing. Returns (radius, periods, work); NaN where a perturbed start
+    fails or changes mode."""
+    dim = 2 if _slipping(mode) else 3
+    jac = np.zeros((3, 3))
+    h = FLOQUET_FD_STEP * max(size, p.A)
+    acc = np.empty(JACC_SIZE)
+    work = 0
+    periods = 0
+    base = np.array([q, v, w])
+    for j in range(dim):
+        for sign in (1.0, -1.0):
+            x = base.copy()
+            x[j] += sign * h
+            if dim == 2:
+                x[2] = x[0] - mode * p.bk / p.kappa
+            qa, va, wa, ma, _, st, wk = _map_k(x[0], x[1], x[2], mode, anchor, k, p, settings, budget - work, False,
+                                               acc)
+            work += wk
+            periods += k
+            if st != 0 or not _same_kind(ma, mode):
+                return math.nan, periods, work
+            jac[0, j] += sign * qa / (2.0 * h)
+            jac[1, j] += sign * va / (2.0 * h)
+            jac[2, j] += sign * wa / (2.0 * h)
+    return _radius(jac, dim), periods, work
 
 
 @jit
@@ -294,6 +332,45 @@ def _repeat_lag(q, v, w, mode, n, hq, hv, hw, hm, kmax, tol, size, floor):
     return 0
 
 
+@jit_inline
+def _resting_slider(q0, p):
+    """Where the slider sits at the start from rest: the contact spring holds the mass at q0 against the
+    forcing at the section, kappa (q0 - w) = A - q0, as the rigid contact holds a mass at rest; where that
+    needs more than the static friction, at the band's edge (the mass then slips at once, as the rigid one
+    does). A relaxed spring instead (w = q0) would let the suddenly applied force swing the mass by twice its
+    static deflection, carrying the contact force to about 2 A whatever kappa, so that from rest the
+    contact would not approach the rigid model (A < beta_s < 2 A: the rigid mass stays, the contact slips)."""
+    hold = p.bs * (1.0 - TIE_RTOL)  # inside the band: a start on its edge is a tie the stick cannot leave
+    return q0 - max(-hold, min(hold, p.A - q0)) / p.kappa
+
+
+@jit_inline
+def _held_forever(q, v, w, p):
+    """Whether the undamped stuck slider at w, the mass at (q, v) at the section, settles without slipping
+    in the limit of vanishing damping, and the forced orbit it then settles on: returns (held, q, w) of
+    that orbit at the section (at rest there: the excitation's maximum).
+
+    Stuck, q = K + F cos(r t) + C cos(Omega t) + D sin(Omega t) with K = kappa w / Omega^2 (the rest
+    position), F = A / (Omega^2 - r^2), C = q - K - F, D = v / Omega. Vanishing damping removes the free
+    part; before it does, the contact force kappa (q - w) comes arbitrarily close to |kappa (K - w)| +
+    kappa |F| + kappa hypot(C, D) (r and Omega are incommensurate but on a set of measure zero). With static
+    above kinetic friction, a free part that carries the force across the band slips first, and those slips
+    can leave the mass moving: not held, the march decides. With static equal to kinetic friction the
+    steady state is the same from every start, so only the forced orbit matters: held where it stays
+    inside the band about the relaxed slider, kappa |F| < beta (the free part's slips shave it off ever
+    more finely: a march would approach that orbit without reaching it)."""
+    om2 = 1.0 + p.kappa
+    detuning = (math.sqrt(om2) - p.r) * (math.sqrt(om2) + p.r)
+    if p.zeta != 0.0 or detuning == 0.0:
+        return False, math.nan, w
+    F = p.A / detuning
+    if p.bs <= p.bk:
+        return p.kappa * abs(F) < p.bs * (1.0 - TIE_RTOL), F, 0.0
+    K = p.kappa * w / om2
+    reach = p.kappa * (abs(K - w) + abs(F) + math.hypot(q - K - F, v / math.sqrt(om2)))
+    return reach < p.bs * (1.0 - TIE_RTOL), K + F, w
+
+
 @jit
 def _march(q, v, w, mode, anchor, p, settings, work, acc):
     """March the period map until it repeats (period k), a shooting solve lands on the orbit, the motion
@@ -332,6 +409,11 @@ def _march(q, v, w, mode, anchor, p, settings, work, acc):
         orbit = _repeat_lag(q, v, w, mode, n, hq, hv, hw, hm, kmax, tol, size, floor)
         if orbit > 0:
             return q, v, w, mode, anchor, SteadyState.CONVERGED, orbit, periods, work, False, math.nan
+        if acc[JACC_SLIPS] == 0.0 and not _slipping(mode):
+            # undamped and stuck for good: the forced orbit about the slider's place (_held_forever)
+            held, qf, wf = _held_forever(q, v, w, p)
+            if held:
+                return qf, 0.0, wf, STUCK_HELD, anchor, SteadyState.CONVERGED, 1, periods, work, False, math.nan
         i = n % (kmax + 1)
         hq[i], hv[i], hw[i], hm[i] = q, v, w, mode
         # shooting needs a period in which the slider slipped: a stuck slider's position is a neutral
@@ -393,7 +475,8 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
     acc = np.empty(JACC_SIZE)
     budget = int(settings[SET_WORK_BUDGET])
     q0 = settings[SET_INITIAL_DISPLACEMENT]
-    q, v, w, mode = q0, settings[SET_INITIAL_VELOCITY], q0 if math.isnan(start_w) else start_w, start_mode
+    q, v, w, mode = q0, settings[SET_INITIAL_VELOCITY], _resting_slider(q0, p) if math.isnan(start_w) else start_w, \
+        start_mode
     anchor = math.nan
     status = SteadyState.PERIOD_CAP
     orbit = 0
@@ -401,16 +484,14 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
     periods = 0
     shot = False
     radius = math.nan
-    om2 = 1.0 + p.kappa
-    detuning = (math.sqrt(om2) - p.r) * (math.sqrt(om2) + p.r)
-    if p.zeta == 0.0 and detuning != 0.0 and p.kappa * abs(p.A / detuning) < p.bs * (1.0 - TIE_RTOL):
-        # the stuck oscillator's forced motion stays inside the band: start on it, one period confirms it
-        qf = p.A / detuning
-        q1, v1, w1, m1, _, st, work = _map_k(qf, 0.0, 0.0, STUCK_HELD, math.nan, 1, p, settings, budget, True, acc)
+    held, qf, wf = _held_forever(q, v, w, p) if not _slipping(mode) or p.bs <= p.bk else (False, math.nan, w)
+    if held:
+        # the start settles without slipping: the forced orbit about the slider's place, confirmed by a period
+        q1, v1, w1, m1, _, st, work = _map_k(qf, 0.0, wf, STUCK_HELD, math.nan, 1, p, settings, budget, True, acc)
         periods = 1
         if st == 0 and acc[JACC_SLIPS] == 0.0 and abs(q1 - qf) + abs(v1) <= settings[SET_STEADY_TOL] * abs(qf) + \
                 _map_error(p, settings) * max(abs(qf), p.A):
-            q, v, w, mode, status, orbit, shot = qf, 0.0, 0.0, STUCK_HELD, SteadyState.CONVERGED, 1, True
+            q, v, w, mode, status, orbit, shot = qf, 0.0, wf, STUCK_HELD, SteadyState.CONVERGED, 1, True
     if status != SteadyState.CONVERGED:
         q, v, w, mode, anchor, status, orbit, marched, work, shot, radius = _march(q, v, w, mode, anchor, p, settings,
                                                                                    work, acc)
@@ -435,21 +516,20 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
             out[OUT_STEADY_STATE] = SteadyState.EVENT_BUDGET.value
             out[OUT_REGIME] = Regime.UNSETTLED.value
             return
-        if acc[JACC_SLIPS] > 0.0 and acc[JACC_JAC_OK] == 1.0:
-            radius = _radius(_monodromy(acc), 2 if _slipping(mode) else 3)
-        elif acc[JACC_SLIPS] > 0.0 and settings[SET_STABILITY] != 0.0:
-            # the marched orbit's multipliers, by forward differences of P^k (acc is measured again after)
-            acc2 = np.empty(JACC_SIZE)
-            reset_accumulator(acc2)
-            acc2[ACC_QMAX] = acc[ACC_QMAX]
-            jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, orbit, q1, v1, w1, p, settings, budget - work, acc2)
-            out[OUT_WORK] += wk
-            out[OUT_PERIODS] += dim * orbit
-            if ok:
-                radius = _radius(jac, dim)
     _record(out, acc, orbit, p)
-    # where the slider never slips its position is neutral (multiplier 1 of a continuum): undefined
+    # the orbit's multipliers (steady._floquet's rules): where the slider never slips its position is neutral
+    # (multiplier 1 of a continuum), undefined; the event kernel's exact matrix of the measured periods, NaN
+    # where the map is not smooth at the orbit; central differences for rk4
     if settings[SET_STABILITY] != 0.0 and acc[JACC_SLIPS] > 0.0:
+        if settings[SET_KERNEL] == KERNEL_RK4:
+            radius, k, wk = _central_radius(q, v, w, mode, anchor, orbit, p, settings, budget - int(out[OUT_WORK]),
+                                            max(math.hypot(q, v), acc[ACC_QMAX]))
+            out[OUT_PERIODS] += k
+            out[OUT_WORK] += wk
+        elif acc[JACC_JAC_OK] == 1.0:
+            radius = _radius(_monodromy(acc), 2 if _slipping(mode) else 3)
+        else:
+            radius = math.nan
         out[JOUT_FLOQUET] = radius
 
 

@@ -461,12 +461,12 @@ def _floquet(q, v, mode, orbit, p, settings, budget, acc):
         scratch = np.empty(ACC_SIZE)
         m11, m12, m21, m22 = 1.0, 0.0, 0.0, 1.0
         work = 0
-        for _ in range(orbit):
+        for i in range(orbit):
             reset_accumulator(scratch)
             q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, False, scratch)
             work += w
             if st != 0 or scratch[ACC_JAC_OK] != 1.0:
-                return math.nan, orbit, work
+                return math.nan, i + 1, work
             j11, j12 = scratch[ACC_JAC], scratch[ACC_JAC + 1]
             j21, j22 = scratch[ACC_JAC + 2], scratch[ACC_JAC + 3]
             m11, m12, m21, m22 = (j11 * m11 + j12 * m21, j11 * m12 + j12 * m22,

@@ -185,7 +185,7 @@ def solve_moving(excitation, r, beta, effects=None, **settings):
     that kinetic friction alone sustains at each point, or where that motion grows without bound,
     the state where its march gave up (a start that the model with static friction then follows)."""
     kinetic = {k: v for k, v in (effects or {}).items() if k != "static_friction_ratio"}
-    seed = solve_flat(excitation, r, beta, kinetic, **settings)
+    seed = solve_flat(excitation, r, beta, kinetic, **{**settings, "stability": 0})  # only its end state is kept
     start = [np.nan_to_num(seed[:, steady.OUT_END_Q], nan=0.0, posinf=0.0, neginf=0.0),
              np.nan_to_num(seed[:, steady.OUT_END_V], nan=0.0, posinf=0.0, neginf=0.0)]
     if contact_stiffness(effects) > 0.0:

@@ -179,7 +179,8 @@ VARIABLES = {
         "slider that never slips: a continuum of rest states), on the r = 1/(2n) family (steady_state family), "
         "without a periodic steady state (regime unbounded or unsettled, steady_state aperiodic), and where the "
         "period map is not smooth at the orbit (a grazing stop or band exit, a period that starts held by static "
-        "friction alone: regime stick_slip or continuous with steady_state converged)",
+        "friction alone: regime stick_slip or continuous with steady_state converged), and where method auto "
+        "took the theory (steady_state not_simulated)",
         "1",
         valid_range=NONNEGATIVE,
     ),
