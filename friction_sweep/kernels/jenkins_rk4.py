@@ -71,13 +71,13 @@ from friction_sweep.kernels.rk4 import (
     GL3_W,
     NO_STOP,
     _accel,
-    _cubic,
     _first_down,
     _herm5_q,
     _herm_q,
     _measure_slip,
     _rk4_step,
     _stop_in_step,
+    turn_of_x,
 )
 from friction_sweep.kernels.segments import TWO_PI
 
@@ -150,24 +150,8 @@ def _measure_stick_step(acc, t0, w, d0, v0, a0, d1, v1, a1, H, r, c):
     offer_extreme(acc, w + d0 + c * math.cos(r * t0), t0)
     offer_extreme(acc, w + d1 + c * math.cos(r * t1), t1)
     if H > 0.0:
-        e0 = v0 - c * r * math.sin(r * t0)
-        e1 = v1 - c * r * math.sin(r * t1)
-        if (e0 > 0.0 and e1 < 0.0) or (e0 < 0.0 and e1 > 0.0):
-            dd0 = H * a0
-            dd1 = H * a1
-            C2 = 3.0 * (v1 - v0) - 2.0 * dd0 - dd1
-            C3 = 2.0 * (v0 - v1) + dd0 + dd1
-            lo = 0.0
-            hi = 1.0
-            sgn_lo = e0 > 0.0
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                e = _cubic(v0, dd0, C2, C3, mid) - c * r * math.sin(r * (t0 + mid * H))
-                if (e > 0.0) == sgn_lo:
-                    lo = mid
-                else:
-                    hi = mid
-            x = 0.5 * (lo + hi)
+        x = turn_of_x(t0, v0, a0, v1, a1, H, r, c)
+        if x >= 0.0:
             tx = t0 + x * H
             offer_extreme(acc, w + _herm5_q(d0, v0, a0, d1, v1, a1, H, x) + c * math.cos(r * tx), tx)
 

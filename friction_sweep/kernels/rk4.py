@@ -242,28 +242,37 @@ def _measure_slip(acc, t0, q0, v0, a0, q1, v1, a1, H, r, c):
     offer_extreme(acc, q0 + c * math.cos(r * t0), t0)
     offer_extreme(acc, q1 + c * math.cos(r * t1), t1)
     if c != 0.0 and H > 0.0:
-        # x' = v - c r sin(r t): an interior zero is an extreme of x; v from its cubic Hermite
-        d0 = H * a0
-        d1 = H * a1
-        C2 = 3.0 * (v1 - v0) - 2.0 * d0 - d1
-        C3 = 2.0 * (v0 - v1) + d0 + d1
-        e0 = v0 - c * r * math.sin(r * t0)
-        e1 = v1 - c * r * math.sin(r * t1)
-        if (e0 > 0.0 and e1 < 0.0) or (e0 < 0.0 and e1 > 0.0):
-            lo = 0.0
-            hi = 1.0
-            sgn_lo = e0 > 0.0
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                e = _cubic(v0, d0, C2, C3, mid) - c * r * math.sin(r * (t0 + mid * H))
-                if (e > 0.0) == sgn_lo:
-                    lo = mid
-                else:
-                    hi = mid
-            x = 0.5 * (lo + hi)
+        x = turn_of_x(t0, v0, a0, v1, a1, H, r, c)
+        if x >= 0.0:
             q = _herm5_q(q0, v0, a0, q1, v1, a1, H, x)  # O(H^6): the piece may be a short one
             tx = t0 + x * H
             offer_extreme(acc, q + c * math.cos(r * tx), tx)
+
+
+@jit_inline
+def turn_of_x(t0, v0, a0, v1, a1, H, r, c):
+    """Where in a step of length H from t0 the response x = q + c cos(r t) turns: the fraction x in (0, 1) at
+    which x' = v - c r sin(r t) changes sign, v on its cubic Hermite (v, a at both ends), bisected to
+    rounding; -1 where x' has the same sign at both ends (an interior extreme of x is then not sought)."""
+    e0 = v0 - c * r * math.sin(r * t0)
+    e1 = v1 - c * r * math.sin(r * (t0 + H))
+    if not ((e0 > 0.0 and e1 < 0.0) or (e0 < 0.0 and e1 > 0.0)):
+        return -1.0
+    d0 = H * a0
+    d1 = H * a1
+    C2 = 3.0 * (v1 - v0) - 2.0 * d0 - d1
+    C3 = 2.0 * (v0 - v1) + d0 + d1
+    lo = 0.0
+    hi = 1.0
+    sgn_lo = e0 > 0.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        e = _cubic(v0, d0, C2, C3, mid) - c * r * math.sin(r * (t0 + mid * H))
+        if (e > 0.0) == sgn_lo:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 @jit_inline
