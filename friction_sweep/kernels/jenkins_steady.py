@@ -253,9 +253,9 @@ def _central_radius(q, v, w, mode, anchor, k, p, settings, budget, size):
 def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
     """Newton on P^k(x) = x from (q, v, w, mode) (anchor: jenkins.py's label, kept), with P^k's exact
     monodromy matrix where the map is smooth there, forward differences elsewhere. Returns (q, v, w, mode,
-    ok, work, periods, radius); on success acc holds the measurement of the k periods from the returned
-    state and radius the largest |multiplier| of the exact matrix there (of the last Jacobian where that
-    is not valid)."""
+    ok, work, periods); on success acc holds the measurement of the k periods from the returned state. A
+    solution counts only if it attracts: the largest |multiplier| of the exact matrix there (of the last
+    Jacobian where that is not valid) below 1."""
     work = 0
     periods = 0
     last_step = math.inf
@@ -268,7 +268,7 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
         work += wk
         periods += k
         if st != 0 or not _same_kind(m1, mode) or not (math.isfinite(q1) and math.isfinite(v1)):
-            return q, v, w, mode, False, work, periods, radius
+            return q, v, w, mode, False, work, periods
         size = max(size, acc[ACC_QMAX])
         scale = max(math.hypot(q, v), size)
         noise = MAP_ROUNDING * max(scale, p.A)
@@ -281,14 +281,14 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
             work += wk
             periods += k
             if st != 0:
-                return q, v, w, mode, False, work, periods, radius
+                return q, v, w, mode, False, work, periods
             _, _, _, _, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, True, acc)
             work += wk
             periods += k
             if st == 0 and acc[JACC_JAC_OK] == 1.0:
                 radius = _radius(_monodromy(acc), 2 if _slipping(mode) else 3)
             ok = st == 0 and radius < 1.0
-            return q, v, w, mode, ok, work, periods, radius
+            return q, v, w, mode, ok, work, periods
         if acc[JACC_JAC_OK] == 1.0:
             jac = _monodromy(acc)
             dim = 2 if _slipping(mode) else 3
@@ -297,12 +297,12 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
             work += wk
             periods += dim * k
             if not ok:
-                return q, v, w, mode, False, work, periods, radius
+                return q, v, w, mode, False, work, periods
         radius = _radius(jac, dim)
         b = jac[:dim, :dim] - np.eye(dim)
         f = np.array([q1 - q, v1 - v, w1 - w])[:dim]
         if not np.all(np.isfinite(b)) or abs(np.linalg.det(b)) == 0.0:
-            return q, v, w, mode, False, work, periods, radius
+            return q, v, w, mode, False, work, periods
         dx = -np.linalg.solve(b, f)
         step = np.sum(np.abs(dx))
         # the map is only piecewise smooth: a step longer than the motion leaves the piece that proposed it
@@ -316,8 +316,8 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
             w += dx[2]
         last_step = step
         if not (math.isfinite(q) and math.isfinite(v) and math.isfinite(w)):
-            return q, v, w, mode, False, work, periods, radius
-    return q, v, w, mode, False, work, periods, radius
+            return q, v, w, mode, False, work, periods
+    return q, v, w, mode, False, work, periods
 
 
 @jit_inline
@@ -375,7 +375,7 @@ def _held_forever(q, v, w, p):
 def _march(q, v, w, mode, anchor, p, settings, work, acc):
     """March the period map until it repeats (period k), a shooting solve lands on the orbit, the motion
     grows without bound (next to r = 1 below pi/4, steady.py's test), or the periods or the work run out.
-    Returns (q, v, w, mode, anchor, status, orbit, periods, work, shot, radius)."""
+    Returns (q, v, w, mode, anchor, status, orbit, periods, work, shot)."""
     tol = settings[SET_STEADY_TOL]
     max_periods = int(settings[SET_MAX_PERIODS])
     kmax = int(settings[SET_MAX_ORBIT_PERIOD])
@@ -397,38 +397,38 @@ def _march(q, v, w, mode, anchor, p, settings, work, acc):
         q, v, w, mode, anchor, st, wk = _period(q, v, w, mode, anchor, p, settings, budget - work, False, acc)
         work += wk
         if st == BUDGET or work > budget:
-            return q, v, w, mode, anchor, SteadyState.EVENT_BUDGET, 0, periods, work, False, math.nan
+            return q, v, w, mode, anchor, SteadyState.EVENT_BUDGET, 0, periods, work, False
         if not (math.isfinite(q) and math.isfinite(v) and math.isfinite(w)):
-            return q, v, w, mode, anchor, SteadyState.NONFINITE, 0, periods, work, False, math.nan
+            return q, v, w, mode, anchor, SteadyState.NONFINITE, 0, periods, work, False
         rho = math.hypot(q, v)
         rho_hist[n % RHO_HISTORY] = rho
         size = max(rho, acc[ACC_QMAX])
         if rho > RUNAWAY * max(p.A, 1.0):
-            return q, v, w, mode, anchor, SteadyState.GROWING, 0, periods, work, False, math.nan
+            return q, v, w, mode, anchor, SteadyState.GROWING, 0, periods, work, False
         floor = MAP_ROUNDING * max(size, p.A) if n > shoot_every else 0.0
         orbit = _repeat_lag(q, v, w, mode, n, hq, hv, hw, hm, kmax, tol, size, floor)
         if orbit > 0:
-            return q, v, w, mode, anchor, SteadyState.CONVERGED, orbit, periods, work, False, math.nan
+            return q, v, w, mode, anchor, SteadyState.CONVERGED, orbit, periods, work, False
         if acc[JACC_SLIPS] == 0.0 and not _slipping(mode):
             # undamped and stuck for good: the forced orbit about the slider's place (_held_forever)
             held, qf, wf = _held_forever(q, v, w, p)
             if held:
-                return qf, 0.0, wf, STUCK_HELD, anchor, SteadyState.CONVERGED, 1, periods, work, False, math.nan
+                return qf, 0.0, wf, STUCK_HELD, anchor, SteadyState.CONVERGED, 1, periods, work, False
         i = n % (kmax + 1)
         hq[i], hv[i], hw[i], hm[i] = q, v, w, mode
         # shooting needs a period in which the slider slipped: a stuck slider's position is a neutral
         # direction of the map (multiplier 1), and there the march settles by itself
         if n >= next_shot and acc[JACC_SLIPS] > 0.0:
-            qs, vs, ws, ms, ok, wk, k, radius = shoot_jenkins(q, v, w, mode, anchor, 1, p, settings, tol,
-                                                               budget - work, acc)
+            qs, vs, ws, ms, ok, wk, k = shoot_jenkins(q, v, w, mode, anchor, 1, p, settings, tol, budget - work,
+                                                      acc)
             work += wk
             periods += k
             next_shot = n + shoot_every
             if ok:
-                return qs, vs, ws, ms, anchor, SteadyState.CONVERGED, 1, periods, work, True, radius
+                return qs, vs, ws, ms, anchor, SteadyState.CONVERGED, 1, periods, work, True
         if _growing(rho_hist, n, p):
-            return q, v, w, mode, anchor, SteadyState.GROWING, 0, periods, work, False, math.nan
-    return q, v, w, mode, anchor, SteadyState.PERIOD_CAP, 0, periods, work, False, math.nan
+            return q, v, w, mode, anchor, SteadyState.GROWING, 0, periods, work, False
+    return q, v, w, mode, anchor, SteadyState.PERIOD_CAP, 0, periods, work, False
 
 
 @jit_inline
@@ -483,7 +483,6 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
     work = 0
     periods = 0
     shot = False
-    radius = math.nan
     held, qf, wf = _held_forever(q, v, w, p) if not _slipping(mode) or p.bs <= p.bk else (False, math.nan, w)
     if held:
         # the start settles without slipping: the forced orbit about the slider's place, confirmed by a period
@@ -493,8 +492,8 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
                 _map_error(p, settings) * max(abs(qf), p.A):
             q, v, w, mode, status, orbit, shot = qf, 0.0, wf, STUCK_HELD, SteadyState.CONVERGED, 1, True
     if status != SteadyState.CONVERGED:
-        q, v, w, mode, anchor, status, orbit, marched, work, shot, radius = _march(q, v, w, mode, anchor, p, settings,
-                                                                                   work, acc)
+        q, v, w, mode, anchor, status, orbit, marched, work, shot = _march(q, v, w, mode, anchor, p, settings, work,
+                                                                           acc)
         periods += marched
     out[OUT_PERIODS] = periods
     out[OUT_STEADY_STATE] = status.value
