@@ -4,7 +4,7 @@ exists, however close to the stick-free family r lies, and the tool says so in e
 At r = 1/(2n) + d the multiplier of Den Hartog's orbit is 1 - O(d^2 / beta) (1 to rounding at
 |2nr - 1| = 2e-12, the 12-digit grid value 0.166666666667), so Newton cannot resolve the orbit, and a
 march from rest creeps towards the family: one stop a period whose stuck time shrinks by a factor of 2
-over some 10^5 periods. The march's per-period test took that creep for a stick-slip orbit (main: all
+over some 2 x 10^5 periods. The march's per-period test took that creep for a stick-slip orbit (main: all
 25 beta of the issue's grid `stick_slip`, stuck fraction 2e-4; joined at beta = 1e-12 `unsettled`). The
 friction law is monotone, so the period map does not expand distances; a stick-free fixed point is then
 the only one (kernels/shoot.py _neutral_closed_form), and the event kernel takes Den Hartog's closed

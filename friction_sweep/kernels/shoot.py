@@ -101,7 +101,7 @@ def _neutral_closed_form(acc, radius):
     differ by a free oscillation whose period divides the forcing period, r = 1/m, where U is singular
     (odd m: no closed form) or the stick-free family lies (even m). Next to r = 1/(2n) the multiplier
     tends to 1 (|(J - I)^-1| ~ 1e19 at |2nr - 1| = 2e-12), so _resolvable refuses the orbit and a march
-    creeps, stick by stick, ever more slowly (10^5 periods halve the stuck time) towards the family: a
+    creeps, stick by stick, ever more slowly (2 x 10^5 periods halve the stuck time) towards the family: a
     creep that the march's per-period test would accept as a stick-slip orbit. The closed form places the
     fixed point; the exact period confirms it."""
     return acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0 and radius <= 1.0 + NEUTRAL_SLACK
