@@ -243,6 +243,18 @@ def _continuous_next_to_the_family(d: Path) -> None:
                            (SteadyState.CONVERGED, SteadyState.FAMILY, SteadyState.NOT_SIMULATED)).all()
 
 
+def _creep_at_the_family(d: Path) -> None:
+    """An event cube at r = 1/2 and 1/4 in binary whose point (0.5, 0.1) says `stick_slip`, one stop a
+    period, as a march that creeps towards the family would (every stick-free orbit there is continuous)."""
+    _good_cube(d)
+    with xr.open_dataset(d / "out.h5", engine="h5netcdf") as ds:
+        ds = ds.load()
+    at = {"frequency_ratio": 0.5, "force_ratio": 0.1}
+    ds["regime"].loc[at] = 1
+    ds["stops_per_period"].loc[at] = 1.0
+    (d / "out.h5").unlink()
+    ds.to_netcdf(d / "out.h5", engine="h5netcdf")
+
 CASES = [
     # ---- spec files that cost without bound, or crash the reader
     Case("alias bomb", _alias_bomb(), words=("aliases repeat more than",)),
@@ -398,6 +410,10 @@ CASES = [
          _near_family(method="auto\nsettings: {theory_margin: 0.99}", beta="{start: 0.0, stop: 0.03, num: 31}"),
          args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",),
          absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: a stick-slip label on the r = 1/2 family fails check", _near_family(
+        r="[0.25, 0.5]", beta="[0.01, 0.1]"), args=("check", "{d}/out.h5"), setup=_creep_at_the_family, exit=1,
+         words=("theory      FAILED   1 of 3", "r=0.5, beta=0.1: stick_slip, expected continuous"), exist=("out.h5",),
+         absent=(), lines=None),
 ]
 
 
