@@ -118,3 +118,19 @@ def test_joined_issue_point_with_the_least_friction(compiled):
     assert out["regime"][0, 0] == Regime.CONTINUOUS and out["steady_state"][0, 0] == SteadyState.CONVERGED
     assert abs(out["transmissibility"][0, 0] / ref["transmissibility"][0, 0] - 1.0) < 1e-8
 
+
+
+def test_beta_star_through_the_family_and_the_simulation_brackets_it(compiled):
+    """beta*(1/(2n)) = r^2 V = 1/(4n^2 - 1) (U = 0 and S = 1 there), continuous through r = 1/(2n), and the
+    exact simulation, at the binary and the 12-digit r, is stop-free just below it and stops just above
+    (main: 0.166666666667 crept with a stop at 0.995 beta*)."""
+    for n in (1, 2, 3, 5, 8):
+        r0 = 0.5 / n
+        rs = np.array([r0 * (1 - 1e-6), r0, float(f"{r0:.12g}"), r0 * (1 + 1e-6)])
+        bstar = dh.continuous_limit(rs)
+        assert abs(bstar[1] * (4 * n * n - 1) - 1.0) < 1e-12
+        assert np.all(np.abs(bstar / bstar[1] - 1.0) < 1e-5)
+        below = event.compute_tile("base", rs[1:3], 0.995 * bstar[1:2], ("regime",))
+        above = event.compute_tile("base", rs[1:3], 1.005 * bstar[1:2], ("regime",))
+        assert (below["regime"] == Regime.CONTINUOUS).all() and (below["stops_per_period"] == 0).all(), n
+        assert (above["regime"] == Regime.STICK_SLIP).all() and (above["stops_per_period"] == 2).all(), n
