@@ -210,6 +210,51 @@ def _resumed_cube_is_complete(d: Path) -> None:
             np.testing.assert_array_equal(got[name].values, ref[name].values)
 
 
+# issue 28, r = 1/(2n): specs whose grids hold r next to 1/(2n) (12-digit grid values, a few ulps and
+# 1e-9 off, binary 1/(2n)); each is run, then audited by fsweep check
+NEAR_FAMILY = """\
+scene: {{excitation: {excitation}}}
+grid:
+  frequency_ratio: {r}
+  force_ratio: {beta}
+method: {method}
+output: out.h5
+"""
+
+
+def _near_family(excitation="base", r="{start: 0.1, stop: 0.2, num: 31}", beta="{start: 0.001, stop: 0.025, num: 25}",
+                 method="event") -> str:
+    return NEAR_FAMILY.format(excitation=excitation, r=r, beta=beta, method=method)
+
+
+def _continuous_next_to_the_family(d: Path) -> None:
+    """Every point within 1e-6 of r = 1/(2n) and below 0.98 beta*(r) (the scene's convention) is
+    continuous, from a steady state the method found (converged, or the family at the tie)."""
+    with xr.open_dataset(d / "out.h5", engine="h5netcdf") as ds:
+        r = ds["frequency_ratio"].values
+        n = np.rint(0.5 / r)
+        near = np.abs(2.0 * n * r - 1.0) <= 1e-6
+        inside = ds["force_ratio"].values[:, None] <= 0.98 * ds["continuous_limit"].values[None, :]
+        sel = near[None, :] & inside
+        assert sel.any()
+        assert (ds["regime"].values[sel] == 2).all(), ds["regime"].values
+        if "steady_state" in ds:
+            assert np.isin(ds["steady_state"].values[sel],
+                           (SteadyState.CONVERGED, SteadyState.FAMILY, SteadyState.NOT_SIMULATED)).all()
+
+
+def _creep_at_the_family(d: Path) -> None:
+    """An event cube at r = 1/2 and 1/4 in binary whose point (0.5, 0.1) says `stick_slip`, one stop a
+    period, as a march that creeps towards the family would (every stick-free orbit there is continuous)."""
+    _good_cube(d)
+    with xr.open_dataset(d / "out.h5", engine="h5netcdf") as ds:
+        ds = ds.load()
+    at = {"frequency_ratio": 0.5, "force_ratio": 0.1}
+    ds["regime"].loc[at] = 1
+    ds["stops_per_period"].loc[at] = 1.0
+    (d / "out.h5").unlink()
+    ds.to_netcdf(d / "out.h5", engine="h5netcdf")
+
 CASES = [
     # ---- spec files that cost without bound, or crash the reader
     Case("alias bomb", _alias_bomb(), words=("aliases repeat more than",)),
@@ -341,6 +386,34 @@ CASES = [
     # ---- cubes that cannot be trusted
     Case("info on a foreign file", args=("info", "{d}/spec.yaml"), words=("not a readable result cube",),
          absent=()),
+    # ---- issue 28: physics: r=1/(2n) labels (a creep towards the stick-free family taken for a
+    # stick-slip orbit; the cube must pass its own audit at any grid)
+    Case("issue 28: 31-point grid holding r = 0.166666666667", _near_family(), args=("check", "{d}/out.h5"),
+         setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",), absent=(),
+         check=_continuous_next_to_the_family),
+    Case("issue 28: joined at 0.166666666667, beta 1e-12", _near_family("joined", "[0.166666666667]",
+                                                                         "[1.0e-12, 1.0e-6, 7.0e-4]"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("unsettled   ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: force, 1/(2n) for n = 1..5 rounded and detuned", _near_family(
+        "force", "[0.0999999999999, 0.1, 0.100000001, 0.125000000001, 0.16666666666666666, 0.166666666667, "
+        "0.1666666667, 0.2499999999, 0.250000000001, 0.499999999999, 0.5, 0.500000001]",
+        "[1.0e-12, 1.0e-9, 0.0005, 0.005, 0.0095]"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: joined next to 1/4 and 1/6", _near_family(
+        "joined", "[0.1666666666, 0.166666666667, 0.1666666667, 0.249999999999, 0.25, 0.250000000001]",
+        "[1.0e-12, 1.0e-5, 1.0e-4, 5.0e-4]"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: auto simulating next to beta* on the 31-point grid",
+         _near_family(method="auto\nsettings: {theory_margin: 0.99}", beta="{start: 0.0, stop: 0.03, num: 31}"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: a stick-slip label on the r = 1/2 family fails check", _near_family(
+        r="[0.25, 0.5]", beta="[0.01, 0.1]"), args=("check", "{d}/out.h5"), setup=_creep_at_the_family, exit=1,
+         words=("theory      FAILED   1 of 3", "r=0.5, beta=0.1: stick_slip, expected continuous"), exist=("out.h5",),
+         absent=(), lines=None),
 ]
 
 

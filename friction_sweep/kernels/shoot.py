@@ -82,6 +82,29 @@ ROUNDING_NOISE = 4.0
 TRUST = 1.0
 #: evaluations of P^k a shooting solve may take
 NEWTON_ITERATIONS = 40
+#: how far above 1 the computed spectral radius of a closed-form stick-free orbit may lie and still be
+#: read as the multiplier <= 1 that a non-expansive map has: next to r = 1/(2n) the two multipliers are
+#: 1 and 1 - O(beta), and spectral_radius's square root of (trace/2)^2 - det, a difference of numbers
+#: near 1, carries sqrt(rounding) ~ 1.5e-8 (measured: 1 + 1.5e-9 at beta = 1e-9)
+NEUTRAL_SLACK = 1e-7
+
+
+@jit
+def _neutral_closed_form(acc, radius):
+    """Whether a closed-form start that the map returns to itself (settled) is the steady state although
+    Newton cannot resolve it: its period never stops or sticks, and its multiplier is 1 to rounding.
+
+    Where the steady state is unique (static = kinetic friction, something dissipates: the only callers
+    of FIRST_MEASURED), the period map does not expand distances in the energy norm, so no fixed point
+    repels (|multiplier| <= 1 exactly), and a fixed point that never sticks is the only one: another
+    fixed point at a constant energy distance would need the same friction force throughout, so the two
+    differ by a free oscillation whose period divides the forcing period, r = 1/m, where U is singular
+    (odd m: no closed form) or the stick-free family lies (even m). Next to r = 1/(2n) the multiplier
+    tends to 1 (|(J - I)^-1| ~ 1e19 at |2nr - 1| = 2e-12), so _resolvable refuses the orbit and a march
+    creeps, stick by stick, ever more slowly (2 x 10^5 periods halve the stuck time) towards the family: a
+    creep that the march's per-period test would accept as a stick-slip orbit. The closed form places the
+    fixed point; the exact period confirms it."""
+    return acc[ACC_STOPS] == 0.0 and acc[ACC_STUCK] == 0.0 and radius <= 1.0 + NEUTRAL_SLACK
 
 
 #: how shoot's first evaluation goes: integrated plainly; given (the caller's last period, unmeasured,
@@ -112,6 +135,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
     work = 0
     periods = 0
     error = map_error(p.r, settings)
+    guessed = first == FIRST_MEASURED  # a closed-form start (see _neutral_closed_form)
     # Accept only at Newton's floor, reached by shrinking steps: where the map has no fixed point
     # (r = 1, friction below pi/4) a near-singular Jacobian leaps to a huge state whose relative
     # residual looks tiny.
@@ -181,6 +205,11 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
             j22 = (vb - v1) / h - 1.0
         radius = spectral_radius(j11 + 1.0, j12, j21, j22 + 1.0)
         b11, b12, b21, b22 = j11, j12, j21, j22
+        # the closed-form start, settled in its first (measured) period, where Newton cannot resolve it
+        if (guessed and periods == k and settled and exact
+                and not (radius < 1.0 and _resolvable(b11, b12, b21, b22, error))):
+            ok = _neutral_closed_form(acc, radius) and _within_forced_bound(acc, k, p)
+            return q, v, ok, work, periods
         det = j11 * j22 - j12 * j21
         if det == 0.0 or not math.isfinite(det):
             return q, v, False, work, periods
