@@ -32,7 +32,7 @@ _TOKEN = re.compile(r"""
   | (?P<power>\*\*|\^)
   | (?P<superscript>⁻?[⁰¹²³⁴⁵⁶⁷⁸⁹]+)
   | (?P<op>[*·/()+-])
-  | (?P<name>[^\W\d]\w*|%|°)
+  | (?P<name>[^\W\d⁰¹²³⁴⁵⁶⁷⁸⁹][^\W⁰¹²³⁴⁵⁶⁷⁸⁹]*|%|°)   # superscript digits are \w, but a power
 """, re.VERBOSE)
 #: words pint reads as operators
 _PREFIX_POWERS = {"square": 2, "sq": 2, "cubic": 3}
@@ -157,7 +157,7 @@ class _Parser:
 
     def bounded(self, tok: _Token, x: float) -> float:
         if not abs(x) <= self.max_exponent:
-            raise ExpressionError(f"exponent {tok.text} at character {tok.at + 1} is beyond {self.max_exponent:g}: "
+            raise ExpressionError(f"exponent {x:g} at character {tok.at + 1} is beyond {self.max_exponent:g}: "
                                   f"a unit's power is at most {self.max_exponent:g}")
         return x
 
