@@ -188,6 +188,8 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
     if isinstance(value, Mapping):
         return {k: _plain(v, (*path, str(k)), arrays, budget) for k, v in value.items()}
     if isinstance(value, np.ndarray):
+        if 2 * value.size > budget[0]:  # each value at least two bytes of YAML; refused before listing it
+            raise SpecError.single(DICT_SOURCE, _too_large(None))
         value = list(value)  # each element a numpy scalar, read as one below
     if isinstance(value, (list, tuple)):
         return [_plain(v, (*path, i), arrays, budget) for i, v in enumerate(value)]

@@ -179,6 +179,9 @@ def test_a_dict_that_holds_itself_or_too_much_is_refused():
         fs.sweep({**SMALL, "x": list(range(10**6))})
     with pytest.raises(fs.SpecError, match="a spec is at most 262144"):
         fs.sweep({**SMALL, "method": "m" * 10**6})
+    with pytest.raises(fs.SpecError, match="a spec is at most 262144"):  # refused before it is listed
+        fs.sweep({**SMALL, "method": "event", "outputs": ["regime", "time_history"],
+                  "time_history": {"points": np.zeros((10**7, 2))}})
 
 
 def test_sweep_yaml_is_capped_as_a_spec_file_is():
