@@ -31,7 +31,7 @@ import numpy as np
 
 from friction_sweep.batch.executors import EXECUTORS
 from friction_sweep.errors import FsweepError
-from friction_sweep.spec import Spec, SpecError, load_spec, parse_spec_text
+from friction_sweep.spec import Spec, SpecError, grid, load_spec, parse_spec_text
 from friction_sweep.spec.base import show
 from friction_sweep.spec.errors import SpecProblem
 from friction_sweep.spec.load import MAX_DEPTH, MAX_SPEC_BYTES, KeyPath, format_key, parse_yaml
@@ -153,12 +153,13 @@ def spec_of_dict(data: Mapping[str, Any]) -> Spec:
         doc = parse_yaml(text, DICT_SOURCE)
         if isinstance(doc.data, dict):
             _put_arrays(doc.data, arrays)
-        full = text
-        for mark, values in arrays.items():  # the text the cube records, the arrays written out
-            full = full.replace(mark, _flow_list(values), 1)
-        return spec_of_document(doc, full)
+        spec = spec_of_document(doc, text)
     except SpecError as err:
         raise SpecError([SpecProblem(p.path, None, None, p.key, p.reason) for p in err.errors]) from None
+    for mark, values in arrays.items():  # the text the cube records: the arrays (valid now) written out
+        text = text.replace(mark, _flow_list(values), 1)
+    spec._text = text
+    return spec
 
 
 def _too_large(size: int | None) -> str:
@@ -242,17 +243,29 @@ def _put_arrays(data: dict, arrays: dict[str, np.ndarray]) -> None:
             holder[name] = arrays[holder[name]]
 
 
+def _on_lattice(values: np.ndarray) -> bool:
+    """Whether `values` are exactly {start, stop, num}'s values (grid.linspace_values). The rounding is a
+    formatting per value (seconds for 10^7): a sample of 64 is tried first."""
+    n = values.size
+    if n < 3:
+        return False
+    sample = np.unique(np.linspace(0, n - 1, 64).astype(np.int64))
+    raw = np.linspace(values[0], values[-1], n)
+    if not np.array_equal(grid.round_significant(raw[sample[1:-1]]), values[sample[1:-1]]):
+        return False
+    return bool(np.array_equal(grid.linspace_values(float(values[0]), float(values[-1]), n), values))
+
+
 def _flow_list(values: np.ndarray) -> str:
-    """An array as a YAML flow list that reads back to the same values (or, for a dtype the model refuses,
-    its text: the spec is refused before anyone reads it back)."""
-    if values.dtype.kind not in "iuf" or values.ndim != 1:
-        return f"'{values.dtype} array of shape {values.shape}'"
-    with np.errstate(over="ignore"):
-        floats = values.astype(np.float64)
-    if values.dtype.kind in "iu":
-        return "[" + ", ".join(str(x) for x in values.tolist()) + "]"
-    return "[" + ", ".join(repr(x) if np.isfinite(x) else ".nan" if x != x else ".inf" if x > 0 else "-.inf"
-                           for x in floats.tolist()) + "]"
+    """A validated axis array (1-D, numbers) as YAML that reads back to the same values: {start, stop, num}
+    where it is that range's lattice (np.linspace rounded to the grid's digits), else a flow list."""
+    integers = values.dtype.kind in "iu"
+    values = values if integers else values.astype(np.float64)  # a longdouble's repr is not YAML
+    if not integers and _on_lattice(values):
+        return f"{{start: {float(values[0])!r}, stop: {float(values[-1])!r}, num: {values.size}}}"
+    # in chunks: one list of 10^7 Python floats and their texts would hold a gigabyte at once
+    return "[" + ", ".join(", ".join(map(str if integers else repr, values[i:i + 65536].tolist()))
+                           for i in range(0, values.size, 65536)) + "]"
 
 
 def open_cube(path: str | os.PathLike[str]) -> xr.Dataset:

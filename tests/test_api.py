@@ -210,3 +210,17 @@ def test_a_long_array_axis_never_goes_through_the_yaml_parser(monkeypatch):
     small = api.spec_of_dict({**SMALL, "grid": {"frequency_ratio": r[::3000], "force_ratio": np.arange(1, 4)}})
     recorded = YAML(typ="safe").load(small.text)["grid"]
     assert recorded["frequency_ratio"] == r[::3000].tolist() and recorded["force_ratio"] == [1, 2, 3]
+
+
+def test_an_array_on_the_range_lattice_is_recorded_as_the_range():
+    """np.linspace rounded to the grid's digits (the axis of a cube read back) is written {start, stop, num},
+    which the recorded text reads back to, value for value; a dict's text stays small."""
+    from friction_sweep import api
+    from friction_sweep.spec import grid, parse_spec_text
+
+    r = grid.linspace_values(0.5, 2.0, 300_000)
+    spec = api.spec_of_dict({**SMALL, "grid": {"frequency_ratio": r, "force_ratio": np.array([0.1, 0.2])}})
+    assert "{start: 0.5, stop: 2.0, num: 300000}" in spec.text and len(spec.text) < 1000
+    again = parse_spec_text(spec.text)
+    np.testing.assert_array_equal(again.frequency_ratio, r)
+    np.testing.assert_array_equal(again.force_ratio, [0.1, 0.2])
