@@ -147,8 +147,9 @@ def spec_of_dict(data: Mapping[str, Any]) -> Spec:
     budget = [MAX_SPEC_BYTES]
     plain = _plain(data, (), arrays, budget)
     text = _dump(plain)
-    if len(text.encode("utf-8", "surrogatepass")) > MAX_SPEC_BYTES:
-        raise SpecError.single(DICT_SOURCE, _too_large(len(text.encode("utf-8", "surrogatepass"))))
+    size = len(text.encode("utf-8", "surrogatepass"))
+    if size > MAX_SPEC_BYTES:
+        raise SpecError.single(DICT_SOURCE, _too_large(size))
     try:
         doc = parse_yaml(text, DICT_SOURCE)
         if isinstance(doc.data, dict):

@@ -547,9 +547,11 @@ class Spec(_Sourced):
                       ("the friction force F_mu = beta F_k", friction_force, "N", ("grid", "force_ratio"))]
             if acceleration is not None and frequency is not None:
                 length_at = acceleration / (2.0 * np.pi * np.asarray(frequency)) ** 2
-                scales += [("the base's amplitude Y = a / omega^2", length_at, "m", ("system", "base_acceleration")),
-                           ("the excitation force F_k = k a / omega^2", system.stiffness_si * length_at
-                            if system.stiffness_si is not None else None, "N", ("system", "base_acceleration"))]
+                force_at = None if system.stiffness_si is None else system.stiffness_si * length_at
+                at = ("system", "base_acceleration")
+                scales += [("the base's amplitude Y = a / omega^2", length_at, "m", at),
+                           ("the excitation force F_k = k a / omega^2", force_at, "N", at),
+                           ("the energy scale F_k Y", None if force_at is None else force_at * length_at, "J", at)]
             problems += [p for what, values, unit, at in scales if values is not None
                          and (p := range_problem(what, values, unit, at)) is not None]
         if problems:
