@@ -106,7 +106,7 @@ def path_argument(value: Any, name: str, expected: str) -> str:
     for anything else or a path holding a NUL (which no file name can)."""
     try:
         path = os.fsdecode(value) if isinstance(value, (str, bytes, os.PathLike)) else None
-    except TypeError:  # an os.PathLike whose __fspath__ returns neither str nor bytes
+    except Exception:  # an os.PathLike whose __fspath__ fails or returns neither str nor bytes
         path = None
     if path is None:
         raise FsweepError(f"{name} must be {expected} (got {_kind(value)})")
@@ -200,9 +200,15 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
 
 def _number_array(value: Any) -> np.ndarray | None:
     """`value` as an array checked whole by the grid model: a numpy array (any shape or dtype: the model
-    says what is wrong), or a list of more than a few plain numbers; None for anything else."""
+    says what is wrong) or what numpy reads as one (a pandas Series, an xarray coordinate), or a list of
+    more than a few plain numbers; None for anything else."""
     if isinstance(value, np.ndarray):
         return value
+    if hasattr(value, "__array__") and not isinstance(value, (str, bytes, Mapping, list, tuple, np.generic)):
+        try:
+            return np.asarray(value)
+        except Exception:  # an __array__ that fails: the value goes the way of any other
+            return None
     if isinstance(value, (list, tuple)) and len(value) > 16 and \
             all(type(x) in (int, float) for x in value):
         try:

@@ -224,3 +224,10 @@ def test_an_array_on_the_range_lattice_is_recorded_as_the_range():
     again = parse_spec_text(spec.text)
     np.testing.assert_array_equal(again.frequency_ratio, r)
     np.testing.assert_array_equal(again.force_ratio, [0.1, 0.2])
+
+
+def test_an_axis_numpy_reads_as_an_array_is_one():
+    """An xarray coordinate (a cube's own axis) or a pandas Series, as an axis: not "cannot be written as YAML"."""
+    first = fs.sweep({**SMALL, "grid": {"frequency_ratio": np.linspace(0.5, 2.0, 30), "force_ratio": [0.1]}})
+    again = fs.sweep({**SMALL, "grid": {"frequency_ratio": first["frequency_ratio"], "force_ratio": [0.1]}})
+    np.testing.assert_array_equal(again["frequency_ratio"].values, first["frequency_ratio"].values)

@@ -415,6 +415,10 @@ CASES = [
         "{natural_frequency: 1e-10 Hz, stiffness: 1e-20 N/m, base_acceleration: 1e20 m/s^2}", "friction_force: [1e18 N]",
         None, "frequency: [1e-10 Hz]"),
          words=("system.base_acceleration", "Y = a / omega^2 is 2.53e+38 m", "F_k Y is 6.42e+56 J"), lines=2),
+    Case("a time-history point below the frequency range", _physical(
+        "{natural_frequency: 1e-29 Hz, excitation_force: 1 N}", "force_ratio: 0.1").replace(
+        "method: theory", "method: event\noutputs: [regime, time_history]\ntime_history: {points: [[0.01, 0.1]]}"),
+         words=("time_history.points", "f = r f_n of a time-history point is 1e-31 Hz")),
     Case("a friction force of 1e-35 N", _physical("{natural_frequency: 10 Hz, excitation_force: 1 N}",
                                                   "friction_force: [0 N, 1e-35 N]"),
          words=("grid.friction_force[1]", "between 1e-30 and 1e+30 N")),

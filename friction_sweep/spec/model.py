@@ -543,8 +543,11 @@ class Spec(_Sourced):
                 problems += _mapped_problems(beta, physical, "N", f"beta = F_mu / F_k at F_k = {force:.6g} N",
                                              g.force_ratio_ok, g.FORCE_RATIO_SPAN, where)
         if not problems and self.system is not None:  # what the grid derives through the system
+            history = None if self.time_history is None or f_n is None else \
+                np.array([r_ for r_, _ in self.time_history.points]) * f_n
             scales = [("the frequency f = r f_n", frequency, "Hz", ("grid", "frequency_ratio")),
-                      ("the friction force F_mu = beta F_k", friction_force, "N", ("grid", "force_ratio"))]
+                      ("the friction force F_mu = beta F_k", friction_force, "N", ("grid", "force_ratio")),
+                      ("the frequency f = r f_n of a time-history point", history, "Hz", ("time_history", "points"))]
             if acceleration is not None and frequency is not None:
                 length_at = acceleration / (2.0 * np.pi * np.asarray(frequency)) ** 2
                 force_at = None if system.stiffness_si is None else system.stiffness_si * length_at
