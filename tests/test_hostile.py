@@ -173,6 +173,27 @@ def _tamper(d: Path, value, name: str = "transmissibility") -> None:
     np.savez(tile, **arrays)
 
 
+def _physical(system: str, force: str | None = "friction_force: [1 N]", ratio: str | None = "[1.0]",
+              frequency: str | None = None) -> str:
+    """A spec with `system:` (flow text), a force axis and a frequency axis (ratios, or physical)."""
+    axes = [f"frequency_ratio: {ratio}" if ratio is not None else frequency, force]
+    return (f"scene: {{excitation: {'force' if 'excitation_force' in system else 'base'}}}\nsystem: {system}\n"
+            "grid: {" + ", ".join(a for a in axes if a is not None) + "}\nmethod: theory\noutput: out.h5\n")
+
+
+def _calibration(prior: str) -> Callable[[Path], None]:
+    """A calibration spec (cal.yaml) on a small data file whose parameters hold `prior`."""
+
+    def make(d: Path) -> None:
+        (d / "rig.csv").write_text("r,beta,phase\n0.7,0.2,10\n1.3,0.2,170\n")
+        (d / "cal.yaml").write_text(
+            "data:\n  file: rig.csv\n  columns: {frequency_ratio: r, force_ratio: beta, phase: phase}\n"
+            "scene: {excitation: base}\nsystem: {natural_frequency: 10 Hz, excitation_force: 1 N}\nmethod: theory\n"
+            f"parameters:\n  friction_ratio: {{uniform: [0.01, 1]}}\n  noise_phase: {{half_normal: 5 deg}}\n  {prior}\n")
+
+    return make
+
+
 @dataclass
 class Case:
     id: str
@@ -414,6 +435,80 @@ CASES = [
         r="[0.25, 0.5]", beta="[0.01, 0.1]"), args=("check", "{d}/out.h5"), setup=_creep_at_the_family, exit=1,
          words=("theory      FAILED   1 of 3", "r=0.5, beta=0.1: stick_slip, expected continuous"), exist=("out.h5",),
          absent=(), lines=None),
+    # ---- issue 28: inputs: units, specs and the Python API
+    Case("unit bomb of 30 characters", _physical("{natural_frequency: '(((9**99)**99)**99)**99 Hz', stiffness: 1 N/m, "
+                                                 "base_amplitude: 1 mm}"),
+         words=("spec.yaml:2:", "system.natural_frequency", "power is at most 4")),
+    Case("unit power of a power", _physical("{natural_frequency: '(9**99)**99 Hz', stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "power is at most 4")),
+    Case("unit powers that overflow a double", _physical("{natural_frequency: '((9**4)**4)**4 Hz', stiffness: 1 N/m, "
+                                                         "base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "between 1e-30 and 1e+30 Hz")),
+    Case("unit product that overflows", _physical("{natural_frequency: '(((9**4)**4)**4)**3 * (((9**4)**4)**4)**3 Hz', "
+                                                  "stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "must be finite")),
+    Case("unit power that overflows", _physical("{natural_frequency: '((((10**4)**4)**4)**4)**4 Hz', stiffness: 1 N/m, "
+                                                "base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "must be finite")),
+    Case("unit division by zero", _physical("{natural_frequency: '5 / 0 Hz', stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "divides by zero")),
+    Case("unit with a decimal comma", _physical("{natural_frequency: '1,5 Hz', stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "a comma")),
+    Case("prior unit bomb", None, args=("calibrate", "{d}/cal.yaml", "-o", "{d}/cal"), setup=_calibration(
+        "natural_frequency: {normal: ['(((9**99)**99)**99)**99 Hz', 1 Hz]}"),
+         words=("parameters.natural_frequency.normal[0]", "power is at most 4"), absent=("cal",), lines=2),
+    Case("prior beyond the physical range", None, args=("calibrate", "{d}/cal.yaml", "-o", "{d}/cal"),
+         setup=_calibration("natural_frequency: {normal: [1e200 Hz, 1 Hz]}"),
+         words=("parameters.natural_frequency.normal[0]", "between 1e-30 and 1e+30 Hz"), absent=("cal",), lines=2),
+    Case("f_n and m of 1e200", _physical("{natural_frequency: 1e200 Hz, mass: 1e200 kg, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "system.mass", "between 1e-30 and 1e+30"), lines=2),
+    Case("f_n and m of 1e-200", _physical("{natural_frequency: 1e-200 Hz, mass: 1e-200 kg, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "system.mass"), lines=2),
+    Case("k and Y of 1e200", _physical("{natural_frequency: 10 Hz, stiffness: 1e200 N/m, base_amplitude: 1e200 m}"),
+         words=("system.stiffness", "system.base_amplitude"), lines=2),
+    Case("k and Y whose product leaves the range", _physical("{natural_frequency: 10 Hz, stiffness: 1e20 N/m, "
+                                                             "base_amplitude: 1e20 m}"),
+         words=("system.base_amplitude", "F_k = k Y is 1e+40 N", "F_k L is 1e+60 J"), lines=2),
+    Case("k derived from m and f_n out of range", _physical("{natural_frequency: 1e25 Hz, mass: 1e25 kg, "
+                                                            "base_amplitude: 1e-25 m}"),
+         words=("system.mass", "k = m (2 pi f_n)^2 is 3.95e+76 N/m"), lines=2),
+    Case("F_k of zero on a tiny stiffness", _physical("{natural_frequency: 10 Hz, stiffness: 1e-200 N/m, "
+                                                      "base_amplitude: 1e-200 m}", "friction_force: [0 N]"),
+         words=("system.stiffness", "system.base_amplitude"), lines=2),
+    Case("a denormal excitation force", _physical("{natural_frequency: 10 Hz, excitation_force: 1e-320 N}",
+                                                  "friction_force: [0 N]"),
+         words=("system.excitation_force", "between 1e-30 and 1e+30 N")),
+    Case("mu N beyond the range", _physical("{natural_frequency: 10 Hz, excitation_force: 1 N, "
+                                            "friction_coefficient: 1e20, normal_load: 1e20 N}", None),
+         words=("system.normal_load", "mu N is 1e+40 N")),
+    Case("a frequency r f_n below the range", _physical("{natural_frequency: 1e-29 Hz, excitation_force: 1 N}",
+                                                        "force_ratio: 0.1", "0.01"),
+         words=("grid.frequency_ratio", "f = r f_n is 1e-31 Hz")),
+    Case("a base acceleration whose amplitude leaves the range", _physical(
+        "{natural_frequency: 1e-10 Hz, stiffness: 1e-20 N/m, base_acceleration: 1e20 m/s^2}", "friction_force: [1e18 N]",
+        None, "frequency: [1e-10 Hz]"),
+         words=("system.base_acceleration", "Y = a / omega^2 is 2.53e+38 m", "F_k Y is 6.42e+56 J"), lines=2),
+    Case("a time-history point below the frequency range", _physical(
+        "{natural_frequency: 1e-29 Hz, excitation_force: 1 N}", "force_ratio: 0.1").replace(
+        "method: theory", "method: event\noutputs: [regime, time_history]\ntime_history: {points: [[0.01, 0.1]]}"),
+         words=("time_history.points", "f = r f_n of a time-history point is 1e-31 Hz")),
+    Case("a friction force of 1e-35 N", _physical("{natural_frequency: 10 Hz, excitation_force: 1 N}",
+                                                  "friction_force: [0 N, 1e-35 N]"),
+         words=("grid.friction_force[1]", "between 1e-30 and 1e+30 N")),
+    Case("!!float of a word", GOOD.replace("[0.1, 0.4]", '!!float "abc"'),
+         words=("spec.yaml:4:16: invalid YAML: !!float cannot hold 'abc'",)),
+    Case("!!bool of a word", GOOD.replace("[0.1, 0.4]", "!!bool maybe"),
+         words=("spec.yaml:4:16: invalid YAML: !!bool cannot hold 'maybe'",)),
+    Case("!!int of a word in a list", GOOD.replace("[0.1, 0.4]", '[0.1, !!int "x"]'),
+         words=("spec.yaml:4:22: invalid YAML: !!int cannot hold 'x'",)),
+    Case("!!str value shown as written", GOOD.replace("[0.1, 0.4]", "!!str 0.1"),
+         words=("grid.force_ratio: must be a number, not a string (got '0.1')",)),
+    Case("a custom tag shown as written", GOOD.replace("[0.1, 0.4]", "!custom 0.1"),
+         words=("(got '!custom 0.1')",)),
+    Case("num beyond the points on the frequency axis", GOOD.replace("num: 40", "num: 10000001"),
+         words=("grid.frequency_ratio.num: must be <= 10000000 (got 10000001): an axis has at most 10000000 points",)),
+    Case("num beyond the points on the force axis", GOOD.replace("[0.1, 0.4]", "{start: 0, stop: 1, num: 10000001}"),
+         words=("grid.force_ratio.num: must be <= 10000000 (got 10000001): an axis has at most 10000000 points",)),
 ]
 
 
