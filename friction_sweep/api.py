@@ -15,9 +15,7 @@ reason`, as a dict has no lines).
 from __future__ import annotations
 
 import os
-import stat
 from collections.abc import Mapping
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from friction_sweep.errors import FsweepError
@@ -96,20 +94,9 @@ def _plain(value: Any) -> Any:
 
 
 def open_cube(path: str | os.PathLike[str]) -> xr.Dataset:
-    """The cube at `path`, loaded into memory; FsweepError where it is not a regular file, not readable,
-    or not a friction_sweep cube."""
+    """The cube at `path`, loaded into memory and checked as `fsweep info` checks it
+    (friction_sweep.storage.cube.open_cube); FsweepError where it is not a regular file, not readable, not
+    a friction_sweep cube, or holds values no run writes."""
     from friction_sweep.storage import cube
 
-    path = Path(path)
-    try:
-        if not stat.S_ISREG(os.stat(path).st_mode):
-            raise FsweepError(f"{path} is not a regular file")
-    except OSError as err:
-        raise FsweepError(f"{path}: {err.strerror or err}") from None
-    try:
-        ds = cube.open_cube(path)
-    except Exception as err:  # any reader failure means: not a cube we can read
-        raise FsweepError(f"{path} is not a readable result cube: {' '.join(str(err).split())}") from None
-    if "friction_sweep_version" not in ds.attrs:
-        raise FsweepError(f"{path} is not a friction_sweep result cube (no provenance attributes)")
-    return ds
+    return cube.open_cube(path)

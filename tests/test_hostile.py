@@ -17,6 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import hostile_cubes as hc
 import numpy as np
 import pytest
 import xarray as xr
@@ -341,6 +342,70 @@ CASES = [
     # ---- cubes that cannot be trusted
     Case("info on a foreign file", args=("info", "{d}/spec.yaml"), words=("not a readable result cube",),
          absent=()),
+    # ---- issue 28: cubes, readers and calibration inputs
+    # one reader (storage.cube.open_cube) audits every cube before info, check, plot or the API sees it
+    Case("plot: regime 9", args=("plot", "{d}/c.h5"), setup=hc.value("regime", (0, 0), 9),
+         words=("regime: 1 of 80 values are not valid regime codes (e.g. 9",), absent=("c.png",)),
+    Case("plot: transmissibility -1", args=("plot", "{d}/c.h5"), setup=hc.value("transmissibility", (0, 0), -1.0),
+         words=("transmissibility: 1 of 80 values lie outside the valid range",), absent=("c.png",)),
+    Case("plot: transmissibility inf", args=("plot", "{d}/c.h5"),
+         setup=hc.value("transmissibility", (1, 5), np.inf), words=("are infinite",), absent=("c.png",)),
+    Case("plot --kind phase: phase 1e300", args=("plot", "{d}/c.h5", "--kind", "phase"),
+         setup=hc.value("phase", (0, 2), 1e300), words=("phase: 1 of 80 values lie outside",), absent=("c.png",)),
+    Case("plot: NaN frequency ratio", args=("plot", "{d}/c.h5"), setup=hc.value("frequency_ratio", 3, np.nan),
+         words=("frequency_ratio: 1 of 40 values are NaN",), absent=("c.png",)),
+    Case("plot: frequency ratios out of order", args=("plot", "{d}/c.h5"), setup=hc.value("frequency_ratio", 3, 5.0),
+         words=("not strictly increasing",), absent=("c.png",)),
+    Case("plot: float16 transmissibility", args=("plot", "{d}/c.h5"),
+         setup=hc.rewritten(lambda ds: ds.assign(transmissibility=ds["transmissibility"].astype("f2"))),
+         words=("stored as float16",), absent=("c.png",)),
+    Case("plot: two faults in one line", args=("plot", "{d}/c.h5"),
+         setup=hc.edited(lambda f: (f["regime"].__setitem__((0, 0), 9), f["phase"].__setitem__((0, 0), -1e9))),
+         words=("and 1 more problems: fsweep info lists them",), absent=("c.png",)),
+    Case("info: two faults, a line each and no summary", args=("info", "{d}/c.h5"),
+         setup=hc.edited(lambda f: (f["regime"].__setitem__((0, 0), 9), f["phase"].__setitem__((0, 0), -1e9))),
+         words=("not valid regime codes", "phase: 1 of 80"), lines=2, absent=()),
+    Case("info: a string variable", args=("info", "{d}/c.h5"), absent=(),
+         setup=hc.rewritten(lambda ds: ds.assign(transmissibility=ds["transmissibility"].astype(str))),
+         words=("variable 'transmissibility' holds strings, not numbers",)),
+    Case("plot: a string variable", args=("plot", "{d}/c.h5"), absent=("c.png",),
+         setup=hc.rewritten(lambda ds: ds.assign(note=ds["regime"].astype(str))), words=("holds strings",)),
+    Case("check: a string coordinate", args=("check", "{d}/c.h5"), absent=(),
+         setup=hc.rewritten(lambda ds: ds.assign_coords(force_ratio=ds["force_ratio"].astype(str))),
+         words=("variable 'force_ratio' holds strings",)),
+    # what a reader loads is bounded on the file's metadata (storage.bounds), before any value is read
+    Case("info: three unwritten 4000 x 5000 variables", args=("info", "{d}/c.h5"), setup=hc.declared(4000, 5000),
+         words=("declares 20000000 values (4000 x 5000)", "at most 10000000"), absent=()),
+    Case("plot: three unwritten 4000 x 5000 variables", args=("plot", "{d}/c.h5"), setup=hc.declared(4000, 5000),
+         words=("declares 20000000 values",), absent=("c.png",)),
+    Case("info: an unwritten variable reads as zeros", args=("info", "{d}/c.h5"), setup=hc.declared(2, 40),
+         words=("'transmissibility' declares 80 values but stores 0 of their 640 bytes",), absent=()),
+    Case("check: an unwritten variable", args=("check", "{d}/c.h5"), setup=hc.declared(2, 40, names=("regime",)),
+         words=("stores 0 of",), absent=()),
+    Case("info: external storage", args=("info", "{d}/c.h5"), setup=hc.external("ext.bin"),
+         words=("'peak_phase' keeps its values in an external file",), absent=()),
+    Case("plot: external storage", args=("plot", "{d}/c.h5"), setup=hc.external("ext.bin"),
+         words=("external file",), absent=("c.png",)),
+    Case("info: a virtual dataset", args=("info", "{d}/c.h5"), setup=hc.virtual, words=("virtual dataset",),
+         absent=()),
+    Case("info: a soft link", args=("info", "{d}/c.h5"), setup=hc.linked("soft"), words=("SoftLink", "never links"),
+         absent=()),
+    Case("plot: an external link", args=("plot", "{d}/c.h5"), setup=hc.linked("external"),
+         words=("ExternalLink",), absent=("c.png",)),
+    Case("info: a group", args=("info", "{d}/c.h5"), setup=hc.linked("group"), words=("'extra' is a group",),
+         absent=()),
+    Case("info on a folder", args=("info", "{d}"), words=("not a regular file", "a directory"), absent=()),
+    # a cube's text is data: printed with its control characters escaped
+    Case("info: OSC, BEL and CR in the history", args=("info", "{d}/c.h5"), exit=0, absent=(),
+         setup=hc.with_attribute("history", "\x1b]0;owned\x07ok\rX"), words=("history: \\x1b]0;owned\\x07ok\\x0dX",)),
+    Case("info: CSI, C1, bidi and U+2028 in the spec path", args=("info", "{d}/c.h5"), exit=0, absent=(),
+         setup=hc.with_attribute("spec_path", "\x1b[2J\x9b1m\u202eevil\u2028.yaml"),
+         words=("spec: \\x1b[2J\\x9b1m\\u202eevil\\u2028.yaml",)),
+    Case("info: an escape in the units", args=("info", "{d}/c.h5"), exit=0, absent=(),
+         setup=hc.with_attribute("units", "\x1b[8m", "frequency_ratio"), words=("0.5 .. 2 \\x1b[8m",)),
+    Case("info: an escape in a variable's name", args=("info", "{d}/c.h5"), absent=(),
+         setup=hc.edited(lambda f: f.move("peak_phase", "peak\x1b[31m")),
+         words=("peak\\x1b[31m: is not a variable of the result cube schema",)),
 ]
 
 
