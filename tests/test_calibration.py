@@ -71,6 +71,9 @@ def _field(k: int, column: int, value: str):
     (_field(0, 1, "2.6"), r"bad\.csv:7: friction_force_N is force ratio 1.04: under base excitation the mass "
      "never leaves rest"),
     (_field(0, 5, "400"), r"bad\.csv:7: phase_deg must be a phase lag in degrees within \[-180, 360\]"),
+    # issue 28: digits float() reads but no CSV writer writes
+    (_field(1, 5, "\u0664\u0666.\u0664"), r"bad\.csv:8: phase_deg must be a number in plain ASCII digits"),
+    (_field(1, 1, "1_4353"), r"bad\.csv:8: friction_force_N must be a number in plain ASCII digits.*'1_4353'"),
 ])
 def test_bad_data_is_refused_with_its_line(runner, tmp_path, change, expected):
     spec = _rig_spec(tmp_path, data=_bad_data(tmp_path, change))
@@ -93,6 +96,9 @@ def test_bad_data_is_refused_with_its_line(runner, tmp_path, change, expected):
      r"parameters\.friction_scale: give the friction one way"),
     (("noise_phase: {half_normal: 5 deg}", "wobble: {half_normal: 5 deg}"),
      r"parameters\.wobble: unknown parameter 'wobble'"),
+    # issue 28: emcee's generator takes seeds below 2**32; a larger one failed after the MAP
+    (("seed: 0", "seed: 12345678901234567890"), r"rig\.yaml:\d+:\d+: sampler\.seed: .*4294967295"),
+    (("seed: 0", "seed: 4294967296"), r"sampler\.seed: .*4294967295"),
 ])
 def test_bad_specs_are_refused_at_their_line(tmp_path, edit, expected):
     path = _rig_spec(tmp_path)
@@ -114,6 +120,24 @@ def test_theory_refuses_an_effect(tmp_path):
     with pytest.raises(SpecError, match=r"parameters\.static_friction_ratio: method 'theory' does not model "
                        r"static_friction_ratio \(methods that do: event\)"):
         load_calibration_spec(path)
+
+
+@pytest.mark.parametrize("seed", ["4294967296", "123456789012345678901"])
+def test_a_seed_the_sampler_cannot_take_is_refused_before_computing(runner, tmp_path, monkeypatch, seed):
+    from friction_sweep.calibration import command
+
+    monkeypatch.setattr(command, "ForwardModel", None)  # reached only after every refusal
+    res = runner.invoke(main, ["calibrate", str(_rig_spec(tmp_path)), "--seed", seed, "-q"])
+    assert "'--seed'" in one_error_line(res, 2) and "4294967295" in res.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_largest_seed_is_one_the_sampler_takes():
+    from friction_sweep.calibration.spec import MAX_SEED
+
+    np.random.RandomState(MAX_SEED)
+    with pytest.raises(ValueError):
+        np.random.RandomState(MAX_SEED + 1)
 
 
 def test_a_prior_that_explains_no_data_is_refused(runner, tmp_path):
