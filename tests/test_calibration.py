@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -138,6 +139,47 @@ def test_the_largest_seed_is_one_the_sampler_takes():
     np.random.RandomState(MAX_SEED)
     with pytest.raises(ValueError):
         np.random.RandomState(MAX_SEED + 1)
+
+
+def _first_rows(n: int):
+    """A change to the data: its first n rows only."""
+    return lambda lines: lines[:HEADER + 1 + n]
+
+
+@pytest.mark.parametrize("rows, holdout, need", [(1, "", 5), (4, "", 5), (12, "  holdout: [1.4353]\n", 6)])
+def test_too_few_rows_for_the_parameters_are_refused_before_computing(runner, tmp_path, monkeypatch, rows,
+                                                                      holdout, need):
+    """Issue 28: one row gave a MAP noise of 4.3e-153 degrees (the fit passes through it). The rig's first
+    rows are one series: 4 parameters (its friction force, f_n, the noise, the offset) need 5 rows; with
+    two series and one held out, the held-out rows do not count."""
+    from friction_sweep.calibration import command
+
+    monkeypatch.setattr(command, "Posterior", None)  # reached only after every refusal
+    data = _bad_data(tmp_path, _first_rows(rows))
+    spec = _rig_spec(tmp_path, data=data)
+    if holdout:
+        spec.write_text(spec.read_text().replace("    phase: phase_deg\n", "    phase: phase_deg\n" + holdout))
+    res = runner.invoke(main, ["calibrate", str(spec), "-q"])
+    line = one_error_line(res, 2)
+    assert f"{data}: " in line and f"at least {need} fitted rows" in line, line
+    assert not (tmp_path / "out").exists()
+
+
+def test_more_values_than_parameters_are_enough(tmp_path):
+    spec = load_calibration_spec(_rig_spec(tmp_path, data=_bad_data(tmp_path, _first_rows(5))))
+    assert ForwardModel(spec, read_observations(spec)).too_few_rows() is None
+
+
+def test_a_zero_noise_level_has_no_density_and_no_warning(tmp_path):
+    """The edge of the noise prior (0, with no row uncertainty) used to print three RuntimeWarnings."""
+    spec = load_calibration_spec(_rig_spec(tmp_path, method="theory"))
+    model = ForwardModel(spec, read_observations(spec))
+    post = Posterior(model)
+    theta = np.array([[1.4, 1.0, 0.9, 0.6, 19.5721, 0.0, 0.0]])
+    assert model.names[5] == "noise_phase"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert post(theta)[0] == -np.inf
 
 
 def test_a_prior_that_explains_no_data_is_refused(runner, tmp_path):
@@ -283,8 +325,10 @@ def test_the_command_writes_every_file_and_the_same_numbers_on_any_number_of_thr
     spec.write_text(spec.read_text().replace("sampler: {walkers: 32, seed: 0}\n", fast))
     draws = []
     for jobs, out in (("1", "a"), ("2", "b")):
-        res = runner.invoke(main, ["calibrate", str(spec), "-q", "-j", jobs, "-o", str(tmp_path / out)])
-        assert res.exit_code == 0, res.output
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)  # issue 28: numpy's RuntimeWarnings on a good run
+            res = runner.invoke(main, ["calibrate", str(spec), "-q", "-j", jobs, "-o", str(tmp_path / out)])
+        assert res.exit_code == 0, (res.output, res.exception)
         names = sorted(p.name for p in (tmp_path / out).iterdir())
         assert names == sorted(["posterior.nc", "map.csv", "report.md", "predictive.png", "corner.png"])
         idata = az.from_netcdf(tmp_path / out / "posterior.nc", engine="h5netcdf")

@@ -76,6 +76,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     settings = spec.sampler
     seed = settings.seed if seed is None else seed
     model = ForwardModel(spec, obs, jobs=jobs)
+    short = model.too_few_rows()
+    if short:
+        fail(short)
     post = Posterior(model)
     rng = np.random.default_rng(seed)
     try:
