@@ -406,6 +406,10 @@ CASES = [
     Case("info: an escape in a variable's name", args=("info", "{d}/c.h5"), absent=(),
          setup=hc.edited(lambda f: f.move("peak_phase", "peak\x1b[31m")),
          words=("peak\\x1b[31m: is not a variable of the result cube schema",)),
+    Case("info: an escape in the file's name", args=("info", "{d}/n\x1b[2Jo\u2028.h5"), absent=(),
+         words=("n\\x1b[2Jo\\u2028.h5: No such file",)),
+    Case("plot: a C1 control in the file's name", args=("plot", "{d}/n\x9bo.h5"), absent=(),
+         words=("n\\x9bo.h5: No such file",)),
 ]
 
 
