@@ -136,7 +136,10 @@ def sample(post: Posterior, start: np.ndarray, *, seed: int, targets: Targets, m
     previous = np.inf
     while steps < max_steps:
         n = min(check_every, max_steps - steps)
-        state = sampler.run_mcmc(state, n, progress=False)
+        # a proposal outside the prior or where the model has no value has log posterior -inf, which emcee
+        # rejects by design; its arithmetic on it (-inf - -inf in a move's acceptance) would only warn
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            state = sampler.run_mcmc(state, n, progress=False)
         steps += n
         # the first quarter is burn-in; a run counts as converged only on a tau estimate that also held
         # still since the last check (emcee's advice: an estimate from a short run is biased low)
