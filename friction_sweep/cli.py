@@ -119,9 +119,9 @@ def validate(spec: Path, output: str | None):
     settings, _ = _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
-        f"{spec}: ok: excitation {s.scene.excitation}, method {s.method}, "
+        f"{escape(spec)}: ok: excitation {s.scene.excitation}, method {s.method}, "
         f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
-        f"outputs {', '.join(s.outputs)}, output {out}"
+        f"outputs {', '.join(s.outputs)}, output {escape(out)}"
     )
     from friction_sweep.catalogue import effect_lines
 
@@ -330,7 +330,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         fail(f"could not write {out}: {err.strerror or err}; nothing was written{kept}", EXIT_RUNTIME)
 
     store.remove()
-    click.echo(f"wrote {out}")
+    click.echo(f"wrote {escape(out)}")
     click.echo(
         f"  {s.scene.excitation} excitation, method {s.method}: {s.force_count} force ratios x "
         f"{r.size} frequency ratios = {s.force_count * r.size} points in {elapsed:.2f} s"
@@ -508,7 +508,7 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
         quicklook.save(fig, out)
     except OSError as err:
         fail(f"could not write {out}: {err.strerror or err}; nothing was written", EXIT_RUNTIME)
-    click.echo(f"wrote {out}")
+    click.echo(f"wrote {escape(out)}")
 
 
 def _open_result(path: Path, every_problem: bool = False):

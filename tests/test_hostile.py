@@ -410,6 +410,8 @@ CASES = [
          words=("n\\x1b[2Jo\\u2028.h5: No such file",)),
     Case("plot: a C1 control in the file's name", args=("plot", "{d}/n\x9bo.h5"), absent=(),
          words=("n\\x9bo.h5: No such file",)),
+    Case("validate: an OSC in the spec's name", spec=None, args=("validate", "{d}/s\x1b]0;x\x07.yaml"), exit=0,
+         setup=lambda d: (d / "s\x1b]0;x\x07.yaml").write_text(GOOD), words=("s\\x1b]0;x\\x07.yaml: ok",)),
 ]
 
 
