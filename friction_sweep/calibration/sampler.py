@@ -82,7 +82,10 @@ def diagnose(chain: np.ndarray, burn: int) -> tuple[np.ndarray, np.ndarray]:
     import emcee
 
     kept = chain[burn:]
-    tau = emcee.autocorr.integrated_time(kept, tol=0)
+    # a walker that has not moved in the kept window (early in a run) has no autocovariance: emcee divides
+    # by it and gets NaN, and a NaN tau is no convergence (converged() is False), which is the answer
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tau = emcee.autocorr.integrated_time(kept, tol=0)
     rhat = np.array([float(az.rhat(np.ascontiguousarray(kept[:, :, i].T))) for i in range(kept.shape[2])])
     return tau, rhat
 
