@@ -22,9 +22,7 @@ from __future__ import annotations
 
 import operator
 import os
-import stat
 from collections.abc import Mapping
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -276,20 +274,9 @@ def _flow_list(values: np.ndarray) -> str:
 
 
 def open_cube(path: str | os.PathLike[str]) -> xr.Dataset:
-    """The cube at `path`, loaded into memory; FsweepError where it is not a regular file, not readable,
-    or not a friction_sweep cube."""
+    """The cube at `path`, loaded into memory and checked as `fsweep info` checks it
+    (friction_sweep.storage.cube.open_cube); FsweepError where it is not a regular file, not readable, not
+    a friction_sweep cube, or holds values no run writes."""
     from friction_sweep.storage import cube
 
-    path = Path(path_argument(path, "path", "a cube's path (str, bytes or os.PathLike)"))
-    try:
-        if not stat.S_ISREG(os.stat(path).st_mode):
-            raise FsweepError(f"{path} is not a regular file")
-    except OSError as err:
-        raise FsweepError(f"{path}: {err.strerror or err}") from None
-    try:
-        ds = cube.open_cube(path)
-    except Exception as err:  # any reader failure means: not a cube we can read
-        raise FsweepError(f"{path} is not a readable result cube: {' '.join(str(err).split())}") from None
-    if "friction_sweep_version" not in ds.attrs:
-        raise FsweepError(f"{path} is not a friction_sweep result cube (no provenance attributes)")
-    return ds
+    return cube.open_cube(path_argument(path, "path", "a cube's path (str, bytes or os.PathLike)"))

@@ -26,6 +26,7 @@ from friction_sweep.exits import (
     EXIT_TERMINATED,
     fail,
 )
+from friction_sweep.printable import escape
 from friction_sweep.progress import ProgressBar
 from friction_sweep.quicklook import KINDS
 from friction_sweep.spec import SpecError, load_spec
@@ -118,9 +119,9 @@ def validate(spec: Path, output: str | None):
     settings, _ = _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
-        f"{spec}: ok: excitation {s.scene.excitation}, method {s.method}, "
+        f"{escape(spec)}: ok: excitation {s.scene.excitation}, method {s.method}, "
         f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
-        f"outputs {', '.join(s.outputs)}, output {out}"
+        f"outputs {', '.join(s.outputs)}, output {escape(out)}"
     )
     from friction_sweep.catalogue import effect_lines
 
@@ -329,7 +330,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         fail(f"could not write {out}: {err.strerror or err}; nothing was written{kept}", EXIT_RUNTIME)
 
     store.remove()
-    click.echo(f"wrote {out}")
+    click.echo(f"wrote {escape(out)}")
     click.echo(
         f"  {s.scene.excitation} excitation, method {s.method}: {s.force_count} force ratios x "
         f"{r.size} frequency ratios = {s.force_count * r.size} points in {elapsed:.2f} s"
@@ -398,23 +399,20 @@ def info(result: Path | None, show_methods: bool):
         return
     if result is None:
         fail("give a RESULT to describe, or --methods")
-    from friction_sweep.storage import audit
-
-    ds = _open_result(result)
-    a = ds.attrs
-    problems = audit.audit(ds)
-    click.echo(f"{result}")
-    click.echo("  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()))
+    ds = _open_result(result, every_problem=True)
+    a = {str(k): escape(v) for k, v in ds.attrs.items()}  # a cube's text is data: nothing a terminal acts on
+    click.echo(escape(result))
+    click.echo("  dims: " + ", ".join(f"{escape(k)} {v}" for k, v in ds.sizes.items()))
     for name in ("frequency_ratio", "force_ratio", "frequency", "friction_force"):
         if name in ds.coords and ds[name].size:
             v = ds[name].values
-            units = ds[name].attrs.get("units", "1")
+            units = escape(ds[name].attrs.get("units", "1"))
             click.echo(f"  {name}: {v.min():g} .. {v.max():g}" + (f" {units}" if units != "1" else ""))
     click.echo(f"  excitation: {a.get('excitation')}, method: {a.get('method')}")
     if a.get("effects"):
         click.echo(f"  effects: {a['effects']}")
-    _echo_physical(a)
-    click.echo(f"  variables: {', '.join(ds.data_vars)}")
+    _echo_physical(ds.attrs)
+    click.echo(f"  variables: {', '.join(map(escape, ds.data_vars))}")
     click.echo(f"  history: {a.get('history')}")
     versions = ", ".join(
         f"{k[: -len('_version')]} {v}" for k, v in a.items() if k.endswith("_version")
@@ -429,7 +427,6 @@ def info(result: Path | None, show_methods: bool):
             if finite.any():
                 click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} "
                            f"({finite.sum()} finite of {v.size})")
-    _fail_on_problems(result, problems)  # the summary above is shown, but not trusted
 
 
 def _echo_physical(attrs) -> None:
@@ -442,10 +439,10 @@ def _echo_physical(attrs) -> None:
     try:
         mapping = physical.from_attribute(str(text))
     except ValueError as err:
-        click.echo(f"  physical system: unreadable ({err})")
+        click.echo(f"  physical system: unreadable ({escape(err)})")
         return
     for line in mapping.describe(str(attrs.get("excitation"))):
-        click.echo(f"  {line}")
+        click.echo(f"  {escape(line)}")
 
 
 @main.command()
@@ -456,14 +453,12 @@ def check(result: Path, as_json: bool):
     import json
 
     from friction_sweep import consistency
-    from friction_sweep.storage import audit
 
-    ds = _open_result(result)
-    _fail_on_problems(result, audit.audit(ds))  # rules on values no run writes would say nothing true
+    ds = _open_result(result, every_problem=True)  # rules on values no run writes would say nothing true
     try:
         findings = consistency.check(ds)
     except consistency.CubeError as err:
-        fail(f"{result} is not a friction_sweep result cube: {err}")
+        fail(f"{escape(result)} is not a friction_sweep result cube: {escape(err)}")
     if as_json:
         click.echo(json.dumps([f.to_dict() for f in findings], indent=1))
     else:
@@ -471,7 +466,7 @@ def check(result: Path, as_json: bool):
             click.echo(_finding_line(f))
         n = {s: sum(f.status == s for f in findings) for s in ("failed", "ok", "skipped", "info")}
         verdict = "FAILED" if n["failed"] else "ok"
-        click.echo(f"{result}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
+        click.echo(f"{escape(result)}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
     sys.exit(EXIT_FINDINGS if consistency.failed(findings) else 0)
 
 
@@ -508,30 +503,29 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
     try:
         fig = quicklook.draw(ds, kind, selections)
     except quicklook.PlotError as err:
-        fail(f"{result}: {err}")
+        fail(f"{escape(result)}: {escape(err)}")
     try:
         quicklook.save(fig, out)
     except OSError as err:
         fail(f"could not write {out}: {err.strerror or err}; nothing was written", EXIT_RUNTIME)
-    click.echo(f"wrote {out}")
+    click.echo(f"wrote {escape(out)}")
 
 
-def _open_result(path: Path):
-    """The cube at `path`, or exit 2 with the API's reason (friction_sweep.api.open_cube)."""
-    from friction_sweep import api
+def _open_result(path: Path, every_problem: bool = False):
+    """The cube at `path`, read and audited (friction_sweep.storage.cube.open_cube), or exit 2 with the
+    reason: one line, or with `every_problem` one line for each value problem the audit found."""
+    from friction_sweep.storage import cube
 
     try:
-        return api.open_cube(path)
+        return cube.open_cube(path)
+    except cube.UnsoundCube as err:
+        if every_problem:
+            for p in err.problems[:-1]:
+                click.echo(f"fsweep: error: {escape(path)}: {p}", err=True)
+            fail(f"{escape(path)}: {err.problems[-1]}")
+        fail(str(err))
     except FsweepError as err:
         fail(str(err))
-
-
-def _fail_on_problems(path: Path, problems: list) -> None:
-    """Exit 2 naming every audit problem of the cube at `path`, one line each (nothing if none)."""
-    if problems:
-        for p in problems[:-1]:
-            click.echo(f"fsweep: error: {path}: {p}", err=True)
-        fail(f"{path}: {problems[-1]}")
 
 
 def _finding_line(f) -> str:

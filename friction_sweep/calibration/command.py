@@ -28,7 +28,7 @@ from .fit import fit_map
 from .model import ForwardModel
 from .posterior import Posterior
 from .sampler import NoLikelihood, Targets, sample, start_from_prior
-from .spec import load_calibration_spec
+from .spec import MAX_SEED, load_calibration_spec
 
 CALIBRATE_EXTRA = "pip install 'friction_sweep[calibrate]' (emcee and ArviZ)"
 #: a run estimated to take longer than this is refused without --yes
@@ -50,7 +50,8 @@ def missing_extra() -> str | None:
               "spec's `output`; default results/<spec name>).")
 @click.option("-j", "--jobs", type=click.IntRange(min=1, max=1024), default=1, show_default=True,
               help="Threads for the model evaluations.")
-@click.option("--seed", type=click.IntRange(min=0), default=None, help="Random seed (overrides sampler.seed).")
+@click.option("--seed", type=click.IntRange(min=0, max=MAX_SEED), default=None,
+              help="Random seed (overrides sampler.seed).")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("--yes", is_flag=True, help="Run even when estimated to take over 30 minutes.")
 def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None, quiet: bool, yes: bool):
@@ -75,6 +76,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     settings = spec.sampler
     seed = settings.seed if seed is None else seed
     model = ForwardModel(spec, obs, jobs=jobs)
+    short = model.too_few_rows()
+    if short:
+        fail(short)
     post = Posterior(model)
     rng = np.random.default_rng(seed)
     try:

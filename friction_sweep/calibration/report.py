@@ -226,8 +226,10 @@ def predictive_figure(post: Posterior, theta: np.ndarray):
         values = curves.predict(theta)[quantity]
         if quantity == "phase":
             values = values + post.offset(theta)[:, None]
-        with np.errstate(all="ignore"):
-            band = np.nanpercentile(values, [2.5, 50.0, 97.5], axis=0)
+        # where no draw has a value (theory off continuous motion) the band has none: no curve drawn there
+        band = np.full((3, grid.size), np.nan)
+        some = np.isfinite(values).any(axis=0)
+        band[:, some] = np.nanpercentile(values[:, some], [2.5, 50.0, 97.5], axis=0)
         ax.fill_between(grid, band[0], band[2], color=colour, alpha=0.25, lw=0)
         ax.plot(grid, band[1], color=colour, lw=1.2)
         marker = np.where(obs.fitted[rows], "o", "s")
