@@ -157,8 +157,9 @@ def _read(ds: xr.Dataset) -> _Cube:
     place = effect_place(excitation, effects, "viscous_damping")
     A, _ = scenes.kernel_forcing(excitation, R, zeta, place)
     return _Cube(excitation=excitation, method=str(ds.attrs.get("method", "")), effects=effects,
-                 settings=settings, zeta=zeta, place=place, mu=mu, unknown_effects=tuple(sorted(set(effects) - set(EFFECTS))), dims=dims, r=r, beta=beta,
-                 R=R, B=B, A=A, b=scenes.friction_ratio(excitation, R, B), bs=mu * B, ds=ds)
+                 settings=settings, zeta=zeta, place=place, mu=mu,
+                 unknown_effects=tuple(sorted(set(effects) - set(EFFECTS))), dims=dims, r=r, beta=beta, R=R,
+                 B=B, A=A, b=scenes.friction_ratio(excitation, R, B), bs=mu * B, ds=ds)
 
 
 def _check_effect(excitation: str, name: str, value) -> None:

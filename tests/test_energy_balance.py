@@ -109,16 +109,19 @@ def test_every_tiny_damping_of_the_issue_is_refused_or_failed(zeta, excitation, 
     assert right or _energy(ds).status == consistency.FAILED, T
 
 
-@pytest.mark.parametrize("value, ok", [(0, True), (0.0, True), (1e-6, True), (0.05, True), (9.99e-7, False),
-                                       (1e-10, False), (5e-324, False)])
-def test_the_spec_takes_zero_or_the_floor_upwards(value, ok, tmp_path):
-    spec = tmp_path / "s.yaml"
-    spec.write_text(f"scene: {{excitation: base, effects: {{viscous_damping: {{ratio: {value!r}, to: base}}}}}}\n"
-                    "grid: {frequency_ratio: [1.0], force_ratio: [0]}\nmethod: event\noutput: o.h5\n")
-    res = CliRunner().invoke(main, ["validate", str(spec)])
-    assert res.exit_code == (0 if ok else 2), res.output
-    if not ok:
-        assert "scene.effects.viscous_damping.ratio: must be 0 or at least 1e-06" in res.output
+@pytest.mark.parametrize("refused", [9.99e-7, 1e-10, 5e-324])
+def test_the_spec_takes_zero_or_the_floor_upwards(refused, tmp_path):
+    def validate(value):
+        spec = tmp_path / "s.yaml"
+        spec.write_text(f"scene: {{excitation: base, effects: {{viscous_damping: {{ratio: {value!r}, to: base}}}}}}\n"
+                        "grid: {frequency_ratio: [1.0], force_ratio: [0]}\nmethod: event\noutput: o.h5\n")
+        return CliRunner().invoke(main, ["validate", str(spec)])
+
+    res = validate(refused)
+    assert res.exit_code == 2 and "scene.effects.viscous_damping.ratio: must be 0 or at least 1e-06" in res.output
+    assert res.output.startswith("fsweep: error: invalid spec\n") and len(res.output.splitlines()) == 2
+    for allowed in (0, 0.0, FLOOR, 0.05):
+        assert validate(allowed).exit_code == 0, allowed
 
 
 def test_the_api_refuses_a_damping_below_the_floor():
