@@ -24,7 +24,7 @@ from click.testing import CliRunner
 from conftest import in_dir
 
 from friction_sweep.cli import main
-from friction_sweep.codes import SteadyState
+from friction_sweep.codes import Regime, SteadyState
 
 GOOD = """\
 scene: {excitation: base}
@@ -218,8 +218,9 @@ def _damped(excitation: str, damping: str, method: str = "event") -> str:
 
 
 def _wrong_orbit_cube(path: Path) -> None:
-    """The cube main wrote for the issue's spec (now refused): computed by the method directly, r = 1 holds
-    T = 68 labelled converged where the exact value is 1/(2 zeta) = 5e17."""
+    """The cube main wrote for the issue's spec (now refused): computed by the method directly, with r = 1 as
+    main wrote it, T = 68 labelled converged where the exact value is 1/(2 zeta) = 5e17 (the kernel now
+    labels it unsettled)."""
     from friction_sweep import catalogue
     from friction_sweep.methods import event
     from friction_sweep.storage import cube, provenance
@@ -227,6 +228,9 @@ def _wrong_orbit_cube(path: Path) -> None:
     effects = {"viscous_damping": 1e-18}
     r = np.array([0.999999, 1.0, 1.000001])
     arrays = event.compute_tile("base", r, np.array([0.0]), ("transmissibility", "phase", "regime"), effects)
+    at_one = 1  # r = 1, as main wrote it
+    arrays["transmissibility"][0, at_one], arrays["phase"][0, at_one] = 68.02467467134679, -63.11680981
+    arrays["regime"][0, at_one], arrays["steady_state"][0, at_one] = Regime.CONTINUOUS, SteadyState.CONVERGED
     settings = {**event.CATALOGUE.defaults, "effects": catalogue.resolved_effects("base", effects)}
     cube.build_dataset(arrays, frequency_ratio=r, force_ratio=np.array([0.0]), excitation="base", title="t",
                        history=provenance.history_line("test"),
