@@ -34,7 +34,7 @@ from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.storage import schema
 from friction_sweep.storage.schema import ACCELERATION_DIMS, cube_dims
 from friction_sweep.theory import den_hartog as dh
-from friction_sweep.theory import scenes
+from friction_sweep.theory import energy, scenes
 
 #: effects that Den Hartog's closed form lacks even at their plain-looking values (rule `theory`). Rules
 #: `resonance` and `bound` hold for them: a contact spring passes on a force bounded by the static friction
@@ -50,13 +50,9 @@ THEORY_MIN_DETUNING = 1e-4
 THEORY_RTOL = 1e-8
 #: rule `theory` computes the closed form on this many frequency ratios at a time (bounded memory)
 THEORY_CHUNK = 32
-#: rule `energy`: the closure |P^k(x) - x| a method accepts (steady_tol plus its map's own error) may leave
-#: this multiple of itself, times the orbit's energy scale, in the balance ...
-ENERGY_SAFETY = 10.0
-#: ... plus this relative rounding of the three energies (first-harmonic and sliding-distance sums)
-ENERGY_RTOL = 1e-9
-#: methods whose cubes rule `energy` reads: the simulations, whose accuracy the settings state (`paper`
-#: reproduces ode45's errors, with no bound to test; `theory` is a closed form, not a simulated orbit)
+#: methods whose cubes rule `energy` (friction_sweep.theory.energy) reads: the simulations, whose accuracy
+#: the settings state (`paper` reproduces ode45's errors, with no bound to test; `theory` is a closed form,
+#: not a simulated orbit)
 ENERGY_METHODS = ("event", "rk4", "auto")
 #: the relative error of one period of the event map (kernels.period_map.MAP_ROUNDING, restated here so
 #: that `fsweep check` loads no kernel; tests/test_energy_balance.py keeps the two equal)
@@ -453,11 +449,11 @@ def check_energy(cube: _Cube) -> Finding:
         W >= F + V1     elsewhere (with damping and friction); where the cube lacks friction_energy
                         and beta > 0, F is taken as 0 (W >= V1: the orbit dissipates)
 
-    to within ENERGY_SAFETY x closure x Z^2 + ENERGY_RTOL x (|W| + F + V1). The first term is what the
-    method's acceptance allows: a measured period that starts at x and ends within closure x |x| of it
-    (closure = steady_tol + the map's own error, _closure) changes the energy by at most about that times
-    |x|^2, with |x| <= Z = max(1, r) max(|Q|, peak + c, A) (the state (q, q') at the section; the
-    velocity ~ r q). Checked: every point with a regime (stuck, stick_slip, continuous) and a finite
+    to within theory.energy's slack, SAFETY x closure x Z^2 + RTOL x (|W| + F + V1) (10 and 1e-9). The
+    first term is what the method's acceptance allows: a measured period that starts at x and ends within
+    closure x |x| of it (closure = steady_tol + the map's own error, _closure) changes the energy by at
+    most about that times |x|^2, with |x| <= Z = max(1, r) max(|Q|, peak + c, A) (the state (q, q') at
+    the section; the velocity ~ r q). Checked: every point with a regime (stuck, stick_slip, continuous) and a finite
     transmissibility and phase, except aperiodic ones (averages over 256 periods, not an orbit). A wrong
     orbit (the forcing's work of the wrong sign or size for what it dissipates) fails it.
     """
@@ -489,8 +485,8 @@ def check_energy(cube: _Cube) -> Finding:
         if peak is not None:
             size = np.maximum(size, np.nan_to_num(peak) + scenes.response_offset(cube.excitation))
         size = size * np.maximum(1.0, cube.R)
-        tol = ENERGY_SAFETY * _closure(cube) * size ** 2 + ENERGY_RTOL * (np.abs(W) + np.abs(F) + V1)
-        bad = sel & ~(np.where(equality, np.abs(residual), -residual) <= tol)
+        tol = energy.slack(_closure(cube), size, W, F, V1)
+        bad = sel & ~np.where(equality, energy.holds(residual, tol, True), energy.holds(residual, tol, False))
     tally = _Tally()
     tally.add(bad, lambda j, i: f"W - F - V1 = {residual[j, i]:.6g} (W {W[j, i]:.6g}, F {F[j, i]:.6g}, "
               f"V1 {V1[j, i]:.6g})",
