@@ -66,15 +66,16 @@ def test_the_floor_is_where_the_kernel_still_resolves_resonance():
 
 @pytest.mark.parametrize("excitation, place", [("force", "ground"), ("base", "ground"), ("base", "base"),
                                                ("joined", "base")])
-def test_at_the_floor_resonance_is_the_linear_closed_form_or_unsettled(excitation, place):
-    r = np.array([1 - 1e-6, 1.0, 1 + 1e-6, 0.5, 2.0])
+def test_at_the_floor_resonance_is_the_linear_closed_form(excitation, place):
+    """Every point within 30 zeta of resonance is answered (main left r = 1 + zeta .. 1 + 1.3 zeta
+    `unsettled`: shooting held the linear orbit, which sits on the forced bound, to 1e-9 while Newton
+    lands within steady_tol |(J - I)^-1| of it), to that accuracy: 1e-10 / (2 pi zeta) ~ 1.6e-5 at most,
+    measured 7e-8."""
+    r = np.concatenate((1 + np.linspace(-30, 30, 121) * FLOOR, [0.5, 2.0]))
     effects = {"viscous_damping": {"ratio": FLOOR, "to": place}}
     ds = _cube(excitation, r, [0.0], ("transmissibility", "phase", "regime"), effects)
-    T, regime = ds["transmissibility"].values[0], ds["regime"].values[0]
-    # answered right, or labelled (force at r = 1 + 1e-6: shooting gives up, `unsettled`); r = 1 answered
-    right = np.abs(T / _linear(excitation, place, r, FLOOR) - 1) <= 1e-8
-    assert np.all(right | (regime == Regime.UNSETTLED)), (T, regime)
-    assert right[1]
+    T = ds["transmissibility"].values[0]
+    np.testing.assert_allclose(T, _linear(excitation, place, r, FLOOR), rtol=1e-6)
     assert _energy(ds).status == consistency.OK
 
 
