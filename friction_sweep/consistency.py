@@ -399,16 +399,26 @@ def check_unsettled(cube: _Cube) -> Finding:
     return tally.finding(cube, rule, reg.size)
 
 
+def _setting(cube: _Cube, name: str) -> float:
+    """A setting of the cube's method as its method_settings record it (the catalogue's default where it
+    does not); CubeError unless it is a number in the setting's meaningful range."""
+    known = catalogue.method(cube.method).settings[name]
+    value = cube.settings.get(name, known.default)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) \
+            or not known.contains(value):
+        raise CubeError(f"method_settings: {name} is not a number in {known.describe()}: {value!r}")
+    return float(value)
+
+
 def _closure(cube: _Cube) -> np.ndarray:
     """What a method's accepted orbit may leave unclosed over its measured period, relative to the state:
     steady_tol (|P^k(x) - x| <= steady_tol |x|, the method's own setting) plus the map's own error per
     period: rounding for event (kernels.period_map.map_error), and for rk4 its truncation too,
     (2 pi / r) h^4 / 120 with h = 2 pi / (r steps_per_period)."""
-    defaults = catalogue.method(cube.method).defaults
-    steady_tol = float(cube.settings.get("steady_tol", defaults.get("steady_tol", 0.0)))
+    steady_tol = _setting(cube, "steady_tol")
     error = np.full(cube.R.shape, MAP_ROUNDING)
     if cube.method == "rk4":
-        steps = float(cube.settings.get("steps_per_period", defaults["steps_per_period"]))
+        steps = _setting(cube, "steps_per_period")
         h = 2.0 * np.pi / (cube.R * steps)
         error = np.maximum(error, 2.0 * np.pi / cube.R * h ** 4 / 120.0)
     return steady_tol + error

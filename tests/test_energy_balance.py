@@ -237,3 +237,16 @@ def test_check_reports_the_energy_rule_in_json(tmp_path):
     assert res.exit_code == 1
     found = {f["rule"]: f for f in json.loads(res.output)}
     assert found["energy"]["status"] == "failed" and found["energy"]["violations"] == 1
+
+
+@pytest.mark.parametrize("steady_tol", ['"abc"', "true", "-1", "1e300", "null"])
+def test_a_cube_whose_settings_are_not_numbers_is_refused_not_a_traceback(steady_tol, tmp_path):
+    ds = _cube("base", np.array([0.8]), np.array([0.3]), ("transmissibility", "phase", "regime"), {})
+    settings = json.loads(ds.attrs["method_settings"])
+    settings["steady_tol"] = json.loads(steady_tol)
+    ds.attrs["method_settings"] = json.dumps(settings)
+    path = tmp_path / "c.h5"
+    ds.to_netcdf(path, engine="h5netcdf")
+    res = CliRunner().invoke(main, ["check", str(path)])
+    assert res.exception is None or isinstance(res.exception, SystemExit), res.output
+    assert res.exit_code == 2 and "method_settings: steady_tol is not a number in [1e-13, 1e-06]" in res.output
