@@ -25,7 +25,7 @@ from click.testing import CliRunner
 from conftest import in_dir
 
 from friction_sweep.cli import main
-from friction_sweep.codes import SteadyState
+from friction_sweep.codes import Regime, SteadyState
 
 GOOD = """\
 scene: {excitation: base}
@@ -276,6 +276,35 @@ def _creep_at_the_family(d: Path) -> None:
     ds["stops_per_period"].loc[at] = 1.0
     (d / "out.h5").unlink()
     ds.to_netcdf(d / "out.h5", engine="h5netcdf")
+
+def _damped(excitation: str, damping: str, method: str = "event") -> str:
+    """The issue's spec: a damping ratio next to resonance (issue 28, class 1)."""
+    return (f"scene: {{excitation: {excitation}, effects: {{viscous_damping: {damping}}}}}\n"
+            "grid:\n  frequency_ratio: [0.999999, 1.0, 1.000001]\n  force_ratio: [0]\n"
+            f"method: {method}\noutput: out.h5\n")
+
+
+def _wrong_orbit_cube(path: Path) -> None:
+    """The cube main wrote for the issue's spec (now refused): computed by the method directly, with r = 1 as
+    main wrote it, T = 68 labelled converged where the exact value is 1/(2 zeta) = 5e17 (the kernel now
+    labels it unsettled)."""
+    from friction_sweep import catalogue
+    from friction_sweep.methods import event
+    from friction_sweep.storage import cube, provenance
+
+    effects = {"viscous_damping": 1e-18}
+    r = np.array([0.999999, 1.0, 1.000001])
+    arrays = event.compute_tile("base", r, np.array([0.0]), ("transmissibility", "phase", "regime"), effects)
+    at_one = 1  # r = 1, as main wrote it
+    arrays["transmissibility"][0, at_one], arrays["phase"][0, at_one] = 68.02467467134679, -63.11680981
+    arrays["regime"][0, at_one], arrays["steady_state"][0, at_one] = Regime.CONTINUOUS, SteadyState.CONVERGED
+    settings = {**event.CATALOGUE.defaults, "effects": catalogue.resolved_effects("base", effects)}
+    cube.build_dataset(arrays, frequency_ratio=r, force_ratio=np.array([0.0]), excitation="base", title="t",
+                       history=provenance.history_line("test"),
+                       attrs=provenance.attributes(spec_text="", spec_path="s.yaml", excitation="base",
+                                                   method="event", settings=settings)
+                       ).to_netcdf(path, engine="h5netcdf")
+
 
 CASES = [
     # ---- spec files that cost without bound, or crash the reader
@@ -580,6 +609,25 @@ CASES = [
          words=("n\\x9bo.h5: No such file",)),
     Case("validate: an OSC in the spec's name", spec=None, args=("validate", "{d}/s\x1b]0;x\x07.yaml"), exit=0,
          setup=lambda d: (d / "s\x1b]0;x\x07.yaml").write_text(GOOD), words=("s\\x1b]0;x\\x07.yaml: ok",)),
+    # ---- issue 28: physics: energy balance (viscous_damping 0 or >= 1e-6; check's energy rule)
+    Case("damping 1e-18 next to resonance", _damped("base", "1.0e-18"),
+         words=("spec.yaml:1:", "scene.effects.viscous_damping", "must be 0 or at least 1e-06")),
+    Case("damping 1e-20, force", _damped("force", "1.0e-20"), words=("must be 0 or at least 1e-06",)),
+    Case("damping 1e-17 to the base, joined", _damped("joined", "{ratio: 1.0e-17, to: base}"),
+         words=("scene.effects.viscous_damping.ratio", "must be 0 or at least 1e-06")),
+    Case("damping 1e-9 spring-parallel", _damped("base", "{ratio: 1.0e-9, to: base}"),
+         words=("viscous_damping.ratio", "at least 1e-06")),
+    Case("damping 5e-324 (subnormal)", _damped("base", "5.0e-324"), words=("at least 1e-06",)),
+    Case("damping 1e-12 with rk4", _damped("base", "1.0e-12", "rk4"), words=("at least 1e-06",)),
+    Case("damping 1e-18 with the Jenkins contact", _damped("base", "1.0e-18, contact_stiffness: 100"),
+         words=("viscous_damping", "at least 1e-06")),
+    Case("damping 1e-18 in a stepped sweep", _damped("base", "1.0e-18") + "sweep: {direction: up}\n",
+         words=("at least 1e-06",)),
+    Case("damping 1e-18, validate", _damped("base", "1.0e-18"), args=("validate", "{spec}"),
+         words=("at least 1e-06",)),
+    Case("check fails a wrong orbit at zeta 1e-18", spec=None, args=("check", "{d}/wrong.h5"),
+         setup=lambda d: _wrong_orbit_cube(d / "wrong.h5"), exit=1, words=("energy", "FAILED", "r=1.0"),
+         absent=(), lines=None),
 ]
 
 

@@ -55,6 +55,8 @@ def _bound_problem(kind: str, bounds: Bounded, value: Any) -> str | None:
     if not bounds.contains(value):
         high = f"{number_text(bounds.high)} ({number_text(bounds.high)} excluded)" if bounds.high_open else \
             number_text(bounds.high)
+        if 0.0 < value < bounds.floor:
+            return f"must be 0 or at least {number_text(bounds.floor)} (got {show(value)}): {bounds.why}"
         return f"must be between {number_text(bounds.low)} and {high} (got {show(value)}): {bounds.why}"
     return None
 
