@@ -28,7 +28,7 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/fsweep run configs/demo.yaml --overwrite
-	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png
+	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png --overwrite
 	@echo "demo: the cube is results/demo.h5 (fsweep info results/demo.h5; friction_sweep.open_cube in Python),"
 	@echo "      its regime map results/demo.png"
 
@@ -59,7 +59,7 @@ coverage: $(STAMP)
 # measures, then rewrites the README's benchmark tables and the calibration that `accuracy:` uses
 bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
-	$(BIN)/fsweep bench --calibrate --calibration friction_sweep/bench/calibration.json -o results/bench/workprecision.h5
+	$(BIN)/fsweep bench --calibrate --calibration friction_sweep/bench/calibration.json -o results/bench/workprecision.h5 --overwrite
 	$(BIN)/python benchmarks/readme_tables.py
 
 # fsweep calibrate on the rig's data, then four folds out of sample; rewrites the README's calibration section
@@ -68,7 +68,7 @@ calibrate: $(STAMP)
 
 bench-quick: $(STAMP)
 	$(BIN)/python benchmarks/scale.py --quick
-	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5
+	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5 --overwrite
 
 # one cube per figure spec; fsweep writes atomically, so an interrupted run leaves no partial file
 FIG_SPECS := $(wildcard configs/fig*.yaml)

@@ -464,7 +464,7 @@ CASES = [
     # a checkpoint is one sweep's: its key covers what `accuracy:` resolved, and the calibration
     Case("resume after the user calibration changed", spec=None, args=RESUME, setup=_calibration_changed,
          env={"XDG_DATA_HOME": "{d}/xdg"}, words=("different sweep", "calibration"), absent=("out.h5", ".out.h5.lock"),
-         exist=(".out.h5.partial/tile-00000.npz",)),
+         exist=(".out.h5.partial/tile-00000.npz",), lines=2),  # the first line says what accuracy: chose
     # a tile proves it belongs (fingerprint, index, grid values) and holds the sweep's variables, exactly typed
     Case("a tile of another sweep of the same shape", setup=_foreign_tile,
          words=("tile-00000.npz does not carry this sweep's fingerprint",), **RESUMED),
