@@ -201,6 +201,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
     from friction_sweep.batch import checkpoint, pipeline
     from friction_sweep.batch import estimate as cost_model
+    from friction_sweep.storage import atomic
 
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
@@ -213,6 +214,8 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     if resume and overwrite:
         fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
     _refuse_destroying_spec(out, spec)
+    _refuse_replacing_calibration(s, out)
+    atomic.remove_stale(out)  # what runs killed while writing this output left, whatever this one does next
     if out.exists() and not overwrite and not resume:
         fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
@@ -258,6 +261,18 @@ def _refuse_destroying_spec(out: Path, spec: Path) -> None:
                 fail(f"output: {own} is the spec {spec} itself; a run would destroy it")
         except OSError:
             pass
+
+
+def _refuse_replacing_calibration(s, out: Path) -> None:
+    """Exit 2 where the run would replace the calibration its `accuracy:` reads (an input, like the spec)."""
+    if s.accuracy is None:
+        return
+    from friction_sweep.bench.workprecision import calibration_path
+    from friction_sweep.storage.outputs import refuse_replacing
+
+    reason = refuse_replacing([out], True, inputs=[calibration_path()])
+    if reason is not None:
+        fail(reason)
 
 
 def _check_dask(scheduler: str | None) -> None:
@@ -511,6 +526,8 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
         fail(f"{result}: {err}")
     try:
         write_all([(out, lambda tmp: quicklook.save(fig, tmp))], overwrite=overwrite)
+    except FileExistsError as err:  # appeared while it drew
+        fail(str(err))
     except OSError as err:
         fail(f"could not write {out}: {err.strerror or err}; nothing was written", EXIT_RUNTIME)
     click.echo(f"wrote {out}")

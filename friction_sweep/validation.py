@@ -260,6 +260,9 @@ def validate_data(data: Path | None, output_dir: Path, overwrite: bool):
         fail(f"no measured data at {DEFAULT_DATA} (the default, shipped with the package): "
               "pass --data FILE")
     data_path = data if data is not None else DEFAULT_DATA
+    refusal = outputs.refuse_name(str(data_path), "data")  # its path is written into table.md
+    if refusal:
+        fail(refusal)
     try:
         measured = read_measurements(data_path)
     except DataError as err:

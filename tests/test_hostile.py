@@ -317,6 +317,12 @@ def _rig_data() -> str:
     return DEFAULT_DATA.read_text()
 
 
+def _packaged_calibration() -> str:
+    from friction_sweep.bench.workprecision import PACKAGED_CALIBRATION
+
+    return PACKAGED_CALIBRATION.read_text()
+
+
 def _bench_notes(d: Path) -> None:
     (d / "notes.md").write_text("my notes")
     (d / "notes.png").write_text("my picture")
@@ -516,6 +522,10 @@ CASES = [
     Case("plot over an existing PNG", args=("plot", "{d}/out.h5"), setup=lambda d: (_good_cube(d), (
         d / "out.png").write_text("mine")), words=("out.png exists", "--overwrite"), absent=(),
         check=lambda d: _same_text(d / "out.png", "mine")),
+    Case("run over the calibration accuracy: reads", ACCURATE, env={"XDG_DATA_HOME": "{d}/xdg"},
+         args=("run", "{spec}", "-o", "{d}/xdg/friction_sweep/calibration.json", "--overwrite", "-q"),
+         setup=_user_calibration, words=("calibration.json is", "an input of this command"),
+         check=_unchanged_as("xdg/friction_sweep/calibration.json", lambda: _packaged_calibration())),
     Case("plot onto a hard link of its cube", args=("plot", "{d}/out.h5", "-o", "{d}/link.png", "--overwrite"),
          setup=lambda d: (_good_cube(d), os.link(d / "out.h5", d / "link.png")), words=("an input of this command",),
          absent=(), check=_cube_unchanged),
@@ -532,6 +542,8 @@ CASES = [
          absent=(".out.h5.partial", ".out.h5.lock")),
     Case("temporaries of a killed run, output refused", setup=lambda d: (_good_cube(d), _stale_temporaries(d)),
          args=("run", "{spec}", "--resume", "-q"), words=("nothing to resume",), absent=(".out.h5.partial",)),
+    Case("temporaries of a killed run, output exists", setup=lambda d: (_good_cube(d), _stale_temporaries(d)),
+         words=("exists", "--overwrite"), absent=(".out.h5.partial",), check=_cube_unchanged),
     # names: UTF-8 without controls, short enough for fsweep's hidden files, a file; the same for validate
     Case("spec name not UTF-8", spec=None, args=("run", "{d}/sp\udcff.yaml", "-q"),
          setup=lambda d: (d / "sp\udcff.yaml").write_text(GOOD), words=("spec", "not valid UTF-8")),
@@ -543,6 +555,12 @@ CASES = [
     Case("output: a lone surrogate", GOOD.replace("output: out.h5", 'output: "\\ud800.h5"'), words=("not valid UTF-8",)),
     Case("validate: output a lone surrogate", GOOD.replace("output: out.h5", 'output: "\\ud800.h5"'),
          args=("validate", "{spec}"), words=("not valid UTF-8",)),
+    Case("validate-data: data name not UTF-8", spec=None, args=("validate-data", "--data", "{d}/d\udcff.csv", "-o",
+                                                                 "{d}/v"),
+         setup=lambda d: (d / "d\udcff.csv").write_text(_rig_data()), words=("data", "not valid UTF-8"), absent=("v",)),
+    Case("calibrate: spec name not UTF-8", spec=None, args=("calibrate", "{d}/r\udcff.yaml", "-q"),
+         setup=lambda d: (_calibration_spec(d, "rigdir/data.csv", "res"), (d / "rig.yaml").rename(d / "r\udcff.yaml")),
+         words=("spec", "not valid UTF-8"), absent=("res",)),
     Case("plot -o not UTF-8", args=("plot", "{d}/out.h5", "-o", "\udcff.png"), setup=_good_cube,
          words=("not valid UTF-8",), absent=()),
     Case("validate: a 240-character name", args=("validate", "{spec}", "-o", "a" * 237 + ".h5"),

@@ -59,6 +59,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
               overwrite: bool):
     """Calibrate the model to a rig's measurements (MAP, then posterior samples)."""
     began = time.perf_counter()
+    refusal = outputs.refuse_name(str(spec_path), "spec")  # paths are written into the report
+    if refusal:
+        fail(refusal)
     try:
         spec = load_calibration_spec(spec_path)
     except SpecError as err:
@@ -70,6 +73,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
         obs = read_observations(spec)
     except DataError as err:
         fail(str(err))
+    refusal = outputs.refuse_name(obs.path, "data")
+    if refusal:
+        fail(refusal)
     folder = output if output is not None else Path(spec.output or Path("results") / spec_path.stem)
     targets = [folder / name for name in report.OUTPUT_FILES]
     for target in targets:

@@ -51,7 +51,7 @@ def refuse_name(text: str, what: str = "name") -> str | None:
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:
-        return (f"{what} {ascii(text)} is not valid UTF-8 (bytes no encoding names, or a lone surrogate): "
+        return (f"{what} {ascii(text)} is not valid UTF-8 (undecodable bytes, or a lone surrogate): "
                 "rename it")
     bad = next((ch for ch in text if unicodedata.category(ch) in _CONTROL_CATEGORIES), None)
     if bad is not None:
