@@ -118,3 +118,18 @@ def test_the_checkpoint_key_covers_calibration_version_and_code(monkeypatch, tmp
     monkeypatch.setattr(pipeline, "code_version", lambda: "other kernels")
     assert _key(accurate) != versioned
     assert np.unique([_key(accurate) for _ in range(3)]).size == 1  # and nothing else moves it
+
+
+def test_a_resumed_checkpoint_drops_the_tile_a_killed_run_was_writing(tmp_path):
+    from friction_sweep.batch import checkpoint
+
+    grids = [{"frequency_ratio": np.array([0.5, 1.5]), "force_ratio": np.array([0.1])}] * 2
+    store = checkpoint.Checkpoint(tmp_path / "out.h5", "key", grids)
+    store.start(resume=False)
+    store.save(0, {"transmissibility": np.ones((1, 2))})
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    left = store.dir / f".tile-00001.npz.{child.pid}-abcdefgh.tmp"
+    left.write_bytes(b"half a tile")
+    done, dropped = checkpoint.Checkpoint(tmp_path / "out.h5", "key", grids).start(resume=True)
+    assert list(done) == [0] and dropped == [] and not left.exists()

@@ -229,6 +229,7 @@ class Checkpoint:
                     done[index] = tile
         try:
             self.dir.mkdir(parents=True, exist_ok=True)
+            atomic.remove_stale_in(self.dir)  # tiles a killed run was writing; saves then need not look
             self._write_manifest()
         except OSError as err:
             raise SaveFailed(f"could not start a checkpoint in {self.dir}: {_why(err)}") from None
@@ -277,7 +278,7 @@ class Checkpoint:
             if self.variables is None:  # the first tile: what every tile of this sweep holds
                 self.variables = {k: np.asarray(v).dtype.str for k, v in tile.items()}
                 self._write_manifest()
-            atomic.write(self.dir / f"tile-{index:05d}.npz", lambda fh: np.savez(fh, **entries))
+            atomic.write(self.dir / f"tile-{index:05d}.npz", lambda fh: np.savez(fh, **entries), sweep=False)
         except OSError as err:
             raise SaveFailed(f"could not save a finished tile in {self.dir}: {_why(err)}; its "
                              f"{self.finished()} finished tiles are kept: rerun with --resume once it can be "

@@ -39,12 +39,15 @@ def umask() -> int:
     return old
 
 
-def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = True) -> Path:
+def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = True, sweep: bool = True) -> Path:
     """Write `path` through `writer(file)`. Without `overwrite`, an existing `path` is never replaced
-    (FileExistsError, checked at the final link, so a file that appeared meanwhile is kept)."""
+    (FileExistsError, checked at the final link, so a file that appeared meanwhile is kept). `sweep`:
+    first remove the temporaries killed writers left of `path` (a caller writing many files into one
+    folder sweeps it once instead, remove_stale_in)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale(path)
+    if sweep:
+        remove_stale(path)
     fd, name = tempfile.mkstemp(prefix=temporary_prefix(path), suffix=".tmp", dir=path.parent)
     tmp = Path(name)
     try:
@@ -81,17 +84,26 @@ def remove_stale(path: str | os.PathLike[str]) -> list[Path]:
     """Remove the temporary files of `path` left by writers that are gone (killed mid-write); returns
     them. Only regular files of fsweep's own naming whose process id names no running process."""
     path = Path(path)
-    pattern = re.compile(_TEMPORARY.format(name=re.escape(path.name)))
+    return _remove_stale(path.parent, re.escape(path.name))
+
+
+def remove_stale_in(folder: str | os.PathLike[str]) -> list[Path]:
+    """remove_stale for every target in `folder` (a checkpoint's tiles: one listing, not one per tile)."""
+    return _remove_stale(Path(folder), r"[^/]+?")
+
+
+def _remove_stale(folder: Path, name: str) -> list[Path]:
+    pattern = re.compile(_TEMPORARY.format(name=name))
     removed: list[Path] = []
     try:
-        names = os.listdir(path.parent)
+        names = os.listdir(folder)
     except OSError:
         return removed
     for name in names:
         match = pattern.fullmatch(name)
         if match is None or _alive(int(match.group(1))):
             continue
-        stale = path.parent / name
+        stale = folder / name
         try:
             if os.path.isfile(stale) and not os.path.islink(stale):
                 stale.unlink()
