@@ -118,6 +118,7 @@ def validate(spec: Path, output: str | None):
     s = _load(spec)
     out = _output_path(spec, s, output)
     _refuse_destroying_spec(out, spec)
+    _refuse_replacing_calibration(s, out)
     settings, _ = _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
