@@ -101,18 +101,18 @@ class Lock:
                     what = f"cannot be opened ({err.strerror})"
                 raise Busy(f"{self.path}, where fsweep locks {self.out}, {what}: remove it if no run is "
                            f"writing {self.out}") from None
-            foreign = self._foreign(fd, created)
-            if foreign:
-                os.close(fd)
-                raise Busy(f"{self.path}, where fsweep locks {self.out}, {foreign}, which fsweep never writes "
-                           f"into: remove that name (rm {shlex.quote(str(self.path))}) if no run is writing "
-                           f"{self.out}")
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
                 os.close(fd)
                 raise Busy(f"another fsweep run is writing {self.out} (it holds {self.path}); wait for it "
                            f"to finish") from None
+            foreign = self._foreign(fd, created)  # checked as late as can be, just before the write
+            if foreign:
+                os.close(fd)  # releases the flock, which changed nothing in the file
+                raise Busy(f"{self.path}, where fsweep locks {self.out}, {foreign}, which fsweep never writes "
+                           f"into: remove that name (rm {shlex.quote(str(self.path))}) if no run is writing "
+                           f"{self.out}")
             # the run before us may have removed the file between our open and our lock: then we
             # hold a lock on a file nobody else can see, so take the one now at the path
             if self._at_path(fd):
