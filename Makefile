@@ -30,7 +30,7 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/fsweep run configs/demo.yaml --overwrite
-	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png
+	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png --overwrite
 	@echo "demo: the cube is results/demo.h5 (fsweep info results/demo.h5; friction_sweep.open_cube in Python),"
 	@echo "      its regime map results/demo.png"
 
@@ -62,7 +62,7 @@ coverage: $(STAMP)
 # measures speed, scaling and what accuracy costs; the calibration `accuracy:` would read, measured here
 bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
-	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.h5
+	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.h5 --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)
 calibrate: $(STAMP)
@@ -75,7 +75,7 @@ refresh-readme: bench calibrate
 
 bench-quick: $(STAMP)
 	$(BIN)/python benchmarks/scale.py --quick
-	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5
+	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5 --overwrite
 
 # one cube per figure spec; fsweep writes atomically, so an interrupted run leaves no partial file
 FIG_SPECS := $(wildcard configs/fig*.yaml)

@@ -35,7 +35,8 @@ FSWEEP = Path(sys.executable).with_name("fsweep")
 
 def run(spec: Path, out: Path) -> float:
     began = time.perf_counter()
-    subprocess.run([str(FSWEEP), "calibrate", str(spec), "-j", "2", "-q", "-o", str(out)], check=True, cwd=ROOT)
+    subprocess.run([str(FSWEEP), "calibrate", str(spec), "-j", "2", "-q", "--overwrite", "-o", str(out)], check=True,
+                   cwd=ROOT)
     return time.perf_counter() - began
 
 

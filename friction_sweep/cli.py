@@ -50,8 +50,11 @@ def _load(path: Path):
 def _output_path(spec_path: Path, spec, override: str | None) -> Path:
     """Where the result goes; exit 2 for a name that cannot be a file (checked as written: a Path
     would drop the trailing slash of `out/`)."""
-    from friction_sweep.storage.outputs import refuse_special_output
+    from friction_sweep.storage.outputs import refuse_name, refuse_special_output
 
+    reason = refuse_name(str(spec_path), "spec")  # its path is recorded in the cube, and may name it
+    if reason is not None:
+        fail(reason)
     raw = override if override is not None else spec.output
     if raw is None:
         raw = str(Path("results") / f"{spec_path.stem}.h5")
@@ -116,6 +119,7 @@ def validate(spec: Path, output: str | None):
     s = _load(spec)
     out = _output_path(spec, s, output)
     _refuse_destroying_spec(out, spec)
+    _refuse_replacing_calibration(s, out)
     settings, _ = _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
@@ -197,9 +201,9 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
         scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
-    from friction_sweep.batch import checkpoint
+    from friction_sweep.batch import checkpoint, pipeline
     from friction_sweep.batch import estimate as cost_model
-    from friction_sweep.batch.layout import TILE_FORCES, TILE_FREQUENCIES, layout
+    from friction_sweep.storage import atomic
 
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
@@ -212,6 +216,8 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     if resume and overwrite:
         fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
     _refuse_destroying_spec(out, spec)
+    _refuse_replacing_calibration(s, out)
+    atomic.remove_stale(out)  # what runs killed while writing this output left, whatever this one does next
     if out.exists() and not overwrite and not resume:
         fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
@@ -224,11 +230,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     _check_writable(out)
     if not quiet:
         click.echo(f"estimate: {cost.describe()}", err=True)
-    r, beta = s.frequency_ratio, s.force_ratio
-    sweep = s.sweep.direction if s.sweep is not None else None
-    key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
-                                 tile=TILE_FORCES if sweep else TILE_FREQUENCIES, version=friction_sweep.__version__)
-    store = checkpoint.Checkpoint(out, key, len(layout(r.size, s.force_count, sweep)))
+    store = checkpoint.Checkpoint(out, pipeline.checkpoint_key(s, settings, extra), pipeline.tile_grids(s))
     try:
         with checkpoint.Lock(out):
             _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
@@ -263,6 +265,18 @@ def _refuse_destroying_spec(out: Path, spec: Path) -> None:
             pass
 
 
+def _refuse_replacing_calibration(s, out: Path) -> None:
+    """Exit 2 where the run would replace the calibration its `accuracy:` reads (an input, like the spec)."""
+    if s.accuracy is None:
+        return
+    from friction_sweep.bench.workprecision import calibration_path
+    from friction_sweep.storage.outputs import refuse_replacing
+
+    reason = refuse_replacing([out], True, inputs=[calibration_path()])
+    if reason is not None:
+        fail(reason)
+
+
 def _check_dask(scheduler: str | None) -> None:
     """Fail in a second, not after a 30 s connection timeout, where Dask cannot run the tiles."""
     from friction_sweep.batch.executors import DaskUnavailable, check_dask
@@ -293,8 +307,8 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         done, dropped = store.start(resume)
     except checkpoint.SaveFailed as err:
         fail(str(err), EXIT_RUNTIME)
-    for name in dropped:
-        click.echo(f"fsweep: warning: {store.dir / name} was damaged; its tile is computed again", err=True)
+    for name, why in dropped:
+        click.echo(f"fsweep: warning: {store.dir / name} {why}; its tile is computed again", err=True)
     r = s.frequency_ratio
     start = time.perf_counter()
     try:
@@ -360,9 +374,12 @@ def _check_writable(out: Path) -> None:
     """Fail before computing, not after, if the result could not be written there."""
     import tempfile
 
+    from friction_sweep.storage import atomic
+
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile(dir=out.parent, prefix=f".{out.name}.", suffix=".probe"):
+        # named as atomic's temporaries: one a kill -9 leaves here is removed by the next write
+        with tempfile.NamedTemporaryFile(dir=out.parent, prefix=atomic.temporary_prefix(out), suffix=".tmp"):
             pass
     except OSError as err:
         fail(f"cannot write the output {out}: {err.strerror or err}")
@@ -478,10 +495,11 @@ def check(result: Path, as_json: bool):
 @click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
               help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
                    "history=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those dims.")
-def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...]):
+@click.option("--overwrite", is_flag=True, help="Replace an existing PNG (atomically).")
+def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...], overwrite: bool):
     """Draw a quick look at a result cube as PNG: the regime map, transmissibility or phase curves, or
     a stored orbit."""
-    from friction_sweep.storage.outputs import missing_figures_extra, refuse_special_output
+    from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output, write_all
 
     problem = missing_figures_extra()  # first: a missing extra costs nothing, not even reading the cube
     if problem:
@@ -494,18 +512,18 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
         fail(f"output: {reason}")
     if out.suffix.lower() != ".png":
         fail(f"output: {out} does not end in .png; fsweep plot writes PNG")
-    try:
-        if out.exists() and os.path.samefile(out, result):
-            fail(f"output: {out} is the RESULT itself; name another file with -o")
-    except OSError:
-        pass
+    reason = refuse_replacing([out], overwrite, inputs=[result])
+    if reason is not None:
+        fail(reason)
     ds = _open_result(result)
     try:
         fig = quicklook.draw(ds, kind, selections)
     except quicklook.PlotError as err:
         fail(f"{escape(result)}: {escape(err)}")
     try:
-        quicklook.save(fig, out)
+        write_all([(out, lambda tmp: quicklook.save(fig, tmp))], overwrite=overwrite)
+    except FileExistsError as err:  # appeared while it drew
+        fail(str(err))
     except OSError as err:
         fail(f"could not write {out}: {err.strerror or err}; nothing was written", EXIT_RUNTIME)
     click.echo(f"wrote {escape(out)}")
@@ -554,15 +572,18 @@ def _shown(v) -> str:
 @click.option("--calibration", type=click.Path(path_type=Path), default=None,
               help="Where --calibrate writes (default: the user's, ~/.local/share/friction_sweep/calibration.json, "
                    "which `accuracy:` then reads in preference to the packaged one).")
-def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None):
+@click.option("--overwrite", is_flag=True, help="Replace existing outputs (the dataset, its .png and .md, the "
+              "calibration), all together.")
+def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None, overwrite: bool):
     """Measure what accuracy costs in time: error and time per point of every method and setting."""
     from friction_sweep.bench import workprecision as wp
-    from friction_sweep.storage.outputs import missing_figures_extra, refuse_special_output
+    from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output
 
     if calibrate and quick:
         fail("--calibrate needs the full benchmark, not --quick")
     # every refusal before the benchmark's seconds to minutes of computing
     problem = (refuse_special_output(output) or wp.refuse_outputs(output, calibrate, calibration)
+               or refuse_replacing(wp.output_paths(output, calibrate, calibration), overwrite)
                or missing_figures_extra())
     if problem:
         fail(problem)
@@ -570,7 +591,9 @@ def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None):
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
     table = wp.markdown(ds)
     try:
-        paths = wp.write(ds, output, calibrate, calibration)  # all or nothing
+        paths = wp.write(ds, output, calibrate, calibration, overwrite=overwrite)  # all or nothing
+    except FileExistsError as err:
+        fail(str(err))
     except OSError as err:
         fail(f"could not write the benchmark's results ({output}): {err.strerror or err}; "
               "no output was changed", EXIT_RUNTIME)

@@ -111,7 +111,7 @@ def _lock_is_folder(d: Path) -> None:
     (d / ".out.h5.lock").mkdir()
 
 
-def _interrupted(d: Path, spec: str = EVENT) -> None:
+def _interrupted(d: Path, spec: str = EVENT, env: dict | None = None) -> None:
     """An event run stopped after two of its tiles (kill -9), with its checkpoint left."""
     code = (
         "import sys\n"
@@ -127,7 +127,8 @@ def _interrupted(d: Path, spec: str = EVENT) -> None:
         "main(['run', 'spec.yaml', '-q', '--executor', 'serial'])\n"
     )
     (d / "spec.yaml").write_text(spec)
-    subprocess.run([sys.executable, "-c", code], cwd=d, capture_output=True, check=False)
+    subprocess.run([sys.executable, "-c", code], cwd=d, capture_output=True, check=False,
+                   env={**os.environ, **(env or {})})
     assert len(list((d / ".out.h5.partial").glob("tile-*.npz"))) == 2
 
 
@@ -208,6 +209,7 @@ class Case:
     check: Callable[[Path], None] | None = None
     lines: int | None = 1  # message lines on stderr after "invalid spec" (None: any number)
     extra: dict = field(default_factory=dict)
+    env: dict = field(default_factory=dict)  # environment of the command ({d}: the case's folder)
 
 
 def _cube_unchanged(d: Path) -> None:
@@ -230,6 +232,129 @@ def _resumed_cube_is_complete(d: Path) -> None:
         assert set(got.data_vars) == set(ref.data_vars)
         for name in ref.data_vars:
             np.testing.assert_array_equal(got[name].values, ref[name].values)
+
+# ---- set-ups and checks of issue 28 (files and checkpoints) ------------------------------------------
+
+ACCURATE = EVENT_LONG + "accuracy: 1.0e-3\n"
+
+
+def _user_calibration(d: Path) -> Path:
+    from friction_sweep.bench.workprecision import PACKAGED_CALIBRATION
+
+    path = d / "xdg" / "friction_sweep" / "calibration.json"
+    path.parent.mkdir(parents=True)
+    path.write_text(PACKAGED_CALIBRATION.read_text())
+    return path
+
+
+def _calibration_changed(d: Path) -> None:
+    """A run with `accuracy:` interrupted, then the user's calibration changed so that `accuracy:` chooses
+    other settings (the cheapest row that met 1e-3 now misses it)."""
+    import json
+
+    path = _user_calibration(d)
+    _interrupted(d, ACCURATE, env={"XDG_DATA_HOME": str(d / "xdg")})
+    table = json.loads(path.read_text())
+    for row in table["event"]:
+        if row["worst_error"] is not None and row["worst_error"] <= 1e-3:
+            row["worst_error"] = 0.5
+            break
+    path.write_text(json.dumps(table))
+
+
+def _tile_arrays(path: Path) -> dict:
+    with np.load(path) as data:
+        return {k: data[k] for k in data.files}
+
+
+def _edit_tile(change: Callable[[dict], dict]) -> Callable[[Path], None]:
+    """An interrupted run whose first finished tile is changed (its proof entries kept unless changed)."""
+    def setup(d: Path) -> None:
+        _interrupted(d, EVENT_LONG)
+        tile = d / ".out.h5.partial" / "tile-00000.npz"
+        np.savez(tile, **change(_tile_arrays(tile)))
+    return setup
+
+
+def _foreign_tile(d: Path) -> None:
+    """The first tile replaced by the first tile of another sweep of the same shape."""
+    (d / "other").mkdir()
+    _interrupted(d / "other", EVENT_LONG.replace("0.1, 0.4", "0.1, 0.5"))
+    _interrupted(d, EVENT_LONG)
+    (d / ".out.h5.partial" / "tile-00000.npz").write_bytes((d / "other/.out.h5.partial/tile-00000.npz").read_bytes())
+    import shutil
+
+    shutil.rmtree(d / "other")
+
+
+def _swapped_tile(d: Path) -> None:
+    """Tile 0's file copied over tile 1 (right shape, right sweep, wrong place)."""
+    _interrupted(d, EVENT_LONG)
+    part = d / ".out.h5.partial"
+    (part / "tile-00001.npz").write_bytes((part / "tile-00000.npz").read_bytes())
+
+
+def _hard_linked_lock(d: Path) -> None:
+    (d / "victim.txt").write_text("precious")
+    os.link(d / "victim.txt", d / ".out.h5.lock")
+
+
+def _cube_linked_as_lock(d: Path) -> None:
+    _good_cube(d)
+    os.link(d / "out.h5", d / ".out.h5.lock")
+
+
+def _dead_pid() -> int:
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    return child.pid
+
+
+def _stale_temporaries(d: Path) -> None:
+    """What a kill -9 leaves: the cube's temporary, a staged copy and its temporary, and the probe."""
+    pid = _dead_pid()
+    for name in (f".out.h5.{pid}-abcd_123.tmp", f".out.h5.{pid}-staged.tmp",
+                 f"..out.h5.{pid}-staged.tmp.{pid}-x1y2z3w4.tmp"):
+        (d / name).write_bytes(b"\0" * 100_000)
+
+
+def _calibration_spec(d: Path, data: str, output: str, name: str = "rig.yaml") -> None:
+    from friction_sweep.validation import DEFAULT_DATA
+
+    text = (Path(__file__).parents[1] / "configs/calibration/rig.yaml").read_text()
+    text = text.replace("../../friction_sweep/data/experiment_phase_fixed_wall.csv", data)
+    (d / name).write_text(text.replace("output: results/calibration/rig", f"output: {output}"))
+    if data.startswith("rigdir/"):
+        (d / "rigdir").mkdir(exist_ok=True)
+        (d / data).write_text(DEFAULT_DATA.read_text())
+
+
+def _unchanged_as(path: str, source: Callable[[], str]) -> Callable[[Path], None]:
+    return lambda d: _same_text(d / path, source())
+
+
+def _rig_data() -> str:
+    from friction_sweep.validation import DEFAULT_DATA
+
+    return DEFAULT_DATA.read_text()
+
+
+def _packaged_calibration() -> str:
+    from friction_sweep.bench.workprecision import PACKAGED_CALIBRATION
+
+    return PACKAGED_CALIBRATION.read_text()
+
+
+def _bench_notes(d: Path) -> None:
+    (d / "notes.md").write_text("my notes")
+    (d / "notes.png").write_text("my picture")
+
+
+KEEP = ("out.h5", ".out.h5.partial", ".out.h5.lock")  # the default `absent`
+RESUME = ("run", "{spec}", "--resume", "-q")
+RESUMED = {"spec": None, "args": RESUME, "exit": 0, "exist": ("out.h5",), "absent": (".out.h5.partial", ".out.h5.lock"),
+           "check": _resumed_cube_is_complete}
+
 
 
 # issue 28, r = 1/(2n): specs whose grids hold r next to 1/(2n) (12-digit grid values, a few ulps and
@@ -628,12 +753,129 @@ CASES = [
     Case("check fails a wrong orbit at zeta 1e-18", spec=None, args=("check", "{d}/wrong.h5"),
          setup=lambda d: _wrong_orbit_cube(d / "wrong.h5"), exit=1, words=("energy", "FAILED", "r=1.0"),
          absent=(), lines=None),
+    # ---- issue 28: files and checkpoints
+    # a checkpoint is one sweep's: its key covers what `accuracy:` resolved, and the calibration
+    Case("resume after the user calibration changed", spec=None, args=RESUME, setup=_calibration_changed,
+         env={"XDG_DATA_HOME": "{d}/xdg"}, words=("different sweep", "calibration"), absent=("out.h5", ".out.h5.lock"),
+         exist=(".out.h5.partial/tile-00000.npz",), lines=2),  # the first line says what accuracy: chose
+    # a tile proves it belongs (fingerprint, index, grid values) and holds the sweep's variables, exactly typed
+    Case("a tile of another sweep of the same shape", setup=_foreign_tile,
+         words=("tile-00000.npz does not carry this sweep's fingerprint",), **RESUMED),
+    Case("a tile in another tile's place", setup=_swapped_tile, words=("tile-00001.npz carries another tile's index",),
+         **RESUMED),
+    Case("a tile without its proof", setup=_edit_tile(lambda t: {k: v for k, v in t.items() if k != "fsweep_key"}),
+         words=("does not carry this sweep's fingerprint",), **RESUMED),
+    Case("a tile claiming other grid values", setup=_edit_tile(
+        lambda t: {**t, "fsweep_frequency_ratio": t["fsweep_frequency_ratio"] * (1 + 1e-15)}),
+        words=("other frequency_ratio values",), **RESUMED),
+    Case("a tile cast to float16", setup=_edit_tile(lambda t: {**t, "transmissibility": t["transmissibility"].astype(
+        np.float16)}), words=("other dtypes",), **RESUMED),
+    Case("a tile of int64 regimes", setup=_edit_tile(lambda t: {**t, "regime": t["regime"].astype(np.int64)}),
+         words=("other dtypes",), **RESUMED),
+    Case("a tile missing phase", setup=_edit_tile(lambda t: {k: v for k, v in t.items() if "phase" not in k}),
+         words=("lacks peak_phase, phase",), **RESUMED),
+    Case("a tile with an extra variable", setup=_edit_tile(lambda t: {**t, "friction_energy": t["transmissibility"]}),
+         words=("holds friction_energy too",), **RESUMED),
+    Case("a tile with a 1-D transmissibility", setup=_edit_tile(
+        lambda t: {**t, "transmissibility": t["transmissibility"][0]}), words=(), **RESUMED),
+    # no command replaces a file without --overwrite, and none ever writes over its own input
+    Case("calibrate into its data's folder", spec=None, args=("calibrate", "{d}/rig.yaml", "-q"),
+         setup=lambda d: _calibration_spec(d, "rigdir/map.csv", "rigdir"), words=("map.csv is", "an input"),
+         check=_unchanged_as("rigdir/map.csv", _rig_data)),
+    Case("calibrate --overwrite onto its data", spec=None, args=("calibrate", "{d}/rig.yaml", "-q", "--overwrite"),
+         setup=lambda d: _calibration_spec(d, "rigdir/map.csv", "rigdir"),
+         words=("an input of this command", "not even with --overwrite"), check=_unchanged_as("rigdir/map.csv", _rig_data)),
+    Case("calibrate: a spec named report.md", spec=None, args=("calibrate", "{d}/report.md", "-q", "--overwrite"),
+         setup=lambda d: _calibration_spec(d, "rigdir/data.csv", str(d), name="report.md"),
+         words=("report.md is", "an input of this command")),
+    Case("calibrate into a folder of earlier results", spec=None, args=("calibrate", "{d}/rig.yaml", "-q"),
+         setup=lambda d: (_calibration_spec(d, "rigdir/data.csv", "res"), (d / "res").mkdir(),
+                          (d / "res" / "corner.png").write_text("earlier")),
+         words=("corner.png exists",), check=lambda d: _same_text(d / "res" / "corner.png", "earlier")),
+    Case("validate-data onto its own data", spec=None,
+         args=("validate-data", "--data", "{d}/v/table.csv", "-o", "{d}/v", "--overwrite"),
+         setup=lambda d: ((d / "v").mkdir(), (d / "v" / "table.csv").write_text(_rig_data())),
+         words=("table.csv is", "an input of this command"), check=_unchanged_as("v/table.csv", _rig_data)),
+    Case("validate-data over an earlier table", spec=None, args=("validate-data", "-o", "{d}/v"),
+         setup=lambda d: ((d / "v").mkdir(), (d / "v" / "table.md").write_text("mine")),
+         words=("table.md exists", "--overwrite"), check=lambda d: _same_text(d / "v" / "table.md", "mine")),
+    Case("bench over notes beside its dataset", spec=None, args=("bench", "--quick", "-o", "{d}/notes.h5"),
+         setup=_bench_notes, words=("notes.png exists", "--overwrite"), absent=("notes.h5",),
+         check=lambda d: (_same_text(d / "notes.md", "my notes"), _same_text(d / "notes.png", "my picture"))),
+    Case("bench --calibrate over a calibration", spec=None,
+         args=("bench", "--calibrate", "--calibration", "{d}/cal.json", "-o", "{d}/wp.h5"),
+         setup=lambda d: (d / "cal.json").write_text("{}"), words=("cal.json exists",), absent=("wp.h5",),
+         check=lambda d: _same_text(d / "cal.json", "{}")),
+    Case("plot over an existing PNG", args=("plot", "{d}/out.h5"), setup=lambda d: (_good_cube(d), (
+        d / "out.png").write_text("mine")), words=("out.png exists", "--overwrite"), absent=(),
+        check=lambda d: _same_text(d / "out.png", "mine")),
+    Case("run over the calibration accuracy: reads", ACCURATE, env={"XDG_DATA_HOME": "{d}/xdg"},
+         args=("run", "{spec}", "-o", "{d}/xdg/friction_sweep/calibration.json", "--overwrite", "-q"),
+         setup=_user_calibration, words=("calibration.json is", "an input of this command"),
+         check=_unchanged_as("xdg/friction_sweep/calibration.json", lambda: _packaged_calibration())),
+    Case("validate: output the calibration accuracy: reads", ACCURATE, env={"XDG_DATA_HOME": "{d}/xdg"},
+         args=("validate", "{spec}", "-o", "{d}/xdg/friction_sweep/calibration.json"), setup=_user_calibration,
+         words=("an input of this command",)),
+    Case("plot onto a hard link of its cube", args=("plot", "{d}/out.h5", "-o", "{d}/link.png", "--overwrite"),
+         setup=lambda d: (_good_cube(d), os.link(d / "out.h5", d / "link.png")), words=("an input of this command",),
+         absent=(), check=_cube_unchanged),
+    # a lock with other names, or content fsweep did not write, is never written into
+    Case("lock hard-linked to a victim", setup=_hard_linked_lock, words=("2 names", "hard link"),
+         absent=("out.h5", ".out.h5.partial"), check=lambda d: _same_text(d / "victim.txt", "precious")),
+    Case("lock hard-linked to the previous cube", args=("run", "{spec}", "--overwrite", "-q"),
+         setup=_cube_linked_as_lock, words=("2 names",), absent=(".out.h5.partial",), check=_cube_unchanged),
+    Case("lock holding a user's text", setup=lambda d: (d / ".out.h5.lock").write_text("my notes\n"),
+         words=("holds data fsweep did not write",), absent=("out.h5", ".out.h5.partial"),
+         check=lambda d: _same_text(d / ".out.h5.lock", "my notes\n")),
+    # temporaries of a killed writer are removed by the next run on the same output
+    Case("temporaries of a killed run", setup=_stale_temporaries, exit=0, exist=("out.h5",),
+         absent=(".out.h5.partial", ".out.h5.lock")),
+    Case("temporaries of a killed run, output refused", setup=lambda d: (_good_cube(d), _stale_temporaries(d)),
+         args=("run", "{spec}", "--resume", "-q"), words=("nothing to resume",), absent=(".out.h5.partial",)),
+    Case("temporaries of a killed run, output exists", setup=lambda d: (_good_cube(d), _stale_temporaries(d)),
+         words=("exists", "--overwrite"), absent=(".out.h5.partial",), check=_cube_unchanged),
+    # names: UTF-8 without controls, short enough for fsweep's hidden files, a file; the same for validate
+    Case("spec name not UTF-8", spec=None, args=("run", "{d}/sp\udcff.yaml", "-q"),
+         setup=lambda d: (d / "sp\udcff.yaml").write_text(GOOD), words=("spec", "not valid UTF-8")),
+    Case("validate: spec name not UTF-8", spec=None, args=("validate", "{d}/sp\udcff.yaml"),
+         setup=lambda d: (d / "sp\udcff.yaml").write_text(GOOD), words=("not valid UTF-8",)),
+    Case("-o not UTF-8", args=("run", "{spec}", "-o", "\udced\udca0\udc80.h5", "-q"), words=("not valid UTF-8",)),
+    Case("validate: -o not UTF-8", args=("validate", "{spec}", "-o", "\udced\udca0\udc80.h5"),
+         words=("not valid UTF-8",)),
+    Case("output: a lone surrogate", GOOD.replace("output: out.h5", 'output: "\\ud800.h5"'), words=("not valid UTF-8",)),
+    Case("validate: output a lone surrogate", GOOD.replace("output: out.h5", 'output: "\\ud800.h5"'),
+         args=("validate", "{spec}"), words=("not valid UTF-8",)),
+    Case("validate-data: data name not UTF-8", spec=None, args=("validate-data", "--data", "{d}/d\udcff.csv", "-o",
+                                                                 "{d}/v"),
+         setup=lambda d: (d / "d\udcff.csv").write_text(_rig_data()), words=("data", "not valid UTF-8"), absent=("v",)),
+    Case("calibrate: spec name not UTF-8", spec=None, args=("calibrate", "{d}/r\udcff.yaml", "-q"),
+         setup=lambda d: (_calibration_spec(d, "rigdir/data.csv", "res"), (d / "rig.yaml").rename(d / "r\udcff.yaml")),
+         words=("spec", "not valid UTF-8"), absent=("res",)),
+    Case("plot -o not UTF-8", args=("plot", "{d}/out.h5", "-o", "\udcff.png"), setup=_good_cube,
+         words=("not valid UTF-8",), absent=()),
+    Case("validate: a 240-character name", args=("validate", "{spec}", "-o", "a" * 237 + ".h5"),
+         words=("240 bytes long", "at most 215")),
+    Case("a 217-byte name", args=("run", "{spec}", "-o", "é" * 107 + ".h5", "-q"), words=("217 bytes long",)),
+    Case("DEL in -o", args=("run", "{spec}", "-o", "out\x7f.h5", "-q"), words=("control character", "U+007F")),
+    Case("NEL in -o", args=("validate", "{spec}", "-o", "out\x85.h5"), words=("control character", "U+0085")),
+    Case("line separator in -o", args=("run", "{spec}", "-o", "out\u2028.h5", "-q"), words=("U+2028",)),
+    Case("paragraph separator in the spec's output", GOOD.replace("output: out.h5", 'output: "out\\u2029.h5"'),
+         words=("U+2029",)),
+    Case("right-to-left override in -o", args=("run", "{spec}", "-o", "out\u202egnp.h5", "-q"), words=("U+202E",)),
+    Case("zero-width space in bench -o", spec=None, args=("bench", "--quick", "-o", "{d}/wp\u200b.h5"),
+         words=("U+200B",)),
+    Case("-o x.h5/.", args=("run", "{spec}", "-o", "x.h5/.", "-q"), words=("names a folder",), absent=("x.h5",)),
+    Case("validate: -o x.h5/..", args=("validate", "{spec}", "-o", "x.h5/.."), words=("names a folder",)),
 ]
 
 
 # cases whose set-up interrupts a real event run in a child process (seconds each), and the deepest YAML
 SLOW_CASES = {"bad manifest.json", "truncated tile", "checkpoint of another sweep", "lock is a symlink to a victim",
-              "a folder named like a tile", "a tile of strings", "a tile of regime 1e300", "5000-deep list"}
+              "a folder named like a tile", "a tile of strings", "a tile of regime 1e300", "5000-deep list",
+              "resume after the user calibration changed", "a tile of another sweep of the same shape",
+              "a tile in another tile's place", "a tile without its proof", "a tile claiming other grid values",
+              "a tile cast to float16", "a tile of int64 regimes", "a tile missing phase",
+              "a tile with an extra variable", "a tile with a 1-D transmissibility"}
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c.id in SLOW_CASES else c for c in CASES],
@@ -646,7 +888,7 @@ def test_hostile_case(case: Case, tmp_path: Path, compiled) -> None:
         case.setup(d)
     args = [a.format(spec=d / "spec.yaml", d=d) for a in case.args]
     with in_dir(d):
-        res = CliRunner().invoke(main, args)
+        res = CliRunner().invoke(main, args, env={k: v.format(d=d) for k, v in case.env.items()})
     assert res.exception is None or isinstance(res.exception, SystemExit), (
         f"traceback: {res.exception!r}\n{res.output}")
     assert "Traceback" not in res.output

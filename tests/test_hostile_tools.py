@@ -343,7 +343,7 @@ def test_validate_data_on_a_full_disk_changes_nothing(tmp_path, limit):
     out.mkdir()
     (out / "table.csv").write_text("previous run\n")
     before = tree(out)
-    proc = _run_child(["validate-data", "--data", str(data), "-o", str(out)], limit)
+    proc = _run_child(["validate-data", "--data", str(data), "-o", str(out), "--overwrite"], limit)
     assert proc.returncode == 1, proc.stderr
     assert "Traceback" not in proc.stderr
     lines = proc.stderr.splitlines()
@@ -358,7 +358,7 @@ def test_bench_on_a_full_disk_changes_nothing(tmp_path, limit):
     out = tmp_path / "wp.h5"
     out.write_text("previous run\n")
     before = tree(tmp_path)
-    proc = _run_child(["bench", "--quick", "-o", str(out)], limit)
+    proc = _run_child(["bench", "--quick", "-o", str(out), "--overwrite"], limit)
     assert proc.returncode == 1, proc.stderr
     assert "Traceback" not in proc.stderr
     lines = proc.stderr.splitlines()

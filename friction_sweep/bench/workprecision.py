@@ -288,10 +288,11 @@ def refuse_outputs(output, calibrate: bool = False, calibration: Path | None = N
     return next((reason for reason in map(refuse_special_output, paths) if reason), None)
 
 
-def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | None = None) -> list[Path]:
+def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | None = None, *,
+          overwrite: bool = True) -> list[Path]:
     """Write the dataset, figure, table (and calibration) of `output_paths`, all or nothing:
     everything is rendered first, then written (storage.outputs.write_all), so a failure (a full
-    disk) changes none of them. Returns the paths written."""
+    disk) changes none of them; without `overwrite`, none replaces a file. Returns the paths written."""
     import matplotlib.pyplot as plt
 
     from friction_sweep.storage import atomic, cube, outputs
@@ -308,7 +309,7 @@ def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | N
     if calibrate:
         writers.append((paths[3], lambda tmp: atomic.write_text(tmp, calibration_text)))
     try:
-        return outputs.write_all(writers)
+        return outputs.write_all(writers, overwrite=overwrite)
     finally:
         plt.close(fig)  # save_figure closes it too, but not when an earlier write failed
 

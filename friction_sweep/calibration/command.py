@@ -54,9 +54,15 @@ def missing_extra() -> str | None:
               help="Random seed (overrides sampler.seed).")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("--yes", is_flag=True, help="Run even when estimated to take over 30 minutes.")
-def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None, quiet: bool, yes: bool):
+@click.option("--overwrite", is_flag=True, help="Replace the results of an earlier calibration in the folder "
+              "(all together; never the spec or the data).")
+def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None, quiet: bool, yes: bool,
+              overwrite: bool):
     """Calibrate the model to a rig's measurements (MAP, then posterior samples)."""
     began = time.perf_counter()
+    refusal = outputs.refuse_name(str(spec_path), "spec")  # paths are written into the report
+    if refusal:
+        fail(refusal)
     try:
         spec = load_calibration_spec(spec_path)
     except SpecError as err:
@@ -68,11 +74,18 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
         obs = read_observations(spec)
     except DataError as err:
         fail(str(err))
+    refusal = outputs.refuse_name(obs.path, "data")
+    if refusal:
+        fail(refusal)
     folder = output if output is not None else Path(spec.output or Path("results") / spec_path.stem)
-    for name in report.OUTPUT_FILES:
-        refusal = outputs.refuse_special_output(folder / name)
+    targets = [folder / name for name in report.OUTPUT_FILES]
+    for target in targets:
+        refusal = outputs.refuse_special_output(target)
         if refusal:
             fail(f"output: {refusal}")
+    refusal = outputs.refuse_replacing(targets, overwrite, inputs=[spec_path, obs.path])
+    if refusal:
+        fail(refusal)
     settings = spec.sampler
     seed = settings.seed if seed is None else seed
     model = ForwardModel(spec, obs, jobs=jobs)
@@ -130,7 +143,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     md = report.markdown(model, chains, params, fit.table, timing, obs.path)
     figures = (report.predictive_figure(post, theta), report.corner_figure(model, chains, fit))
     try:
-        paths = report.write(folder, idata, fit.table, md, figures)
+        paths = report.write(folder, idata, fit.table, md, figures, overwrite=overwrite)
+    except FileExistsError as err:
+        fail(str(err))
     except OSError as err:
         fail(f"could not write into {folder}: {err.strerror or err}; no output was changed", EXIT_RUNTIME)
     click.echo(params[["parameter", "unit", "map", "median", "ci95_low", "ci95_high", "identification", "tau",

@@ -290,8 +290,9 @@ def corner_figure(model: ForwardModel, chains: Chains, fit: MapFit):
     return fig
 
 
-def write(folder: Path, idata, table: pd.DataFrame, md: str, figures) -> list[Path]:
-    """Every output file into `folder`, all or none (outputs.write_all)."""
+def write(folder: Path, idata, table: pd.DataFrame, md: str, figures, *, overwrite: bool = True) -> list[Path]:
+    """Every output file into `folder`, all or none (outputs.write_all); without `overwrite`, none
+    replaces a file."""
     paths = [folder / name for name in OUTPUT_FILES]
     predictive_fig, corner_fig = figures
     return outputs.write_all([
@@ -300,4 +301,4 @@ def write(folder: Path, idata, table: pd.DataFrame, md: str, figures) -> list[Pa
         (paths[2], lambda tmp: write_text(tmp, md)),
         (paths[3], lambda tmp: save_figure(predictive_fig, tmp, dpi=FIGURE_DPI)),
         (paths[4], lambda tmp: save_figure(corner_fig, tmp, dpi=FIGURE_DPI)),
-    ])
+    ], overwrite=overwrite)
