@@ -218,7 +218,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
         # the closed-form start, settled in its first (measured) period, where Newton cannot resolve it
         if (guessed and periods == k and settled and exact
                 and not (radius < 1.0 and _resolvable(b11, b12, b21, b22, error))):
-            ok = _neutral_closed_form(acc, radius) and _within_forced_bound(acc, k, p)
+            ok = _neutral_closed_form(acc, radius) and _within_forced_bound(acc, k, p, 0.0)  # no Newton landing
             return q, v, ok, work, periods
         det = j11 * j22 - j12 * j21
         if det == 0.0 or not math.isfinite(det):
