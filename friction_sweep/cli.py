@@ -203,7 +203,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _on_sigterm)
-    if scheduler:
+    if scheduler is not None:  # even "": refused below as no scheduler address, not ignored
         executor = "dask"
 
     s = _load(spec)
