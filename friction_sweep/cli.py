@@ -216,7 +216,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     if executor == "dask":
         _check_dask(scheduler)
     settings, extra = _accuracy_settings(s, spec, quiet=False)
-    cost = cost_model.estimate(s, settings, jobs=jobs, executor=executor)
+    cost = cost_model.estimate(s, settings, jobs=jobs, executor=executor, scheduler=scheduler)
     if (cost.seconds > cost_model.HUGE_SECONDS or cost.bytes > cost_model.HUGE_BYTES) and not yes:
         fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
               f"pass --yes to run it")

@@ -50,13 +50,13 @@ def workers(executor: str, jobs: int, n_tiles: int) -> int:
 
 
 def capped(executor: str, jobs: int, n: int, n_tiles: int, scheduler: str | None) -> str:
-    """Why `n` workers run where -j asked for `jobs`."""
+    """Why `n` workers run where -j asked for `jobs` (more would idle, or share cores)."""
     if executor == "serial":
-        return "1 worker (serial)"
-    why = [f"{n_tiles} tile(s)"] if n_tiles < jobs else []
-    if not (executor == "dask" and scheduler is not None) and cores() < jobs:
-        why.append(f"this machine's {cores()} core(s)")
-    return f"{n} worker(s), as many as {' and '.join(why)} can use"
+        return "--executor serial runs one"
+    why = [f"the run has {n_tiles} tile(s)"] if n_tiles == n else []
+    if not (executor == "dask" and scheduler is not None) and cores() == n:
+        why.append(f"this machine has {n} core(s)")
+    return " and ".join(why) or f"{n} can run at once"
 
 
 def local_workers(executor: str, jobs: int, n_tiles: int, scheduler: str | None) -> int:
@@ -404,7 +404,7 @@ def execute(fn, work: list, executor: str, jobs: int, scheduler: str | None = No
         raise ValueError(f"unknown executor {executor!r} (known: {', '.join(EXECUTORS)})")
     n = local_workers(executor, jobs, len(work), scheduler)
     if n < jobs:
-        log.info("-j %d: %s", jobs, capped(executor, jobs, n, len(work), scheduler))
+        log.info("-j %d: %d worker(s), as %s", jobs, n, capped(executor, jobs, n, len(work), scheduler))
     if not work:
         return _Local(None, fn, work, 1)
     if executor == "dask":
