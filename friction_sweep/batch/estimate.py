@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from friction_sweep.batch.executors import capped, cores, workers
+from friction_sweep.batch.executors import capped, cores, local_workers
 from friction_sweep.batch.layout import layout
 from friction_sweep.catalogue import METHODS, effect_value
 
@@ -184,7 +184,7 @@ def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, sc
     if kappa > 0.0:  # the few points that never settle on the contact run their whole budget
         serial += JENKINS_UNSETTLED * points * worst_point
     worst = serial + points * worst_point
-    n_workers = workers(executor, jobs, len(parts))
+    n_workers = local_workers(executor, jobs, len(parts), scheduler)
     # worker processes of this machine (executors.execute): each its own memory, and start-ups that
     # the cores share
     own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)

@@ -28,6 +28,8 @@ EXECUTORS = ("threads", "processes", "dask", "serial")
 #: chosen by measurement on 2 cores (README, make bench): threads share one compiled kernel and skip
 #: process start-up; the kernels release the GIL
 DEFAULT_EXECUTOR = "threads"
+#: seconds between the main thread's looks for a signal while it waits for tiles
+WAKE_S = 0.2
 
 
 def cores() -> int:
@@ -91,6 +93,7 @@ class _DaemonThreads:
 
     def __init__(self, jobs: int):
         self._queue: queue.SimpleQueue = queue.SimpleQueue()
+        self._ids: list[int] = []
         self._threads = [threading.Thread(target=self._work, name=f"fsweep-tile-{k}", daemon=True)
                          for k in range(jobs)]
         for t in self._threads:
@@ -102,6 +105,11 @@ class _DaemonThreads:
         return fut
 
     def _work(self) -> None:
+        # a process's signal goes to any thread that does not block it; taken by a thread in its kernel,
+        # it would wait until a tile finished to interrupt the main thread, blocked in its wait
+        if hasattr(signal, "pthread_sigmask"):
+            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+        self._ids.append(threading.get_native_id())
         while (item := self._queue.get()) is not None:
             fut, fn, args = item
             if not fut.set_running_or_notify_cancel():
@@ -114,6 +122,13 @@ class _DaemonThreads:
     def shutdown(self) -> None:
         for _ in self._threads:
             self._queue.put(None)
+        # a thread still in its kernel runs on until the process exits: at the lowest priority, so
+        # that it does not slow the exit it cannot stop (Linux: a thread's own nice value)
+        for tid in self._ids:
+            try:
+                os.setpriority(os.PRIO_PROCESS, tid, 19)
+            except (AttributeError, OSError):
+                pass
 
 
 def _ignore_interrupts() -> None:
@@ -164,7 +179,9 @@ class _Local(Tiles):
     def __iter__(self) -> Iterator[tuple[int, dict]]:
         self._fill()
         while self._in_flight:
-            done, _ = wait(self._in_flight, return_when=FIRST_COMPLETED)  # Ctrl-C interrupts the wait
+            # in steps: a signal that another thread of this process took (Dask's, the progress bar's)
+            # is handled between them
+            done, _ = wait(self._in_flight, timeout=WAKE_S, return_when=FIRST_COMPLETED)
             for fut in done:
                 index = self._in_flight.pop(fut)
                 yield index, fut.result()

@@ -21,8 +21,11 @@ KERNELS = Path(__file__).resolve().parent.parent / "kernels"
 
 
 def warm(module: str, function: str) -> bool:
-    """Whether numba's cache holds `function` of friction_sweep.kernels.`module` for this numba and this
-    source (any doubt: False, so that an estimate counts the compile rather than misses it)."""
+    """Whether a first call of `function` of friction_sweep.kernels.`module` finds it compiled: numba's
+    cache holds it for this numba and this source, or numba compiles nothing (NUMBA_DISABLE_JIT). Any
+    doubt: False, so that an estimate counts the compile rather than misses it."""
+    if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
+        return True  # pure Python: nothing is compiled
     source = KERNELS / f"{module}.py"
     try:
         version = importlib.metadata.version("numba")
