@@ -93,7 +93,6 @@ class _DaemonThreads:
 
     def __init__(self, jobs: int):
         self._queue: queue.SimpleQueue = queue.SimpleQueue()
-        self._ids: list[int] = []
         self._threads = [threading.Thread(target=self._work, name=f"fsweep-tile-{k}", daemon=True)
                          for k in range(jobs)]
         for t in self._threads:
@@ -109,7 +108,6 @@ class _DaemonThreads:
         # it would wait until a tile finished to interrupt the main thread, blocked in its wait
         if hasattr(signal, "pthread_sigmask"):
             signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
-        self._ids.append(threading.get_native_id())
         while (item := self._queue.get()) is not None:
             fut, fn, args = item
             if not fut.set_running_or_notify_cancel():
@@ -124,11 +122,12 @@ class _DaemonThreads:
             self._queue.put(None)
         # a thread still in its kernel runs on until the process exits: at the lowest priority, so
         # that it does not slow the exit it cannot stop (Linux: a thread's own nice value)
-        for tid in self._ids:
-            try:
-                os.setpriority(os.PRIO_PROCESS, tid, 19)
-            except (AttributeError, OSError):
-                pass
+        for t in self._threads:
+            if t.is_alive() and t.native_id is not None:
+                try:
+                    os.setpriority(os.PRIO_PROCESS, t.native_id, 19)
+                except (AttributeError, OSError):
+                    pass
 
 
 def _ignore_interrupts() -> None:
