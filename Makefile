@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: demo test cubes bench bench-quick calibrate clean distclean help
+.PHONY: demo test cubes bench bench-quick calibrate refresh-readme clean distclean help
 .DELETE_ON_ERROR:
 
 help:
@@ -16,7 +16,9 @@ help:
 	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
 	@echo "make bench  set up, then measure speed and scaling (results/bench/scale.md)"
 	@echo "make figures / figures-quick / validate   the paper's figures; the rig's measured phases"
-	@echo "make calibrate   calibrate the model to the rig's phases, in and out of sample (README's calibration section)"
+	@echo "make calibrate   calibrate the model to the rig's phases, in and out of sample (results/calibration/)"
+	@echo "make refresh-readme   maintainers: make bench and make calibrate, then publish their tables in the README"
+	@echo "                 and the measured accuracy calibration in friction_sweep/bench/calibration.json"
 	@echo "make clean  remove results and caches; make distclean also removes $(VENV)"
 
 $(STAMP): pyproject.toml
@@ -28,7 +30,7 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/fsweep run configs/demo.yaml --overwrite
-	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png
+	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png --overwrite
 	@echo "demo: the cube is results/demo.h5 (fsweep info results/demo.h5; friction_sweep.open_cube in Python),"
 	@echo "      its regime map results/demo.png"
 
@@ -56,19 +58,24 @@ coverage: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -m "not slow and not nojit_slow" \
 	  --cov=friction_sweep --cov-report=term-missing
 
-# measures, then rewrites the README's benchmark tables and the calibration that `accuracy:` uses
+# Targets a user runs write under results/ only; refresh-readme (maintainers) publishes what they measured.
+# measures speed, scaling and what accuracy costs; the calibration `accuracy:` would read, measured here
 bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
-	$(BIN)/fsweep bench --calibrate --calibration friction_sweep/bench/calibration.json -o results/bench/workprecision.h5
-	$(BIN)/python benchmarks/readme_tables.py
+	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.h5 --overwrite
 
-# fsweep calibrate on the rig's data, then four folds out of sample; rewrites the README's calibration section
+# fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)
 calibrate: $(STAMP)
 	$(BIN)/python benchmarks/calibration_report.py
 
+# maintainers: the README's measured tables and the shipped accuracy calibration, from a fresh bench and calibrate
+refresh-readme: bench calibrate
+	cp results/bench/calibration.json friction_sweep/bench/calibration.json
+	$(BIN)/python benchmarks/readme_tables.py
+
 bench-quick: $(STAMP)
 	$(BIN)/python benchmarks/scale.py --quick
-	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5
+	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5 --overwrite
 
 # one cube per figure spec; fsweep writes atomically, so an interrupted run leaves no partial file
 FIG_SPECS := $(wildcard configs/fig*.yaml)

@@ -76,4 +76,4 @@ results/quick/%.h5: results/quick/%.yaml $(STAMP)
 # VALIDATION_DATA=path overrides the default data file, <repo>/../shared/data/experiment_phase_fixed_wall.csv
 VALIDATION_DATA ?=
 validate: $(STAMP)
-	$(BIN)/python -m friction_sweep.validation --output-dir results/validation $(if $(VALIDATION_DATA),--data $(VALIDATION_DATA))
+	$(BIN)/python -m friction_sweep.validation --overwrite --output-dir results/validation $(if $(VALIDATION_DATA),--data $(VALIDATION_DATA))

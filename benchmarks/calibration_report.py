@@ -9,7 +9,9 @@ the summary into the README between its markers.
 3. Beside each, the plain model (the rig's stated values, no offset: what validate-data compares) on the
    same rows.
 
-Writes results/calibration/summary.md and the README's <!-- calibrate --> section.
+Writes results/calibration/summary.md only: a user's `make calibrate` never edits a tracked file. The
+maintainers' `make refresh-readme` copies that summary into the README's <!-- calibrate --> section
+(benchmarks/readme_tables.py).
 """
 
 from __future__ import annotations
@@ -33,7 +35,8 @@ FSWEEP = Path(sys.executable).with_name("fsweep")
 
 def run(spec: Path, out: Path) -> float:
     began = time.perf_counter()
-    subprocess.run([str(FSWEEP), "calibrate", str(spec), "-j", "2", "-q", "-o", str(out)], check=True, cwd=ROOT)
+    subprocess.run([str(FSWEEP), "calibrate", str(spec), "-j", "2", "-q", "--overwrite", "-o", str(out)], check=True,
+                   cwd=ROOT)
     return time.perf_counter() - began
 
 
@@ -82,8 +85,9 @@ def main() -> None:
         held = table["fitted"] == False  # noqa: E712 - a column of booleans read from CSV
         folds.append((label, table.loc[held, "phase_residual_deg"], plain[held.to_numpy()]))
     lines = [
-        "`make calibrate` (this section is its output): `fsweep calibrate configs/calibration/rig.yaml -j 2` on the "
-        "rig's 36 measured first-harmonic phases, event model.",
+        "`make calibrate` (written to results/calibration/summary.md; the maintainers' `make refresh-readme` "
+        "publishes it here): `fsweep calibrate configs/calibration/rig.yaml -j 2` on the rig's 36 measured "
+        "first-harmonic phases, event model.",
         "",
         section(rig_report, "Parameters"),
         "",
@@ -100,15 +104,8 @@ def main() -> None:
                      f"forces, f_n, noise, offset), predicted | {stats(baseline)} | {stats(calibrated)} |")
     text = "\n".join(lines) + "\n"
     (OUT / "summary.md").write_text(text)
-    readme = ROOT / "README.md"
-    start, end = "<!-- calibrate -->", "<!-- /calibrate -->"
-    content = readme.read_text()
-    head, rest = content.split(start, 1)
-    _, tail = rest.split(end, 1)
-    readme.write_text(f"{head}{start}\n{text}{end}{tail}")
     print(text)
-    print(f"updated {readme}")
-
+    print(f"wrote {OUT / 'summary.md'} (make refresh-readme puts it into the README)")
 
 if __name__ == "__main__":
     main()

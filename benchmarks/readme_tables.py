@@ -1,11 +1,13 @@
-"""Put the latest benchmark tables into the README, between their markers (make bench)."""
+"""Put the latest measured tables into the README, between their markers: the maintainers' `make
+refresh-readme` (after `make bench` and `make calibrate`, which write only under results/)."""
 
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 TABLES = {"bench-scale": ROOT / "results/bench/scale.md",
           "bench-imports": ROOT / "results/bench/imports.md",
-          "bench-workprecision": ROOT / "results/bench/workprecision.md"}
+          "bench-workprecision": ROOT / "results/bench/workprecision.md",
+          "calibrate": ROOT / "results/calibration/summary.md"}
 
 
 def main():

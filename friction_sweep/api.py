@@ -9,38 +9,60 @@
 Each returns the xarray Dataset that `fsweep run` would write (the same variables, coordinates and
 attributes), and writes nothing. Every refusal is a friction_sweep.FsweepError whose message is the one
 the CLI prints (a spec's: one `file:line:column: key: reason` line per problem; a dict's: `<dict>: key:
-reason`, as a dict has no lines).
+reason`, as a dict has no lines): of an argument of the wrong type or out of range as well (a path that is
+not a str, bytes or os.PathLike or holds a NUL; jobs not a whole number from 1 to MAX_JOBS; an unknown
+executor; YAML text that is not a str), never a TypeError or ValueError from underneath.
+
+A dict spec is held to a spec file's bounds: written as YAML it is at most MAX_SPEC_BYTES, but for the grid's
+frequency_ratio and force_ratio given as numpy arrays (or long lists of numbers), which are checked as whole
+arrays (spec/model.py) and may hold up to the grid's MAX_POINTS values.
 """
 
 from __future__ import annotations
 
+import operator
 import os
-import stat
 from collections.abc import Mapping
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
+from friction_sweep.batch.executors import EXECUTORS
 from friction_sweep.errors import FsweepError
-from friction_sweep.spec import Spec, SpecError, load_spec, parse_spec_text
+from friction_sweep.spec import Spec, SpecError, grid, load_spec, parse_spec_text
+from friction_sweep.spec.base import show
 from friction_sweep.spec.errors import SpecProblem
+from friction_sweep.spec.load import MAX_DEPTH, MAX_SPEC_BYTES, KeyPath, format_key, parse_yaml
+from friction_sweep.spec.parse import spec_of_document
 
 if TYPE_CHECKING:
     import xarray as xr
 
 #: the source a dict spec is named by in messages
 DICT_SOURCE = "<dict>"
+#: the most workers a run may ask for (fsweep run -j takes the same)
+MAX_JOBS = 1024
+#: where a dict may hold a numpy array (or a long list of numbers) checked as a whole
+ARRAY_AXES: tuple[KeyPath, ...] = (("grid", "frequency_ratio"), ("grid", "force_ratio"))
 
 
-def sweep(spec: str | os.PathLike[str] | Mapping[str, Any], *, jobs: int = 1, executor: str = "threads") -> xr.Dataset:
+def sweep(spec: str | bytes | os.PathLike | Mapping[str, Any], *, jobs: int = 1,
+          executor: str = "threads") -> xr.Dataset:
     """Run the spec (a file path, or a dict as the YAML would hold it: numpy arrays and numbers are fine)
     and return its cube. `jobs` and `executor` as `fsweep run -j N --executor E`."""
+    jobs, executor = run_options(jobs, executor)
     if isinstance(spec, Mapping):
         return run(spec_of_dict(spec), jobs=jobs, executor=executor)
-    return run(load_spec(spec), jobs=jobs, executor=executor)
+    path = path_argument(spec, "spec", "a spec file's path (str, bytes or os.PathLike) or a dict")
+    return run(load_spec(path), jobs=jobs, executor=executor)
 
 
 def sweep_yaml(text: str, *, jobs: int = 1, executor: str = "threads") -> xr.Dataset:
     """Run the spec given as YAML text and return its cube."""
+    jobs, executor = run_options(jobs, executor)
+    if not isinstance(text, str):
+        raise FsweepError(f"sweep_yaml: text must be the spec's YAML as a str (got {_kind(text)}); "
+                          "fs.sweep(path) reads a file")
     return run(parse_spec_text(text), jobs=jobs, executor=executor)
 
 
@@ -48,9 +70,60 @@ def run(spec: Spec, *, jobs: int = 1, executor: str = "threads") -> xr.Dataset:
     """Run a validated spec and return its cube (FsweepError where `accuracy:` finds no setting)."""
     from friction_sweep.batch import pipeline
 
+    jobs, executor = run_options(jobs, executor)
+    if not isinstance(spec, Spec):
+        raise FsweepError(f"run: spec must be a validated Spec (got {_kind(spec)}); fs.sweep takes a path or dict")
     settings, extra = accuracy_settings(spec)
     arrays = pipeline.compute(spec, settings, jobs=jobs, executor=executor)
     return pipeline.dataset(spec, arrays, settings, f"friction_sweep.batch({spec.source_path!r})", extra)
+
+
+def run_options(jobs: Any, executor: Any) -> tuple[int, str]:
+    """`jobs` as an int from 1 to MAX_JOBS (numpy integers too; not a bool or float) and `executor` one of
+    the executors (Dask only where it is installed), or FsweepError."""
+    try:
+        n = None if isinstance(jobs, (bool, np.bool_)) else operator.index(jobs)
+    except TypeError:
+        n = None
+    if n is None or not 1 <= n <= MAX_JOBS:
+        raise FsweepError(f"jobs must be a whole number from 1 to {MAX_JOBS} (got {_shown(jobs)})")
+    if not isinstance(executor, str) or executor not in EXECUTORS:
+        raise FsweepError(f"executor must be one of: {', '.join(EXECUTORS)} (got {_shown(executor)})")
+    if executor == "dask":
+        from friction_sweep.batch.executors import DaskUnavailable, check_dask
+
+        try:
+            check_dask(None)
+        except DaskUnavailable as err:
+            raise FsweepError(str(err)) from None
+    return int(n), executor
+
+
+def path_argument(value: Any, name: str, expected: str) -> str:
+    """A path argument as str: a str, bytes (decoded as the file system does) or os.PathLike; FsweepError
+    for anything else or a path holding a NUL (which no file name can)."""
+    try:
+        path = os.fsdecode(value) if isinstance(value, (str, bytes, os.PathLike)) else None
+    except Exception:  # an os.PathLike whose __fspath__ fails or returns neither str nor bytes
+        path = None
+    if path is None:
+        raise FsweepError(f"{name} must be {expected} (got {_kind(value)})")
+    if not path:
+        raise FsweepError(f"{name}: the path is empty")
+    if "\0" in path:
+        raise FsweepError(f"{name}: {_shown(path)} holds a NUL character, which no file name can")
+    return path
+
+
+def _kind(value: Any) -> str:
+    return f"{type(value).__name__} {_shown(value)}"
+
+
+def _shown(value: Any) -> str:
+    try:
+        return show(value)
+    except Exception:  # an object whose repr fails
+        return f"a {type(value).__name__}"
 
 
 def accuracy_settings(spec: Spec) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -65,7 +138,94 @@ def accuracy_settings(spec: Spec) -> tuple[dict[str, Any], dict[str, Any]]:
 
 def spec_of_dict(data: Mapping[str, Any]) -> Spec:
     """A spec given as a dict: written as YAML (the cube records that text) and validated as a file is;
-    problems carry the dict's keys, not the lines of that text."""
+    problems carry the dict's keys, not the lines of that text. numpy values become plain numbers; a grid
+    axis given as an array (or a long list of numbers) is written into the text as a flow list but
+    validated as a whole array (spec/model.py), never through a YAML parser or number by number."""
+    arrays: dict[str, np.ndarray] = {}
+    budget = [MAX_SPEC_BYTES]
+    plain = _plain(data, (), arrays, budget)
+    text = _dump(plain)
+    size = len(text.encode("utf-8", "surrogatepass"))
+    if size > MAX_SPEC_BYTES:
+        raise SpecError.single(DICT_SOURCE, _too_large(size))
+    try:
+        doc = parse_yaml(text, DICT_SOURCE)
+        if isinstance(doc.data, dict):
+            _put_arrays(doc.data, arrays)
+        spec = spec_of_document(doc, text)
+    except SpecError as err:
+        raise SpecError([SpecProblem(p.path, None, None, p.key, p.reason) for p in err.errors]) from None
+    for mark, values in arrays.items():  # the text the cube records: the arrays (valid now) written out
+        text = text.replace(mark, _flow_list(values), 1)
+    spec._text = text
+    return spec
+
+
+def _too_large(size: int | None) -> str:
+    """`size`: the YAML's bytes, None where counting stopped at the bound."""
+    what = f"{size} bytes" if size is not None else f"more than {MAX_SPEC_BYTES} bytes"
+    return (f"written as YAML the spec is {what}; a spec is at most {MAX_SPEC_BYTES} (give long grid axes "
+            "as numpy arrays at grid.frequency_ratio / grid.force_ratio, or as {start, stop, num})")
+
+
+def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: list[int]) -> Any:
+    """numpy arrays and scalars as lists and numbers, tuples as lists, keys as they are; an array of numbers
+    at a grid axis (ARRAY_AXES) replaced by a marker string (its float64 values in `arrays`). SpecError
+    where the dict nests deeper than a spec may (a dict holding itself does) or holds more than a spec
+    file may (`budget`: bytes left, counted roughly as the YAML will hold them)."""
+    if len(path) > MAX_DEPTH:
+        raise SpecError.single(DICT_SOURCE, f"nested deeper than {MAX_DEPTH} levels (a spec nests 4; does the dict "
+                               "hold itself?)", key=format_key(path[:MAX_DEPTH]))
+    if path in ARRAY_AXES and (array := _number_array(value)) is not None:
+        mark = f"fsweep-array-{len(arrays)}-{id(value):x}"
+        arrays[mark] = array
+        return mark
+    if isinstance(value, np.ndarray) and value.ndim == 0 or isinstance(value, np.generic):
+        return _scalar(np.asarray(value))
+    budget[0] -= len(value) + 2 if isinstance(value, (str, bytes)) else 8
+    if budget[0] < 0:
+        raise SpecError.single(DICT_SOURCE, _too_large(None))
+    if isinstance(value, Mapping):
+        return {k: _plain(v, (*path, str(k)), arrays, budget) for k, v in value.items()}
+    if isinstance(value, np.ndarray):
+        if 2 * value.size > budget[0]:  # each value at least two bytes of YAML; refused before listing it
+            raise SpecError.single(DICT_SOURCE, _too_large(None))
+        value = list(value)  # each element a numpy scalar, read as one below
+    if isinstance(value, (list, tuple)):
+        return [_plain(v, (*path, i), arrays, budget) for i, v in enumerate(value)]
+    return value
+
+
+def _number_array(value: Any) -> np.ndarray | None:
+    """`value` as an array checked whole by the grid model: a numpy array (any shape or dtype: the model
+    says what is wrong) or what numpy reads as one (a pandas Series, an xarray coordinate), or a list of
+    more than a few plain numbers; None for anything else."""
+    if isinstance(value, np.ndarray):
+        return value
+    if hasattr(value, "__array__") and not isinstance(value, (str, bytes, Mapping, list, tuple, np.generic)):
+        try:
+            return np.asarray(value)
+        except Exception:  # an __array__ that fails: the value goes the way of any other
+            return None
+    if isinstance(value, (list, tuple)) and len(value) > 16 and \
+            all(type(x) in (int, float) for x in value):
+        try:
+            return np.array(value, dtype=np.float64)
+        except OverflowError:  # an integer beyond a double: the list's own validation says so
+            return None
+    return None
+
+
+def _scalar(value: np.ndarray) -> Any:
+    """A numpy scalar (0-d) as the plain number, bool or str it holds; float64 for every float type
+    (a longdouble beyond a double's range becomes infinite, which validation refuses)."""
+    if value.dtype.kind == "f":
+        with np.errstate(over="ignore"):
+            return float(value.astype(np.float64))
+    return value.item() if value.dtype.kind in "biuUS" else value.tolist()
+
+
+def _dump(plain: Any) -> str:
     import io
 
     from ruamel.yaml import YAML
@@ -74,42 +234,49 @@ def spec_of_dict(data: Mapping[str, Any]) -> Spec:
     yaml.default_flow_style = None
     buffer = io.StringIO()
     try:
-        yaml.dump(_plain(data), buffer)
+        yaml.dump(plain, buffer)
     except Exception as err:  # a value YAML cannot hold (an object, a function)
         raise SpecError.single(DICT_SOURCE, f"cannot be written as YAML: {' '.join(str(err).split())}") from None
-    try:
-        return parse_spec_text(buffer.getvalue(), source=DICT_SOURCE)
-    except SpecError as err:
-        raise SpecError([SpecProblem(p.path, None, None, p.key, p.reason) for p in err.errors]) from None
+    return buffer.getvalue()
 
 
-def _plain(value: Any) -> Any:
-    """numpy arrays and scalars as lists and numbers, tuples as lists, keys as they are."""
-    if isinstance(value, Mapping):
-        return {k: _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    tolist = getattr(value, "tolist", None)  # numpy arrays and scalars
-    if callable(tolist) and type(value).__module__ == "numpy":
-        return _plain(tolist())
-    return value
+def _put_arrays(data: dict, arrays: dict[str, np.ndarray]) -> None:
+    """The marker strings at the grid axes replaced by their arrays."""
+    for parent, name in ARRAY_AXES:
+        holder = data.get(parent)
+        if isinstance(holder, dict) and isinstance(holder.get(name), str) and holder[name] in arrays:
+            holder[name] = arrays[holder[name]]
+
+
+def _on_lattice(values: np.ndarray) -> bool:
+    """Whether `values` are exactly {start, stop, num}'s values (grid.linspace_values). The rounding is a
+    formatting per value (seconds for 10^7): a sample of 64 is tried first."""
+    n = values.size
+    if n < 3:
+        return False
+    sample = np.unique(np.linspace(0, n - 1, 64).astype(np.int64))
+    raw = np.linspace(values[0], values[-1], n)
+    if not np.array_equal(grid.round_significant(raw[sample[1:-1]]), values[sample[1:-1]]):
+        return False
+    return bool(np.array_equal(grid.linspace_values(float(values[0]), float(values[-1]), n), values))
+
+
+def _flow_list(values: np.ndarray) -> str:
+    """A validated axis array (1-D, numbers) as YAML that reads back to the same values: {start, stop, num}
+    where it is that range's lattice (np.linspace rounded to the grid's digits), else a flow list."""
+    integers = values.dtype.kind in "iu"
+    values = values if integers else values.astype(np.float64)  # a longdouble's repr is not YAML
+    if not integers and _on_lattice(values):
+        return f"{{start: {float(values[0])!r}, stop: {float(values[-1])!r}, num: {values.size}}}"
+    # in chunks: one list of 10^7 Python floats and their texts would hold a gigabyte at once
+    return "[" + ", ".join(", ".join(map(str if integers else repr, values[i:i + 65536].tolist()))
+                           for i in range(0, values.size, 65536)) + "]"
 
 
 def open_cube(path: str | os.PathLike[str]) -> xr.Dataset:
-    """The cube at `path`, loaded into memory; FsweepError where it is not a regular file, not readable,
-    or not a friction_sweep cube."""
+    """The cube at `path`, loaded into memory and checked as `fsweep info` checks it
+    (friction_sweep.storage.cube.open_cube); FsweepError where it is not a regular file, not readable, not
+    a friction_sweep cube, or holds values no run writes."""
     from friction_sweep.storage import cube
 
-    path = Path(path)
-    try:
-        if not stat.S_ISREG(os.stat(path).st_mode):
-            raise FsweepError(f"{path} is not a regular file")
-    except OSError as err:
-        raise FsweepError(f"{path}: {err.strerror or err}") from None
-    try:
-        ds = cube.open_cube(path)
-    except Exception as err:  # any reader failure means: not a cube we can read
-        raise FsweepError(f"{path} is not a readable result cube: {' '.join(str(err).split())}") from None
-    if "friction_sweep_version" not in ds.attrs:
-        raise FsweepError(f"{path} is not a friction_sweep result cube (no provenance attributes)")
-    return ds
+    return cube.open_cube(path_argument(path, "path", "a cube's path (str, bytes or os.PathLike)"))

@@ -34,18 +34,25 @@ def number_text(x: float) -> str:
 
 @dataclass(frozen=True)
 class Bounded:
-    """A number's meaningful range [low, high] (or [low, high) where `high_open`), and why."""
+    """A number's meaningful range [low, high] (or [low, high) where `high_open`), and why. Where `floor`
+    is set (low = 0), a nonzero value must also be at least `floor`: 0 stays allowed (it turns the thing
+    off), values between are too small for double precision to compute with."""
 
     low: float
     high: float
     why: str
     high_open: bool = False
+    floor: float = 0.0
 
     def contains(self, value: float) -> bool:
-        return self.low <= value and (value < self.high if self.high_open else value <= self.high)
+        return (self.low <= value and (value < self.high if self.high_open else value <= self.high)
+                and (value == 0.0 or value >= self.floor))
 
     def describe(self) -> str:
-        return f"[{number_text(self.low)}, {number_text(self.high)}{')' if self.high_open else ']'}"
+        high = f"{number_text(self.high)}{')' if self.high_open else ']'}"
+        if self.floor > 0.0:
+            return f"0 or [{number_text(self.floor)}, {high}"
+        return f"[{number_text(self.low)}, {high}"
 
 
 @dataclass(frozen=True)
@@ -86,6 +93,15 @@ class Effect(Bounded):
                 f"{{ratio: number, to: {' | '.join(self.place_names())}}} ({allowed})")
 
 
+#: the smallest nonzero damping ratio. The damped closed form of a slip piece (kernels/segments.py) adds
+#: terms of the forced response's size A / |1 - r^2 + 2i zeta r| (A / (2 zeta) at resonance) that cancel to
+#: the motion's, so at resonance an orbit carries rounding of about 10 eps / zeta of itself (measured, base
+#: r = 1, beta = 0.8: 4e-6 at zeta = 1e-10, 6.5e-7 at 1e-9, 1.4e-7 at 1e-8, more than the damping's own
+#: effect, ~14 zeta); from 1e-6 it is below 1e-9 and the damping's effect dominates it. Far below, exp(-2 pi
+#: zeta) rounds to 1 (zeta < 2e-17) and no double-precision solver sees the dashpot at all: orbits of any
+#: size pass for steady states (tests/test_energy_balance.py)
+VISCOUS_DAMPING_FLOOR = 1e-6
+
 #: the keys of an effect given with its place
 PLACED_KEYS = ("ratio", "to")
 
@@ -96,7 +112,10 @@ Effects = Mapping[str, EffectValue]
 EFFECTS: Mapping[str, Effect] = MappingProxyType({
     "viscous_damping": Effect(
         0.0, 1.0, "the damping ratio zeta of the dashpot's force 2 zeta v, v the velocity across it "
-        "(underdamped)", high_open=True,
+        "(underdamped), 0 without a dashpot; below 1e-6 the rounding of the damped motion at resonance (terms of "
+        "size 1/(2 zeta) cancel, ~10 eps / zeta of the orbit is left) exceeds 1e-9 and outgrows the damping's own "
+        "effect, and below 2e-17 exp(-2 pi zeta) rounds to 1: no double-precision solver sees the dashpot",
+        high_open=True, floor=VISCOUS_DAMPING_FLOOR,
         meaning="viscous damping ratio zeta of a dashpot (docs/equations.md §6)", off=0.0,
         places=MappingProxyType({
             "force": {"ground": "from the mass to the ground"},

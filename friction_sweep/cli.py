@@ -26,6 +26,7 @@ from friction_sweep.exits import (
     EXIT_TERMINATED,
     fail,
 )
+from friction_sweep.printable import escape
 from friction_sweep.progress import ProgressBar
 from friction_sweep.quicklook import KINDS
 from friction_sweep.spec import SpecError, load_spec
@@ -49,8 +50,11 @@ def _load(path: Path):
 def _output_path(spec_path: Path, spec, override: str | None) -> Path:
     """Where the result goes; exit 2 for a name that cannot be a file (checked as written: a Path
     would drop the trailing slash of `out/`)."""
-    from friction_sweep.storage.outputs import refuse_special_output
+    from friction_sweep.storage.outputs import refuse_name, refuse_special_output
 
+    reason = refuse_name(str(spec_path), "spec")  # its path is recorded in the cube, and may name it
+    if reason is not None:
+        fail(reason)
     raw = override if override is not None else spec.output
     if raw is None:
         raw = str(Path("results") / f"{spec_path.stem}.h5")
@@ -115,12 +119,13 @@ def validate(spec: Path, output: str | None):
     s = _load(spec)
     out = _output_path(spec, s, output)
     _refuse_destroying_spec(out, spec)
+    _refuse_replacing_calibration(s, out)
     settings, _ = _accuracy_settings(s, spec, quiet=True)
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
-        f"{spec}: ok: excitation {s.scene.excitation}, method {s.method}, "
+        f"{escape(spec)}: ok: excitation {s.scene.excitation}, method {s.method}, "
         f"{n_b} force ratios x {n_r} frequency ratios = {n_b * n_r} points, "
-        f"outputs {', '.join(s.outputs)}, output {out}"
+        f"outputs {', '.join(s.outputs)}, output {escape(out)}"
     )
     from friction_sweep.catalogue import effect_lines
 
@@ -196,9 +201,9 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
         scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
-    from friction_sweep.batch import checkpoint
+    from friction_sweep.batch import checkpoint, pipeline
     from friction_sweep.batch import estimate as cost_model
-    from friction_sweep.batch.layout import TILE_FORCES, TILE_FREQUENCIES, layout
+    from friction_sweep.storage import atomic
 
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
@@ -211,6 +216,8 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     if resume and overwrite:
         fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
     _refuse_destroying_spec(out, spec)
+    _refuse_replacing_calibration(s, out)
+    atomic.remove_stale(out)  # what runs killed while writing this output left, whatever this one does next
     if out.exists() and not overwrite and not resume:
         fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
@@ -223,11 +230,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     _check_writable(out)
     if not quiet:
         click.echo(f"estimate: {cost.describe()}", err=True)
-    r, beta = s.frequency_ratio, s.force_ratio
-    sweep = s.sweep.direction if s.sweep is not None else None
-    key = checkpoint.fingerprint(spec=s.model_dump(mode="json", exclude={"output"}), r=r, beta=beta,
-                                 tile=TILE_FORCES if sweep else TILE_FREQUENCIES, version=friction_sweep.__version__)
-    store = checkpoint.Checkpoint(out, key, len(layout(r.size, s.force_count, sweep)))
+    store = checkpoint.Checkpoint(out, pipeline.checkpoint_key(s, settings, extra), pipeline.tile_grids(s))
     try:
         with checkpoint.Lock(out):
             _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
@@ -262,6 +265,18 @@ def _refuse_destroying_spec(out: Path, spec: Path) -> None:
             pass
 
 
+def _refuse_replacing_calibration(s, out: Path) -> None:
+    """Exit 2 where the run would replace the calibration its `accuracy:` reads (an input, like the spec)."""
+    if s.accuracy is None:
+        return
+    from friction_sweep.bench.workprecision import calibration_path
+    from friction_sweep.storage.outputs import refuse_replacing
+
+    reason = refuse_replacing([out], True, inputs=[calibration_path()])
+    if reason is not None:
+        fail(reason)
+
+
 def _check_dask(scheduler: str | None) -> None:
     """Fail in a second, not after a 30 s connection timeout, where Dask cannot run the tiles."""
     from friction_sweep.batch.executors import DaskUnavailable, check_dask
@@ -292,8 +307,8 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         done, dropped = store.start(resume)
     except checkpoint.SaveFailed as err:
         fail(str(err), EXIT_RUNTIME)
-    for name in dropped:
-        click.echo(f"fsweep: warning: {store.dir / name} was damaged; its tile is computed again", err=True)
+    for name, why in dropped:
+        click.echo(f"fsweep: warning: {store.dir / name} {why}; its tile is computed again", err=True)
     r = s.frequency_ratio
     start = time.perf_counter()
     try:
@@ -329,7 +344,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         fail(f"could not write {out}: {err.strerror or err}; nothing was written{kept}", EXIT_RUNTIME)
 
     store.remove()
-    click.echo(f"wrote {out}")
+    click.echo(f"wrote {escape(out)}")
     click.echo(
         f"  {s.scene.excitation} excitation, method {s.method}: {s.force_count} force ratios x "
         f"{r.size} frequency ratios = {s.force_count * r.size} points in {elapsed:.2f} s"
@@ -359,9 +374,12 @@ def _check_writable(out: Path) -> None:
     """Fail before computing, not after, if the result could not be written there."""
     import tempfile
 
+    from friction_sweep.storage import atomic
+
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
-        with tempfile.NamedTemporaryFile(dir=out.parent, prefix=f".{out.name}.", suffix=".probe"):
+        # named as atomic's temporaries: one a kill -9 leaves here is removed by the next write
+        with tempfile.NamedTemporaryFile(dir=out.parent, prefix=atomic.temporary_prefix(out), suffix=".tmp"):
             pass
     except OSError as err:
         fail(f"cannot write the output {out}: {err.strerror or err}")
@@ -398,23 +416,20 @@ def info(result: Path | None, show_methods: bool):
         return
     if result is None:
         fail("give a RESULT to describe, or --methods")
-    from friction_sweep.storage import audit
-
-    ds = _open_result(result)
-    a = ds.attrs
-    problems = audit.audit(ds)
-    click.echo(f"{result}")
-    click.echo("  dims: " + ", ".join(f"{k} {v}" for k, v in ds.sizes.items()))
+    ds = _open_result(result, every_problem=True)
+    a = {str(k): escape(v) for k, v in ds.attrs.items()}  # a cube's text is data: nothing a terminal acts on
+    click.echo(escape(result))
+    click.echo("  dims: " + ", ".join(f"{escape(k)} {v}" for k, v in ds.sizes.items()))
     for name in ("frequency_ratio", "force_ratio", "frequency", "friction_force"):
         if name in ds.coords and ds[name].size:
             v = ds[name].values
-            units = ds[name].attrs.get("units", "1")
+            units = escape(ds[name].attrs.get("units", "1"))
             click.echo(f"  {name}: {v.min():g} .. {v.max():g}" + (f" {units}" if units != "1" else ""))
     click.echo(f"  excitation: {a.get('excitation')}, method: {a.get('method')}")
     if a.get("effects"):
         click.echo(f"  effects: {a['effects']}")
-    _echo_physical(a)
-    click.echo(f"  variables: {', '.join(ds.data_vars)}")
+    _echo_physical(ds.attrs)
+    click.echo(f"  variables: {', '.join(map(escape, ds.data_vars))}")
     click.echo(f"  history: {a.get('history')}")
     versions = ", ".join(
         f"{k[: -len('_version')]} {v}" for k, v in a.items() if k.endswith("_version")
@@ -429,7 +444,6 @@ def info(result: Path | None, show_methods: bool):
             if finite.any():
                 click.echo(f"  {name}: {v[finite].min():.6g} .. {v[finite].max():.6g} "
                            f"({finite.sum()} finite of {v.size})")
-    _fail_on_problems(result, problems)  # the summary above is shown, but not trusted
 
 
 def _echo_physical(attrs) -> None:
@@ -442,10 +456,10 @@ def _echo_physical(attrs) -> None:
     try:
         mapping = physical.from_attribute(str(text))
     except ValueError as err:
-        click.echo(f"  physical system: unreadable ({err})")
+        click.echo(f"  physical system: unreadable ({escape(err)})")
         return
     for line in mapping.describe(str(attrs.get("excitation"))):
-        click.echo(f"  {line}")
+        click.echo(f"  {escape(line)}")
 
 
 @main.command()
@@ -456,14 +470,12 @@ def check(result: Path, as_json: bool):
     import json
 
     from friction_sweep import consistency
-    from friction_sweep.storage import audit
 
-    ds = _open_result(result)
-    _fail_on_problems(result, audit.audit(ds))  # rules on values no run writes would say nothing true
+    ds = _open_result(result, every_problem=True)  # rules on values no run writes would say nothing true
     try:
         findings = consistency.check(ds)
     except consistency.CubeError as err:
-        fail(f"{result} is not a friction_sweep result cube: {err}")
+        fail(f"{escape(result)} is not a friction_sweep result cube: {escape(err)}")
     if as_json:
         click.echo(json.dumps([f.to_dict() for f in findings], indent=1))
     else:
@@ -471,7 +483,7 @@ def check(result: Path, as_json: bool):
             click.echo(_finding_line(f))
         n = {s: sum(f.status == s for f in findings) for s in ("failed", "ok", "skipped", "info")}
         verdict = "FAILED" if n["failed"] else "ok"
-        click.echo(f"{result}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
+        click.echo(f"{escape(result)}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
     sys.exit(EXIT_FINDINGS if consistency.failed(findings) else 0)
 
 
@@ -483,10 +495,11 @@ def check(result: Path, as_json: bool):
 @click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
               help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
                    "history=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those dims.")
-def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...]):
+@click.option("--overwrite", is_flag=True, help="Replace an existing PNG (atomically).")
+def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...], overwrite: bool):
     """Draw a quick look at a result cube as PNG: the regime map, transmissibility or phase curves, or
     a stored orbit."""
-    from friction_sweep.storage.outputs import missing_figures_extra, refuse_special_output
+    from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output, write_all
 
     problem = missing_figures_extra()  # first: a missing extra costs nothing, not even reading the cube
     if problem:
@@ -499,39 +512,38 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
         fail(f"output: {reason}")
     if out.suffix.lower() != ".png":
         fail(f"output: {out} does not end in .png; fsweep plot writes PNG")
-    try:
-        if out.exists() and os.path.samefile(out, result):
-            fail(f"output: {out} is the RESULT itself; name another file with -o")
-    except OSError:
-        pass
+    reason = refuse_replacing([out], overwrite, inputs=[result])
+    if reason is not None:
+        fail(reason)
     ds = _open_result(result)
     try:
         fig = quicklook.draw(ds, kind, selections)
     except quicklook.PlotError as err:
-        fail(f"{result}: {err}")
+        fail(f"{escape(result)}: {escape(err)}")
     try:
-        quicklook.save(fig, out)
+        write_all([(out, lambda tmp: quicklook.save(fig, tmp))], overwrite=overwrite)
+    except FileExistsError as err:  # appeared while it drew
+        fail(str(err))
     except OSError as err:
         fail(f"could not write {out}: {err.strerror or err}; nothing was written", EXIT_RUNTIME)
-    click.echo(f"wrote {out}")
+    click.echo(f"wrote {escape(out)}")
 
 
-def _open_result(path: Path):
-    """The cube at `path`, or exit 2 with the API's reason (friction_sweep.api.open_cube)."""
-    from friction_sweep import api
+def _open_result(path: Path, every_problem: bool = False):
+    """The cube at `path`, read and audited (friction_sweep.storage.cube.open_cube), or exit 2 with the
+    reason: one line, or with `every_problem` one line for each value problem the audit found."""
+    from friction_sweep.storage import cube
 
     try:
-        return api.open_cube(path)
+        return cube.open_cube(path)
+    except cube.UnsoundCube as err:
+        if every_problem:
+            for p in err.problems[:-1]:
+                click.echo(f"fsweep: error: {escape(path)}: {p}", err=True)
+            fail(f"{escape(path)}: {err.problems[-1]}")
+        fail(str(err))
     except FsweepError as err:
         fail(str(err))
-
-
-def _fail_on_problems(path: Path, problems: list) -> None:
-    """Exit 2 naming every audit problem of the cube at `path`, one line each (nothing if none)."""
-    if problems:
-        for p in problems[:-1]:
-            click.echo(f"fsweep: error: {path}: {p}", err=True)
-        fail(f"{path}: {problems[-1]}")
 
 
 def _finding_line(f) -> str:
@@ -560,15 +572,18 @@ def _shown(v) -> str:
 @click.option("--calibration", type=click.Path(path_type=Path), default=None,
               help="Where --calibrate writes (default: the user's, ~/.local/share/friction_sweep/calibration.json, "
                    "which `accuracy:` then reads in preference to the packaged one).")
-def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None):
+@click.option("--overwrite", is_flag=True, help="Replace existing outputs (the dataset, its .png and .md, the "
+              "calibration), all together.")
+def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None, overwrite: bool):
     """Measure what accuracy costs in time: error and time per point of every method and setting."""
     from friction_sweep.bench import workprecision as wp
-    from friction_sweep.storage.outputs import missing_figures_extra, refuse_special_output
+    from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output
 
     if calibrate and quick:
         fail("--calibrate needs the full benchmark, not --quick")
     # every refusal before the benchmark's seconds to minutes of computing
     problem = (refuse_special_output(output) or wp.refuse_outputs(output, calibrate, calibration)
+               or refuse_replacing(wp.output_paths(output, calibrate, calibration), overwrite)
                or missing_figures_extra())
     if problem:
         fail(problem)
@@ -576,7 +591,9 @@ def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None):
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
     table = wp.markdown(ds)
     try:
-        paths = wp.write(ds, output, calibrate, calibration)  # all or nothing
+        paths = wp.write(ds, output, calibrate, calibration, overwrite=overwrite)  # all or nothing
+    except FileExistsError as err:
+        fail(str(err))
     except OSError as err:
         fail(f"could not write the benchmark's results ({output}): {err.strerror or err}; "
               "no output was changed", EXIT_RUNTIME)

@@ -37,6 +37,10 @@ class SteadyState(IntEnum):
     # of the stroboscopic map > -1/max_orbit_period): chaotic, quasi-periodic or a longer period; outputs
     # are averages over 256 forcing periods
     APERIODIC = 7
+    # the orbit found does not balance its energy per period (kernels/balance.py: the forcing's work against
+    # friction and viscous dissipation): the period map repeated it without resolving the dynamics (a
+    # damping ratio far below rounding); reported as `unsettled`, without numbers
+    UNBALANCED = 8
 
 
 class MethodUsed(IntEnum):

@@ -12,6 +12,7 @@ import codecs
 import csv
 import math
 import os
+import re
 import stat
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -24,6 +25,13 @@ from friction_sweep.storage.outputs import file_kind
 MAX_DATA_BYTES = 16 * 2**20
 #: rows a data file may hold: a rig's sweep has tens to hundreds; each costs a simulation
 MAX_ROWS = 2000
+
+#: a number as a rig's software writes it: ASCII digits, an optional sign, point and exponent. Python's
+#: float() also reads other scripts' digits (Arabic-Indic "١.٤") and underscores ("1_4353"), which no CSV
+#: writer produces: a file holding them was edited by hand or by another tool, and is refused, not guessed
+PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: a measured phase lag in degrees, in any of the conventions rigs use (lag or lead, wrapped or not)
+PHASE_RANGE_DEG = (-180.0, 360.0)
 
 #: a value check: the reason a required column's value is refused, or None
 Check = Callable[[str, float, str], "str | None"]
@@ -130,6 +138,9 @@ def _required_number(path: Path, number: int, column: str, value: str, check: Ch
         x = math.nan
     if not math.isfinite(x):
         raise DataError(f"{path}:{number}: {column} must be a finite number (got {value!r})")
+    if not PLAIN_NUMBER.fullmatch(value):
+        raise DataError(f"{path}:{number}: {column} must be a number in plain ASCII digits, such as 1.4353 or "
+                        f"-2.5e-3 (got {value!r})")
     reason = check(column, x, value) if check is not None else None
     if reason is not None:
         raise DataError(f"{path}:{number}: {column} {reason}")

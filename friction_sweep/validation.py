@@ -11,11 +11,12 @@ each in both phase definitions of the cube: `phase` (first harmonic, what an FFT
 measures) and `peak_phase` (between the maxima of excitation and response, Den Hartog's phi), and
 summarises |predicted - measured| by its maximum and RMS for each method and definition.
 
-    fsweep validate-data [--data PATH] [-o DIR]       (or: python -m friction_sweep.validation)
+    fsweep validate-data [--data PATH] [-o DIR] [--overwrite]   (or: python -m friction_sweep.validation)
 
 writes `table.csv`, `table.md` and `phase_measured_vs_predicted.png` into DIR (default
-results/validation), all three or none. The PNG needs matplotlib (the `figures` extra): without it
-the command refuses before computing anything.
+results/validation), all three or none; files already there only with --overwrite, and never the
+data. The PNG needs matplotlib (the `figures` extra): without it the command refuses before
+computing anything.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ import pandas as pd
 from friction_sweep import codes
 from friction_sweep.codes import Regime
 from friction_sweep.exits import EXIT_RUNTIME, fail
-from friction_sweep.measured import DataError, read_table
+from friction_sweep.measured import PHASE_RANGE_DEG, DataError, read_table
 from friction_sweep.spec import grid
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
@@ -62,11 +63,13 @@ def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFram
 
 
 def _in_range(column: str, x: float, value: str) -> str | None:
-    """Why a required value is outside the spec's ranges, or None."""
+    """Why a required value is outside the spec's ranges (a phase: outside PHASE_RANGE_DEG), or None."""
     if column == "frequency_ratio" and not grid.frequency_ratio_ok(x):
         return f"must be {grid.FREQUENCY_RATIO_SPAN} (got {value}): {grid.FREQUENCY_RATIO_NOTE}"
     if column == "force_ratio" and not grid.force_ratio_ok(x):
         return f"must be {grid.FORCE_RATIO_SPAN} (got {value})"
+    if column == "phase_deg" and not PHASE_RANGE_DEG[0] <= x <= PHASE_RANGE_DEG[1]:
+        return f"must be a phase lag in degrees within [{PHASE_RANGE_DEG[0]:g}, {PHASE_RANGE_DEG[1]:g}] (got {value})"
     return None
 
 
@@ -219,9 +222,11 @@ def figure(table: pd.DataFrame):
     return fig
 
 
-def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_path) -> list[Path]:
+def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_path, *,
+                  overwrite: bool = True) -> list[Path]:
     """Write table.csv, table.md and the figure into `output_dir`, all or nothing: everything is
-    rendered first, then written (outputs.write_all), so a failure changes none of the three."""
+    rendered first, then written (outputs.write_all), so a failure changes none of the three; without
+    `overwrite`, none replaces a file."""
     import matplotlib.pyplot as plt
 
     csv_path, md_path, png_path = (Path(output_dir) / name for name in OUTPUT_FILES)
@@ -233,7 +238,7 @@ def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_p
             (csv_path, lambda tmp: write_text(tmp, csv_text)),
             (md_path, lambda tmp: write_text(tmp, md_text)),
             (png_path, lambda tmp: save_figure(fig, tmp, dpi=FIGURE_DPI)),
-        ])
+        ], overwrite=overwrite)
     finally:
         plt.close(fig)  # save_figure closes it too, but not when an earlier write failed
 
@@ -248,7 +253,8 @@ def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_p
               help=f"Measured data CSV (default: {DEFAULT_DATA}).")
 @click.option("-o", "--output-dir", type=click.Path(path_type=Path), default=DEFAULT_OUTPUT_DIR,
               show_default=True, help="Folder for table.csv, table.md and phase_measured_vs_predicted.png.")
-def validate_data(data: Path | None, output_dir: Path):
+@click.option("--overwrite", is_flag=True, help="Replace the three files of an earlier run (never the data).")
+def validate_data(data: Path | None, output_dir: Path, overwrite: bool):
     """Compare the measured phase lags of the fixed-wall rig with the theory and the simulation."""
     # Every refusal comes before the predictions (seconds; more where numba compiles first), and
     # nothing is written until everything is computed.
@@ -256,14 +262,21 @@ def validate_data(data: Path | None, output_dir: Path):
         fail(f"no measured data at {DEFAULT_DATA} (the default, shipped with the package): "
               "pass --data FILE")
     data_path = data if data is not None else DEFAULT_DATA
+    refusal = outputs.refuse_name(str(data_path), "data")  # its path is written into table.md
+    if refusal:
+        fail(refusal)
     try:
         measured = read_measurements(data_path)
     except DataError as err:
         fail(str(err))
-    for target in (output_dir / name for name in OUTPUT_FILES):
+    targets = [output_dir / name for name in OUTPUT_FILES]
+    for target in targets:
         refusal = outputs.refuse_special_output(target)
         if refusal:
             fail(refusal)
+    refusal = outputs.refuse_replacing(targets, overwrite, inputs=[data_path])
+    if refusal:
+        fail(refusal)
     missing = outputs.missing_figures_extra()
     if missing:
         fail(missing)
@@ -277,7 +290,9 @@ def validate_data(data: Path | None, output_dir: Path):
     click.echo("\nsummary of |Δ|:\n")
     click.echo(markdown_summary(summary))
     try:
-        paths = write_outputs(table, summary, output_dir, data_path)
+        paths = write_outputs(table, summary, output_dir, data_path, overwrite=overwrite)
+    except FileExistsError as err:
+        fail(str(err))
     except OSError as err:
         fail(f"could not write into {output_dir}: {err.strerror or err}; no output was changed", EXIT_RUNTIME)
     click.echo("\nwrote " + ", ".join(str(p) for p in paths))

@@ -28,14 +28,10 @@ def orbit_energies(A, r, bk, bs, q, v, zeta=0.0, max_periods=400, tol=1e-11):
     return steady_orbit(A, r, bk, bs, q, v, zeta=zeta, max_periods=max_periods, tol=tol)["energies"]
 
 
-def steady_orbit(A, r, bk, bs, q, v, c=0.0, zeta=0.0, base_dashpot=False, max_periods=400, tol=1e-11):
-    """March q'' + 2 zeta q' + q + f = A cos(r t) - (2 zeta r sin(r t) if base_dashpot) from (q, v) at
-    t = 0 until (q, v) repeats from one period to the next. Returns a dict: `amplitude` (first harmonic of
-    x = q + c cos(r t)), `lag` (its lag behind cos(r t), degrees in [-90, 270)), `peak` (max |x|, sampled),
-    `peak_lag` (the sampled maximum of x's lag behind that of cos(r t), degrees),
-    `stops` per period, `stuck_fraction`, `stuck_now` (stuck at the period's end) and the state there,
-    at a maximum of cos(r t) (`q_end`, `v_end`), and the `energies` of orbit_energies (the forcing's
-    work with the whole force that drives the mass, dashpot term included)."""
+def one_period(A, r, bk, bs, t0, q, v, zeta=0.0, base_dashpot=False):
+    """One forcing period of q'' + 2 zeta q' + q + f = A cos(r t) (- 2 zeta r sin(r t) if base_dashpot) from
+    (q, v) at t0. Returns (q, v, pieces, stops, stuck): the state at t0 + 2 pi / r, the slip and stick pieces
+    (lo, hi, q(t), q'(t) or None for a stick), the stops (a stop that sticks) and the time stuck."""
     T = 2 * np.pi / r
 
     def force(t):  # what pushes the mass at rest: spring and dashpot, without the friction
@@ -46,40 +42,57 @@ def steady_orbit(A, r, bk, bs, q, v, c=0.0, zeta=0.0, base_dashpot=False, max_pe
         d = force(t) - q
         return 0 if abs(d) <= bs else int(np.sign(d))
 
+    mode = int(np.sign(v)) if v != 0 else decide(t0, q)
+    t, t_end, pieces, stops, stuck = t0, t0 + T, [], 0, 0.0
+    while t < t_end - 1e-13:
+        if mode == 0:
+            def band(tt, y, qs=q):
+                return (force(tt) - qs) ** 2 - bs ** 2
+            band.terminal, band.direction = True, 1
+            sol = solve_ivp(lambda tt, y: [0.0], (t, t_end), [q], events=band, rtol=1e-12, atol=1e-13,
+                            max_step=T / 512)
+            t_new = sol.t_events[0][0] if sol.t_events[0].size else t_end
+            pieces.append((t, t_new, lambda tt, qs=q: qs + 0.0 * tt, None))
+            stuck += t_new - t
+            t = t_new
+            if t < t_end:
+                mode = 1 if force(t) - q > 0 else -1
+        else:
+            sig = mode
+
+            def rhs(tt, y, sig=sig):  # bound now: this piece's direction
+                return [y[1], force(tt) - y[0] - 2 * zeta * y[1] - sig * bk]
+
+            def stop(tt, y):
+                return y[1]
+            stop.terminal, stop.direction = True, -sig
+            sol = solve_ivp(rhs, (t, t_end), [q, v], method="DOP853", events=stop, rtol=1e-12, atol=1e-13,
+                            dense_output=True, first_step=min(1e-9, 0.5 * (t_end - t)))
+            pieces.append((t, sol.t[-1], lambda tt, s=sol.sol: s(tt)[0], lambda tt, s=sol.sol: s(tt)[1]))
+            q, v, t = sol.y[0, -1], sol.y[1, -1], sol.t[-1]
+            if sol.status == 1:
+                v = 0.0
+                mode = decide(t, q)
+                stops += mode == 0
+    return q, v, pieces, stops, stuck
+
+
+def steady_orbit(A, r, bk, bs, q, v, c=0.0, zeta=0.0, base_dashpot=False, max_periods=400, tol=1e-11):
+    """March q'' + 2 zeta q' + q + f = A cos(r t) - (2 zeta r sin(r t) if base_dashpot) from (q, v) at
+    t = 0 until (q, v) repeats from one period to the next. Returns a dict: `amplitude` (first harmonic of
+    x = q + c cos(r t)), `lag` (its lag behind cos(r t), degrees in [-90, 270)), `peak` (max |x|, sampled),
+    `peak_lag` (the sampled maximum of x's lag behind that of cos(r t), degrees),
+    `stops` per period, `stuck_fraction`, `stuck_now` (stuck at the period's end) and the state there,
+    at a maximum of cos(r t) (`q_end`, `v_end`), and the `energies` of orbit_energies (the forcing's
+    work with the whole force that drives the mass, dashpot term included)."""
+    T = 2 * np.pi / r
+
+    def force(t):  # the whole force that drives the mass (for the forcing's work below)
+        f = A * np.cos(r * t)
+        return f - 2 * zeta * r * np.sin(r * t) if base_dashpot else f
+
     def period(t0, q, v):
-        mode = int(np.sign(v)) if v != 0 else decide(t0, q)
-        t, t_end, pieces, stops, stuck = t0, t0 + T, [], 0, 0.0
-        while t < t_end - 1e-13:
-            if mode == 0:
-                def band(tt, y, qs=q):
-                    return (force(tt) - qs) ** 2 - bs ** 2
-                band.terminal, band.direction = True, 1
-                sol = solve_ivp(lambda tt, y: [0.0], (t, t_end), [q], events=band, rtol=1e-12, atol=1e-13,
-                                max_step=T / 512)
-                t_new = sol.t_events[0][0] if sol.t_events[0].size else t_end
-                pieces.append((t, t_new, lambda tt, qs=q: qs + 0.0 * tt, None))
-                stuck += t_new - t
-                t = t_new
-                if t < t_end:
-                    mode = 1 if force(t) - q > 0 else -1
-            else:
-                sig = mode
-
-                def rhs(tt, y, sig=sig):  # bound now: this piece's direction
-                    return [y[1], force(tt) - y[0] - 2 * zeta * y[1] - sig * bk]
-
-                def stop(tt, y):
-                    return y[1]
-                stop.terminal, stop.direction = True, -sig
-                sol = solve_ivp(rhs, (t, t_end), [q, v], method="DOP853", events=stop, rtol=1e-12, atol=1e-13,
-                                dense_output=True, first_step=1e-9)
-                pieces.append((t, sol.t[-1], lambda tt, s=sol.sol: s(tt)[0], lambda tt, s=sol.sol: s(tt)[1]))
-                q, v, t = sol.y[0, -1], sol.y[1, -1], sol.t[-1]
-                if sol.status == 1:
-                    v = 0.0
-                    mode = decide(t, q)
-                    stops += mode == 0
-        return q, v, pieces, stops, stuck
+        return one_period(A, r, bk, bs, t0, q, v, zeta, base_dashpot)
 
     t = 0.0
     for _ in range(max_periods):

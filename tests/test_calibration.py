@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -71,6 +72,9 @@ def _field(k: int, column: int, value: str):
     (_field(0, 1, "2.6"), r"bad\.csv:7: friction_force_N is force ratio 1.04: under base excitation the mass "
      "never leaves rest"),
     (_field(0, 5, "400"), r"bad\.csv:7: phase_deg must be a phase lag in degrees within \[-180, 360\]"),
+    # issue 28: digits float() reads but no CSV writer writes
+    (_field(1, 5, "\u0664\u0666.\u0664"), r"bad\.csv:8: phase_deg must be a number in plain ASCII digits"),
+    (_field(1, 1, "1_4353"), r"bad\.csv:8: friction_force_N must be a number in plain ASCII digits.*'1_4353'"),
 ])
 def test_bad_data_is_refused_with_its_line(runner, tmp_path, change, expected):
     spec = _rig_spec(tmp_path, data=_bad_data(tmp_path, change))
@@ -93,6 +97,9 @@ def test_bad_data_is_refused_with_its_line(runner, tmp_path, change, expected):
      r"parameters\.friction_scale: give the friction one way"),
     (("noise_phase: {half_normal: 5 deg}", "wobble: {half_normal: 5 deg}"),
      r"parameters\.wobble: unknown parameter 'wobble'"),
+    # issue 28: emcee's generator takes seeds below 2**32; a larger one failed after the MAP
+    (("seed: 0", "seed: 12345678901234567890"), r"rig\.yaml:\d+:\d+: sampler\.seed: .*4294967295"),
+    (("seed: 0", "seed: 4294967296"), r"sampler\.seed: .*4294967295"),
 ])
 def test_bad_specs_are_refused_at_their_line(tmp_path, edit, expected):
     path = _rig_spec(tmp_path)
@@ -114,6 +121,65 @@ def test_theory_refuses_an_effect(tmp_path):
     with pytest.raises(SpecError, match=r"parameters\.static_friction_ratio: method 'theory' does not model "
                        r"static_friction_ratio \(methods that do: event\)"):
         load_calibration_spec(path)
+
+
+@pytest.mark.parametrize("seed", ["4294967296", "123456789012345678901"])
+def test_a_seed_the_sampler_cannot_take_is_refused_before_computing(runner, tmp_path, monkeypatch, seed):
+    from friction_sweep.calibration import command
+
+    monkeypatch.setattr(command, "ForwardModel", None)  # reached only after every refusal
+    res = runner.invoke(main, ["calibrate", str(_rig_spec(tmp_path)), "--seed", seed, "-q"])
+    assert "'--seed'" in one_error_line(res, 2) and "4294967295" in res.output
+    assert not (tmp_path / "out").exists()
+
+
+def test_the_largest_seed_is_one_the_sampler_takes():
+    from friction_sweep.calibration.spec import MAX_SEED
+
+    np.random.RandomState(MAX_SEED)
+    with pytest.raises(ValueError):
+        np.random.RandomState(MAX_SEED + 1)
+
+
+def _first_rows(n: int):
+    """A change to the data: its first n rows only."""
+    return lambda lines: lines[:HEADER + 1 + n]
+
+
+@pytest.mark.parametrize("rows, holdout, need", [(1, "", 5), (4, "", 5), (12, "  holdout: [1.4353]\n", 6)])
+def test_too_few_rows_for_the_parameters_are_refused_before_computing(runner, tmp_path, monkeypatch, rows,
+                                                                      holdout, need):
+    """Issue 28: one row gave a MAP noise of 4.3e-153 degrees (the fit passes through it). The rig's first
+    rows are one series: 4 parameters (its friction force, f_n, the noise, the offset) need 5 rows; with
+    two series and one held out, the held-out rows do not count."""
+    from friction_sweep.calibration import command
+
+    monkeypatch.setattr(command, "Posterior", None)  # reached only after every refusal
+    data = _bad_data(tmp_path, _first_rows(rows))
+    spec = _rig_spec(tmp_path, data=data)
+    if holdout:
+        spec.write_text(spec.read_text().replace("    phase: phase_deg\n", "    phase: phase_deg\n" + holdout))
+    res = runner.invoke(main, ["calibrate", str(spec), "-q"])
+    line = one_error_line(res, 2)
+    assert f"{data}: " in line and f"at least {need} fitted rows" in line, line
+    assert not (tmp_path / "out").exists()
+
+
+def test_more_values_than_parameters_are_enough(tmp_path):
+    spec = load_calibration_spec(_rig_spec(tmp_path, data=_bad_data(tmp_path, _first_rows(5))))
+    assert ForwardModel(spec, read_observations(spec)).too_few_rows() is None
+
+
+def test_a_zero_noise_level_has_no_density_and_no_warning(tmp_path):
+    """The edge of the noise prior (0, with no row uncertainty) used to print three RuntimeWarnings."""
+    spec = load_calibration_spec(_rig_spec(tmp_path, method="theory"))
+    model = ForwardModel(spec, read_observations(spec))
+    post = Posterior(model)
+    theta = np.array([[1.4, 1.0, 0.9, 0.6, 19.5721, 0.0, 0.0]])
+    assert model.names[5] == "noise_phase"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert post(theta)[0] == -np.inf
 
 
 def test_a_prior_that_explains_no_data_is_refused(runner, tmp_path):
@@ -259,8 +325,10 @@ def test_the_command_writes_every_file_and_the_same_numbers_on_any_number_of_thr
     spec.write_text(spec.read_text().replace("sampler: {walkers: 32, seed: 0}\n", fast))
     draws = []
     for jobs, out in (("1", "a"), ("2", "b")):
-        res = runner.invoke(main, ["calibrate", str(spec), "-q", "-j", jobs, "-o", str(tmp_path / out)])
-        assert res.exit_code == 0, res.output
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", RuntimeWarning)  # issue 28: numpy's RuntimeWarnings on a good run
+            res = runner.invoke(main, ["calibrate", str(spec), "-q", "-j", jobs, "-o", str(tmp_path / out)])
+        assert res.exit_code == 0, (res.output, res.exception)
         names = sorted(p.name for p in (tmp_path / out).iterdir())
         assert names == sorted(["posterior.nc", "map.csv", "report.md", "predictive.png", "corner.png"])
         idata = az.from_netcdf(tmp_path / out / "posterior.nc", engine="h5netcdf")

@@ -300,7 +300,7 @@ settings: {theory_margin: 0.05}
     # the file format itself: codes written by earlier versions must keep their meaning
     assert ds["regime"].attrs["flag_meanings"] == "stuck stick_slip continuous unbounded unsettled"
     assert ds["steady_state"].attrs["flag_meanings"] == ("converged period_cap event_budget nonfinite growing "
-                                                         "not_simulated family aperiodic")
+                                                         "not_simulated family aperiodic unbalanced")
     assert ds["method_used"].attrs["flag_meanings"] == "theory event"
 
 

@@ -88,15 +88,16 @@ def test_a_theory_cube_passes_every_rule_at_and_next_to_the_ties(theory_cubes, e
     assert lines[0].split()[:3] == ["resonance", "ok", str(2 * len(BETA_GRID))]
     assert lines[1].split()[:2] == ["bound", "ok"]
     assert lines[2] == "theory      skipped (the theory itself)"
-    assert lines[3].split()[:2] == ["unsettled", "ok"]
-    assert lines[4] == "family      skipped (no steady_state)"
-    assert lines[5].startswith(f"{theory_cubes[excitation]}: ok")
+    assert lines[3] == "energy      skipped (method theory: not a simulation with a stated accuracy)"
+    assert lines[4].split()[:2] == ["unsettled", "ok"]
+    assert lines[5] == "family      skipped (no steady_state)"
+    assert lines[6].startswith(f"{theory_cubes[excitation]}: ok")
 
 
 def test_json_parses_and_lists_every_rule(theory_cubes):
     code, found = findings(theory_cubes["base"])
     assert code == 0
-    assert list(found) == ["resonance", "bound", "theory", "unsettled", "family"]
+    assert list(found) == ["resonance", "bound", "theory", "energy", "unsettled", "family"]
     for f in found.values():
         assert {"rule", "status", "checked", "violations", "examples"} <= set(f)
     # every finite point is checked against the bound: all but r = 1 (infinite bound) and NaN points
@@ -122,7 +123,7 @@ def test_resonance_fault_is_caught(theory_cubes, tmp_path, beta, regime, expecte
     (ex,) = res["examples"]
     assert (ex["r"], ex["beta"], ex["found"]) == (1.0, beta, codes.name_of(Regime, regime))
     assert ex["expected"].startswith(expected)
-    assert [f["status"] for n, f in found.items() if n != "resonance"] == ["ok", "skipped", "ok", "skipped"]
+    assert [f["status"] for n, f in found.items() if n != "resonance"] == ["ok", "skipped", "skipped", "ok", "skipped"]
 
 
 def test_resonance_fault_is_caught_in_the_text_report(theory_cubes, tmp_path):

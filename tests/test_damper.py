@@ -338,5 +338,5 @@ def test_the_cli_says_where_the_dashpot_sits_and_refuses_with_exit_2(runner, tmp
     assert f"{path}:3:48: scene.effects.viscous_damping.to: excitation 'joined' allows only" in res.output
     shape = "{ratio: number, to: ground | base} (force ground; base ground | base; joined base)"
     assert shape in runner.invoke(main, ["info", "--methods"]).output
-    assert f"effect viscous_damping: a number in [0, 1) (the ratio, at the first place listed), or {shape}" in \
+    assert f"effect viscous_damping: a number in 0 or [1e-06, 1) (the ratio, at the first place listed), or {shape}" in \
         runner.invoke(main, ["settings", "event"]).output

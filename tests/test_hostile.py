@@ -17,6 +17,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import hostile_cubes as hc
 import numpy as np
 import pytest
 import xarray as xr
@@ -24,7 +25,7 @@ from click.testing import CliRunner
 from conftest import in_dir
 
 from friction_sweep.cli import main
-from friction_sweep.codes import SteadyState
+from friction_sweep.codes import Regime, SteadyState
 
 GOOD = """\
 scene: {excitation: base}
@@ -110,7 +111,7 @@ def _lock_is_folder(d: Path) -> None:
     (d / ".out.h5.lock").mkdir()
 
 
-def _interrupted(d: Path, spec: str = EVENT) -> None:
+def _interrupted(d: Path, spec: str = EVENT, env: dict | None = None) -> None:
     """An event run stopped after two of its tiles (kill -9), with its checkpoint left."""
     code = (
         "import sys\n"
@@ -126,7 +127,8 @@ def _interrupted(d: Path, spec: str = EVENT) -> None:
         "main(['run', 'spec.yaml', '-q', '--executor', 'serial'])\n"
     )
     (d / "spec.yaml").write_text(spec)
-    subprocess.run([sys.executable, "-c", code], cwd=d, capture_output=True, check=False)
+    subprocess.run([sys.executable, "-c", code], cwd=d, capture_output=True, check=False,
+                   env={**os.environ, **(env or {})})
     assert len(list((d / ".out.h5.partial").glob("tile-*.npz"))) == 2
 
 
@@ -173,6 +175,27 @@ def _tamper(d: Path, value, name: str = "transmissibility") -> None:
     np.savez(tile, **arrays)
 
 
+def _physical(system: str, force: str | None = "friction_force: [1 N]", ratio: str | None = "[1.0]",
+              frequency: str | None = None) -> str:
+    """A spec with `system:` (flow text), a force axis and a frequency axis (ratios, or physical)."""
+    axes = [f"frequency_ratio: {ratio}" if ratio is not None else frequency, force]
+    return (f"scene: {{excitation: {'force' if 'excitation_force' in system else 'base'}}}\nsystem: {system}\n"
+            "grid: {" + ", ".join(a for a in axes if a is not None) + "}\nmethod: theory\noutput: out.h5\n")
+
+
+def _calibration(prior: str) -> Callable[[Path], None]:
+    """A calibration spec (cal.yaml) on a small data file whose parameters hold `prior`."""
+
+    def make(d: Path) -> None:
+        (d / "rig.csv").write_text("r,beta,phase\n0.7,0.2,10\n1.3,0.2,170\n")
+        (d / "cal.yaml").write_text(
+            "data:\n  file: rig.csv\n  columns: {frequency_ratio: r, force_ratio: beta, phase: phase}\n"
+            "scene: {excitation: base}\nsystem: {natural_frequency: 10 Hz, excitation_force: 1 N}\nmethod: theory\n"
+            f"parameters:\n  friction_ratio: {{uniform: [0.01, 1]}}\n  noise_phase: {{half_normal: 5 deg}}\n  {prior}\n")
+
+    return make
+
+
 @dataclass
 class Case:
     id: str
@@ -186,6 +209,7 @@ class Case:
     check: Callable[[Path], None] | None = None
     lines: int | None = 1  # message lines on stderr after "invalid spec" (None: any number)
     extra: dict = field(default_factory=dict)
+    env: dict = field(default_factory=dict)  # environment of the command ({d}: the case's folder)
 
 
 def _cube_unchanged(d: Path) -> None:
@@ -208,6 +232,203 @@ def _resumed_cube_is_complete(d: Path) -> None:
         assert set(got.data_vars) == set(ref.data_vars)
         for name in ref.data_vars:
             np.testing.assert_array_equal(got[name].values, ref[name].values)
+
+# ---- set-ups and checks of issue 28 (files and checkpoints) ------------------------------------------
+
+ACCURATE = EVENT_LONG + "accuracy: 1.0e-3\n"
+
+
+def _user_calibration(d: Path) -> Path:
+    from friction_sweep.bench.workprecision import PACKAGED_CALIBRATION
+
+    path = d / "xdg" / "friction_sweep" / "calibration.json"
+    path.parent.mkdir(parents=True)
+    path.write_text(PACKAGED_CALIBRATION.read_text())
+    return path
+
+
+def _calibration_changed(d: Path) -> None:
+    """A run with `accuracy:` interrupted, then the user's calibration changed so that `accuracy:` chooses
+    other settings (the cheapest row that met 1e-3 now misses it)."""
+    import json
+
+    path = _user_calibration(d)
+    _interrupted(d, ACCURATE, env={"XDG_DATA_HOME": str(d / "xdg")})
+    table = json.loads(path.read_text())
+    for row in table["event"]:
+        if row["worst_error"] is not None and row["worst_error"] <= 1e-3:
+            row["worst_error"] = 0.5
+            break
+    path.write_text(json.dumps(table))
+
+
+def _tile_arrays(path: Path) -> dict:
+    with np.load(path) as data:
+        return {k: data[k] for k in data.files}
+
+
+def _edit_tile(change: Callable[[dict], dict]) -> Callable[[Path], None]:
+    """An interrupted run whose first finished tile is changed (its proof entries kept unless changed)."""
+    def setup(d: Path) -> None:
+        _interrupted(d, EVENT_LONG)
+        tile = d / ".out.h5.partial" / "tile-00000.npz"
+        np.savez(tile, **change(_tile_arrays(tile)))
+    return setup
+
+
+def _foreign_tile(d: Path) -> None:
+    """The first tile replaced by the first tile of another sweep of the same shape."""
+    (d / "other").mkdir()
+    _interrupted(d / "other", EVENT_LONG.replace("0.1, 0.4", "0.1, 0.5"))
+    _interrupted(d, EVENT_LONG)
+    (d / ".out.h5.partial" / "tile-00000.npz").write_bytes((d / "other/.out.h5.partial/tile-00000.npz").read_bytes())
+    import shutil
+
+    shutil.rmtree(d / "other")
+
+
+def _swapped_tile(d: Path) -> None:
+    """Tile 0's file copied over tile 1 (right shape, right sweep, wrong place)."""
+    _interrupted(d, EVENT_LONG)
+    part = d / ".out.h5.partial"
+    (part / "tile-00001.npz").write_bytes((part / "tile-00000.npz").read_bytes())
+
+
+def _hard_linked_lock(d: Path) -> None:
+    (d / "victim.txt").write_text("precious")
+    os.link(d / "victim.txt", d / ".out.h5.lock")
+
+
+def _cube_linked_as_lock(d: Path) -> None:
+    _good_cube(d)
+    os.link(d / "out.h5", d / ".out.h5.lock")
+
+
+def _dead_pid() -> int:
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    return child.pid
+
+
+def _stale_temporaries(d: Path) -> None:
+    """What a kill -9 leaves: the cube's temporary, a staged copy and its temporary, and the probe."""
+    pid = _dead_pid()
+    for name in (f".out.h5.{pid}-abcd_123.tmp", f".out.h5.{pid}-staged.tmp",
+                 f"..out.h5.{pid}-staged.tmp.{pid}-x1y2z3w4.tmp"):
+        (d / name).write_bytes(b"\0" * 100_000)
+
+
+def _calibration_spec(d: Path, data: str, output: str, name: str = "rig.yaml") -> None:
+    from friction_sweep.validation import DEFAULT_DATA
+
+    text = (Path(__file__).parents[1] / "configs/calibration/rig.yaml").read_text()
+    text = text.replace("../../friction_sweep/data/experiment_phase_fixed_wall.csv", data)
+    (d / name).write_text(text.replace("output: results/calibration/rig", f"output: {output}"))
+    if data.startswith("rigdir/"):
+        (d / "rigdir").mkdir(exist_ok=True)
+        (d / data).write_text(DEFAULT_DATA.read_text())
+
+
+def _unchanged_as(path: str, source: Callable[[], str]) -> Callable[[Path], None]:
+    return lambda d: _same_text(d / path, source())
+
+
+def _rig_data() -> str:
+    from friction_sweep.validation import DEFAULT_DATA
+
+    return DEFAULT_DATA.read_text()
+
+
+def _packaged_calibration() -> str:
+    from friction_sweep.bench.workprecision import PACKAGED_CALIBRATION
+
+    return PACKAGED_CALIBRATION.read_text()
+
+
+def _bench_notes(d: Path) -> None:
+    (d / "notes.md").write_text("my notes")
+    (d / "notes.png").write_text("my picture")
+
+
+KEEP = ("out.h5", ".out.h5.partial", ".out.h5.lock")  # the default `absent`
+RESUME = ("run", "{spec}", "--resume", "-q")
+RESUMED = {"spec": None, "args": RESUME, "exit": 0, "exist": ("out.h5",), "absent": (".out.h5.partial", ".out.h5.lock"),
+           "check": _resumed_cube_is_complete}
+
+
+
+# issue 28, r = 1/(2n): specs whose grids hold r next to 1/(2n) (12-digit grid values, a few ulps and
+# 1e-9 off, binary 1/(2n)); each is run, then audited by fsweep check
+NEAR_FAMILY = """\
+scene: {{excitation: {excitation}}}
+grid:
+  frequency_ratio: {r}
+  force_ratio: {beta}
+method: {method}
+output: out.h5
+"""
+
+
+def _near_family(excitation="base", r="{start: 0.1, stop: 0.2, num: 31}", beta="{start: 0.001, stop: 0.025, num: 25}",
+                 method="event") -> str:
+    return NEAR_FAMILY.format(excitation=excitation, r=r, beta=beta, method=method)
+
+
+def _continuous_next_to_the_family(d: Path) -> None:
+    """Every point within 1e-6 of r = 1/(2n) and below 0.98 beta*(r) (the scene's convention) is
+    continuous, from a steady state the method found (converged, or the family at the tie)."""
+    with xr.open_dataset(d / "out.h5", engine="h5netcdf") as ds:
+        r = ds["frequency_ratio"].values
+        n = np.rint(0.5 / r)
+        near = np.abs(2.0 * n * r - 1.0) <= 1e-6
+        inside = ds["force_ratio"].values[:, None] <= 0.98 * ds["continuous_limit"].values[None, :]
+        sel = near[None, :] & inside
+        assert sel.any()
+        assert (ds["regime"].values[sel] == 2).all(), ds["regime"].values
+        if "steady_state" in ds:
+            assert np.isin(ds["steady_state"].values[sel],
+                           (SteadyState.CONVERGED, SteadyState.FAMILY, SteadyState.NOT_SIMULATED)).all()
+
+
+def _creep_at_the_family(d: Path) -> None:
+    """An event cube at r = 1/2 and 1/4 in binary whose point (0.5, 0.1) says `stick_slip`, one stop a
+    period, as a march that creeps towards the family would (every stick-free orbit there is continuous)."""
+    _good_cube(d)
+    with xr.open_dataset(d / "out.h5", engine="h5netcdf") as ds:
+        ds = ds.load()
+    at = {"frequency_ratio": 0.5, "force_ratio": 0.1}
+    ds["regime"].loc[at] = 1
+    ds["stops_per_period"].loc[at] = 1.0
+    (d / "out.h5").unlink()
+    ds.to_netcdf(d / "out.h5", engine="h5netcdf")
+
+def _damped(excitation: str, damping: str, method: str = "event") -> str:
+    """The issue's spec: a damping ratio next to resonance (issue 28, class 1)."""
+    return (f"scene: {{excitation: {excitation}, effects: {{viscous_damping: {damping}}}}}\n"
+            "grid:\n  frequency_ratio: [0.999999, 1.0, 1.000001]\n  force_ratio: [0]\n"
+            f"method: {method}\noutput: out.h5\n")
+
+
+def _wrong_orbit_cube(path: Path) -> None:
+    """The cube main wrote for the issue's spec (now refused): computed by the method directly, with r = 1 as
+    main wrote it, T = 68 labelled converged where the exact value is 1/(2 zeta) = 5e17 (the kernel now
+    labels it unsettled)."""
+    from friction_sweep import catalogue
+    from friction_sweep.methods import event
+    from friction_sweep.storage import cube, provenance
+
+    effects = {"viscous_damping": 1e-18}
+    r = np.array([0.999999, 1.0, 1.000001])
+    arrays = event.compute_tile("base", r, np.array([0.0]), ("transmissibility", "phase", "regime"), effects)
+    at_one = 1  # r = 1, as main wrote it
+    arrays["transmissibility"][0, at_one], arrays["phase"][0, at_one] = 68.02467467134679, -63.11680981
+    arrays["regime"][0, at_one], arrays["steady_state"][0, at_one] = Regime.CONTINUOUS, SteadyState.CONVERGED
+    settings = {**event.CATALOGUE.defaults, "effects": catalogue.resolved_effects("base", effects)}
+    cube.build_dataset(arrays, frequency_ratio=r, force_ratio=np.array([0.0]), excitation="base", title="t",
+                       history=provenance.history_line("test"),
+                       attrs=provenance.attributes(spec_text="", spec_path="s.yaml", excitation="base",
+                                                   method="event", settings=settings)
+                       ).to_netcdf(path, engine="h5netcdf")
 
 
 CASES = [
@@ -341,6 +562,310 @@ CASES = [
     # ---- cubes that cannot be trusted
     Case("info on a foreign file", args=("info", "{d}/spec.yaml"), words=("not a readable result cube",),
          absent=()),
+    # ---- issue 28: physics: r=1/(2n) labels (a creep towards the stick-free family taken for a
+    # stick-slip orbit; the cube must pass its own audit at any grid)
+    Case("issue 28: 31-point grid holding r = 0.166666666667", _near_family(), args=("check", "{d}/out.h5"),
+         setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",), absent=(),
+         check=_continuous_next_to_the_family),
+    Case("issue 28: joined at 0.166666666667, beta 1e-12", _near_family("joined", "[0.166666666667]",
+                                                                         "[1.0e-12, 1.0e-6, 7.0e-4]"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("unsettled   ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: force, 1/(2n) for n = 1..5 rounded and detuned", _near_family(
+        "force", "[0.0999999999999, 0.1, 0.100000001, 0.125000000001, 0.16666666666666666, 0.166666666667, "
+        "0.1666666667, 0.2499999999, 0.250000000001, 0.499999999999, 0.5, 0.500000001]",
+        "[1.0e-12, 1.0e-9, 0.0005, 0.005, 0.0095]"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: joined next to 1/4 and 1/6", _near_family(
+        "joined", "[0.1666666666, 0.166666666667, 0.1666666667, 0.249999999999, 0.25, 0.250000000001]",
+        "[1.0e-12, 1.0e-5, 1.0e-4, 5.0e-4]"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: auto simulating next to beta* on the 31-point grid",
+         _near_family(method="auto\nsettings: {theory_margin: 0.99}", beta="{start: 0.0, stop: 0.03, num: 31}"),
+         args=("check", "{d}/out.h5"), setup=_good_cube, exit=0, words=("theory      ok",), exist=("out.h5",),
+         absent=(), check=_continuous_next_to_the_family),
+    Case("issue 28: a stick-slip label on the r = 1/2 family fails check", _near_family(
+        r="[0.25, 0.5]", beta="[0.01, 0.1]"), args=("check", "{d}/out.h5"), setup=_creep_at_the_family, exit=1,
+         words=("theory      FAILED   1 of 3", "r=0.5, beta=0.1: stick_slip, expected continuous"), exist=("out.h5",),
+         absent=(), lines=None),
+    # ---- issue 28: inputs: units, specs and the Python API
+    Case("unit bomb of 30 characters", _physical("{natural_frequency: '(((9**99)**99)**99)**99 Hz', stiffness: 1 N/m, "
+                                                 "base_amplitude: 1 mm}"),
+         words=("spec.yaml:2:", "system.natural_frequency", "power is at most 4")),
+    Case("unit power of a power", _physical("{natural_frequency: '(9**99)**99 Hz', stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "power is at most 4")),
+    Case("unit powers that overflow a double", _physical("{natural_frequency: '((9**4)**4)**4 Hz', stiffness: 1 N/m, "
+                                                         "base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "between 1e-30 and 1e+30 Hz")),
+    Case("unit product that overflows", _physical("{natural_frequency: '(((9**4)**4)**4)**3 * (((9**4)**4)**4)**3 Hz', "
+                                                  "stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "must be finite")),
+    Case("unit power that overflows", _physical("{natural_frequency: '((((10**4)**4)**4)**4)**4 Hz', stiffness: 1 N/m, "
+                                                "base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "must be finite")),
+    Case("unit division by zero", _physical("{natural_frequency: '5 / 0 Hz', stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "divides by zero")),
+    Case("unit with a decimal comma", _physical("{natural_frequency: '1,5 Hz', stiffness: 1 N/m, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "a comma")),
+    Case("prior unit bomb", None, args=("calibrate", "{d}/cal.yaml", "-o", "{d}/cal"), setup=_calibration(
+        "natural_frequency: {normal: ['(((9**99)**99)**99)**99 Hz', 1 Hz]}"),
+         words=("parameters.natural_frequency.normal[0]", "power is at most 4"), absent=("cal",), lines=2),
+    Case("prior beyond the physical range", None, args=("calibrate", "{d}/cal.yaml", "-o", "{d}/cal"),
+         setup=_calibration("natural_frequency: {normal: [1e200 Hz, 1 Hz]}"),
+         words=("parameters.natural_frequency.normal[0]", "between 1e-30 and 1e+30 Hz"), absent=("cal",), lines=2),
+    Case("f_n and m of 1e200", _physical("{natural_frequency: 1e200 Hz, mass: 1e200 kg, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "system.mass", "between 1e-30 and 1e+30"), lines=2),
+    Case("f_n and m of 1e-200", _physical("{natural_frequency: 1e-200 Hz, mass: 1e-200 kg, base_amplitude: 1 mm}"),
+         words=("system.natural_frequency", "system.mass"), lines=2),
+    Case("k and Y of 1e200", _physical("{natural_frequency: 10 Hz, stiffness: 1e200 N/m, base_amplitude: 1e200 m}"),
+         words=("system.stiffness", "system.base_amplitude"), lines=2),
+    Case("k and Y whose product leaves the range", _physical("{natural_frequency: 10 Hz, stiffness: 1e20 N/m, "
+                                                             "base_amplitude: 1e20 m}"),
+         words=("system.base_amplitude", "F_k = k Y is 1e+40 N", "F_k L is 1e+60 J"), lines=2),
+    Case("k derived from m and f_n out of range", _physical("{natural_frequency: 1e25 Hz, mass: 1e25 kg, "
+                                                            "base_amplitude: 1e-25 m}"),
+         words=("system.mass", "k = m (2 pi f_n)^2 is 3.95e+76 N/m"), lines=2),
+    Case("F_k of zero on a tiny stiffness", _physical("{natural_frequency: 10 Hz, stiffness: 1e-200 N/m, "
+                                                      "base_amplitude: 1e-200 m}", "friction_force: [0 N]"),
+         words=("system.stiffness", "system.base_amplitude"), lines=2),
+    Case("a denormal excitation force", _physical("{natural_frequency: 10 Hz, excitation_force: 1e-320 N}",
+                                                  "friction_force: [0 N]"),
+         words=("system.excitation_force", "between 1e-30 and 1e+30 N")),
+    Case("mu N beyond the range", _physical("{natural_frequency: 10 Hz, excitation_force: 1 N, "
+                                            "friction_coefficient: 1e20, normal_load: 1e20 N}", None),
+         words=("system.normal_load", "mu N is 1e+40 N")),
+    Case("a frequency r f_n below the range", _physical("{natural_frequency: 1e-29 Hz, excitation_force: 1 N}",
+                                                        "force_ratio: 0.1", "0.01"),
+         words=("grid.frequency_ratio", "f = r f_n is 1e-31 Hz")),
+    Case("a base acceleration whose amplitude leaves the range", _physical(
+        "{natural_frequency: 1e-10 Hz, stiffness: 1e-20 N/m, base_acceleration: 1e20 m/s^2}", "friction_force: [1e18 N]",
+        None, "frequency: [1e-10 Hz]"),
+         words=("system.base_acceleration", "Y = a / omega^2 is 2.53e+38 m", "F_k Y is 6.42e+56 J"), lines=2),
+    Case("a time-history point below the frequency range", _physical(
+        "{natural_frequency: 1e-29 Hz, excitation_force: 1 N}", "force_ratio: 0.1").replace(
+        "method: theory", "method: event\noutputs: [regime, time_history]\ntime_history: {points: [[0.01, 0.1]]}"),
+         words=("time_history.points", "f = r f_n of a time-history point is 1e-31 Hz")),
+    Case("a friction force of 1e-35 N", _physical("{natural_frequency: 10 Hz, excitation_force: 1 N}",
+                                                  "friction_force: [0 N, 1e-35 N]"),
+         words=("grid.friction_force[1]", "between 1e-30 and 1e+30 N")),
+    Case("!!float of a word", GOOD.replace("[0.1, 0.4]", '!!float "abc"'),
+         words=("spec.yaml:4:16: invalid YAML: !!float cannot hold 'abc'",)),
+    Case("!!bool of a word", GOOD.replace("[0.1, 0.4]", "!!bool maybe"),
+         words=("spec.yaml:4:16: invalid YAML: !!bool cannot hold 'maybe'",)),
+    Case("!!int of a word in a list", GOOD.replace("[0.1, 0.4]", '[0.1, !!int "x"]'),
+         words=("spec.yaml:4:22: invalid YAML: !!int cannot hold 'x'",)),
+    Case("!!str value shown as written", GOOD.replace("[0.1, 0.4]", "!!str 0.1"),
+         words=("grid.force_ratio: must be a number, not a string (got '0.1')",)),
+    Case("a custom tag shown as written", GOOD.replace("[0.1, 0.4]", "!custom 0.1"),
+         words=("(got '!custom 0.1')",)),
+    Case("num beyond the points on the frequency axis", GOOD.replace("num: 40", "num: 10000001"),
+         words=("grid.frequency_ratio.num: must be <= 10000000 (got 10000001): an axis has at most 10000000 points",)),
+    Case("num beyond the points on the force axis", GOOD.replace("[0.1, 0.4]", "{start: 0, stop: 1, num: 10000001}"),
+         words=("grid.force_ratio.num: must be <= 10000000 (got 10000001): an axis has at most 10000000 points",)),
+    # ---- issue 28: cubes, readers and calibration inputs
+    # one reader (storage.cube.open_cube) audits every cube before info, check, plot or the API sees it
+    Case("plot: regime 9", args=("plot", "{d}/c.h5"), setup=hc.value("regime", (0, 0), 9),
+         words=("regime: 1 of 80 values are not valid regime codes (e.g. 9",), absent=("c.png",)),
+    Case("plot: transmissibility -1", args=("plot", "{d}/c.h5"), setup=hc.value("transmissibility", (0, 0), -1.0),
+         words=("transmissibility: 1 of 80 values lie outside the valid range",), absent=("c.png",)),
+    Case("plot: transmissibility inf", args=("plot", "{d}/c.h5"),
+         setup=hc.value("transmissibility", (1, 5), np.inf), words=("are infinite",), absent=("c.png",)),
+    Case("plot --kind phase: phase 1e300", args=("plot", "{d}/c.h5", "--kind", "phase"),
+         setup=hc.value("phase", (0, 2), 1e300), words=("phase: 1 of 80 values lie outside",), absent=("c.png",)),
+    Case("plot: NaN frequency ratio", args=("plot", "{d}/c.h5"), setup=hc.value("frequency_ratio", 3, np.nan),
+         words=("frequency_ratio: 1 of 40 values are NaN",), absent=("c.png",)),
+    Case("plot: frequency ratios out of order", args=("plot", "{d}/c.h5"), setup=hc.value("frequency_ratio", 3, 5.0),
+         words=("not strictly increasing",), absent=("c.png",)),
+    Case("plot: float16 transmissibility", args=("plot", "{d}/c.h5"),
+         setup=hc.rewritten(lambda ds: ds.assign(transmissibility=ds["transmissibility"].astype("f2"))),
+         words=("stored as float16",), absent=("c.png",)),
+    Case("plot: two faults in one line", args=("plot", "{d}/c.h5"),
+         setup=hc.edited(lambda f: (f["regime"].__setitem__((0, 0), 9), f["phase"].__setitem__((0, 0), -1e9))),
+         words=("and 1 more problems: fsweep info lists them",), absent=("c.png",)),
+    Case("info: two faults, a line each and no summary", args=("info", "{d}/c.h5"),
+         setup=hc.edited(lambda f: (f["regime"].__setitem__((0, 0), 9), f["phase"].__setitem__((0, 0), -1e9))),
+         words=("not valid regime codes", "phase: 1 of 80"), lines=2, absent=()),
+    Case("info: a string variable", args=("info", "{d}/c.h5"), absent=(),
+         setup=hc.rewritten(lambda ds: ds.assign(transmissibility=ds["transmissibility"].astype(str))),
+         words=("variable 'transmissibility' holds strings, not numbers",)),
+    Case("plot: a string variable", args=("plot", "{d}/c.h5"), absent=("c.png",),
+         setup=hc.rewritten(lambda ds: ds.assign(note=ds["regime"].astype(str))), words=("holds strings",)),
+    Case("check: a string coordinate", args=("check", "{d}/c.h5"), absent=(),
+         setup=hc.rewritten(lambda ds: ds.assign_coords(force_ratio=ds["force_ratio"].astype(str))),
+         words=("variable 'force_ratio' holds strings",)),
+    # what a reader loads is bounded on the file's metadata (storage.bounds), before any value is read
+    Case("info: three unwritten 4000 x 5000 variables", args=("info", "{d}/c.h5"), setup=hc.declared(4000, 5000),
+         words=("declares 20000000 values (4000 x 5000)", "at most 10000000"), absent=()),
+    Case("plot: three unwritten 4000 x 5000 variables", args=("plot", "{d}/c.h5"), setup=hc.declared(4000, 5000),
+         words=("declares 20000000 values",), absent=("c.png",)),
+    Case("info: an unwritten variable reads as zeros", args=("info", "{d}/c.h5"), setup=hc.declared(2, 40),
+         words=("'transmissibility' declares 80 values but stores 0 of their 640 bytes",), absent=()),
+    Case("check: an unwritten variable", args=("check", "{d}/c.h5"), setup=hc.declared(2, 40, names=("regime",)),
+         words=("stores 0 of",), absent=()),
+    Case("info: external storage", args=("info", "{d}/c.h5"), setup=hc.external("ext.bin"),
+         words=("'peak_phase' keeps its values in an external file",), absent=()),
+    Case("plot: external storage", args=("plot", "{d}/c.h5"), setup=hc.external("ext.bin"),
+         words=("external file",), absent=("c.png",)),
+    Case("info: a virtual dataset", args=("info", "{d}/c.h5"), setup=hc.virtual, words=("virtual dataset",),
+         absent=()),
+    Case("info: a soft link", args=("info", "{d}/c.h5"), setup=hc.linked("soft"), words=("SoftLink", "never links"),
+         absent=()),
+    Case("plot: an external link", args=("plot", "{d}/c.h5"), setup=hc.linked("external"),
+         words=("ExternalLink",), absent=("c.png",)),
+    Case("info: a group", args=("info", "{d}/c.h5"), setup=hc.linked("group"), words=("'extra' is a group",),
+         absent=()),
+    Case("info on a folder", args=("info", "{d}"), words=("not a regular file", "a directory"), absent=()),
+    # a cube's text is data: printed with its control characters escaped
+    Case("info: OSC, BEL and CR in the history", args=("info", "{d}/c.h5"), exit=0, absent=(),
+         setup=hc.with_attribute("history", "\x1b]0;owned\x07ok\rX"), words=("history: \\x1b]0;owned\\x07ok\\x0dX",)),
+    Case("info: CSI, C1, bidi and U+2028 in the spec path", args=("info", "{d}/c.h5"), exit=0, absent=(),
+         setup=hc.with_attribute("spec_path", "\x1b[2J\x9b1m\u202eevil\u2028.yaml"),
+         words=("spec: \\x1b[2J\\x9b1m\\u202eevil\\u2028.yaml",)),
+    Case("info: an escape in the units", args=("info", "{d}/c.h5"), exit=0, absent=(),
+         setup=hc.with_attribute("units", "\x1b[8m", "frequency_ratio"), words=("0.5 .. 2 \\x1b[8m",)),
+    Case("info: an escape in a variable's name", args=("info", "{d}/c.h5"), absent=(),
+         setup=hc.edited(lambda f: f.move("peak_phase", "peak\x1b[31m")),
+         words=("peak\\x1b[31m: is not a variable of the result cube schema",)),
+    Case("info: an escape in the file's name", args=("info", "{d}/n\x1b[2Jo\u2028.h5"), absent=(),
+         words=("n\\x1b[2Jo\\u2028.h5: No such file",)),
+    Case("plot: a C1 control in the file's name", args=("plot", "{d}/n\x9bo.h5"), absent=(),
+         words=("n\\x9bo.h5: No such file",)),
+    Case("validate: an OSC in the spec's name", spec=None, args=("validate", "{d}/s\x1b]0;x\x07.yaml"), exit=0,
+         setup=lambda d: (d / "s\x1b]0;x\x07.yaml").write_text(GOOD), words=("s\\x1b]0;x\\x07.yaml: ok",)),
+    # ---- issue 28: physics: energy balance (viscous_damping 0 or >= 1e-6; check's energy rule)
+    Case("damping 1e-18 next to resonance", _damped("base", "1.0e-18"),
+         words=("spec.yaml:1:", "scene.effects.viscous_damping", "must be 0 or at least 1e-06")),
+    Case("damping 1e-20, force", _damped("force", "1.0e-20"), words=("must be 0 or at least 1e-06",)),
+    Case("damping 1e-17 to the base, joined", _damped("joined", "{ratio: 1.0e-17, to: base}"),
+         words=("scene.effects.viscous_damping.ratio", "must be 0 or at least 1e-06")),
+    Case("damping 1e-9 spring-parallel", _damped("base", "{ratio: 1.0e-9, to: base}"),
+         words=("viscous_damping.ratio", "at least 1e-06")),
+    Case("damping 5e-324 (subnormal)", _damped("base", "5.0e-324"), words=("at least 1e-06",)),
+    Case("damping 1e-12 with rk4", _damped("base", "1.0e-12", "rk4"), words=("at least 1e-06",)),
+    Case("damping 1e-18 with the Jenkins contact", _damped("base", "1.0e-18, contact_stiffness: 100"),
+         words=("viscous_damping", "at least 1e-06")),
+    Case("damping 1e-18 in a stepped sweep", _damped("base", "1.0e-18") + "sweep: {direction: up}\n",
+         words=("at least 1e-06",)),
+    Case("damping 1e-18, validate", _damped("base", "1.0e-18"), args=("validate", "{spec}"),
+         words=("at least 1e-06",)),
+    Case("check fails a wrong orbit at zeta 1e-18", spec=None, args=("check", "{d}/wrong.h5"),
+         setup=lambda d: _wrong_orbit_cube(d / "wrong.h5"), exit=1, words=("energy", "FAILED", "r=1.0"),
+         absent=(), lines=None),
+    # ---- issue 28: files and checkpoints
+    # a checkpoint is one sweep's: its key covers what `accuracy:` resolved, and the calibration
+    Case("resume after the user calibration changed", spec=None, args=RESUME, setup=_calibration_changed,
+         env={"XDG_DATA_HOME": "{d}/xdg"}, words=("different sweep", "calibration"), absent=("out.h5", ".out.h5.lock"),
+         exist=(".out.h5.partial/tile-00000.npz",), lines=2),  # the first line says what accuracy: chose
+    # a tile proves it belongs (fingerprint, index, grid values) and holds the sweep's variables, exactly typed
+    Case("a tile of another sweep of the same shape", setup=_foreign_tile,
+         words=("tile-00000.npz does not carry this sweep's fingerprint",), **RESUMED),
+    Case("a tile in another tile's place", setup=_swapped_tile, words=("tile-00001.npz carries another tile's index",),
+         **RESUMED),
+    Case("a tile without its proof", setup=_edit_tile(lambda t: {k: v for k, v in t.items() if k != "fsweep_key"}),
+         words=("does not carry this sweep's fingerprint",), **RESUMED),
+    Case("a tile claiming other grid values", setup=_edit_tile(
+        lambda t: {**t, "fsweep_frequency_ratio": t["fsweep_frequency_ratio"] * (1 + 1e-15)}),
+        words=("other frequency_ratio values",), **RESUMED),
+    Case("a tile cast to float16", setup=_edit_tile(lambda t: {**t, "transmissibility": t["transmissibility"].astype(
+        np.float16)}), words=("other dtypes",), **RESUMED),
+    Case("a tile of int64 regimes", setup=_edit_tile(lambda t: {**t, "regime": t["regime"].astype(np.int64)}),
+         words=("other dtypes",), **RESUMED),
+    Case("a tile missing phase", setup=_edit_tile(lambda t: {k: v for k, v in t.items() if "phase" not in k}),
+         words=("lacks peak_phase, phase",), **RESUMED),
+    Case("a tile with an extra variable", setup=_edit_tile(lambda t: {**t, "friction_energy": t["transmissibility"]}),
+         words=("holds friction_energy too",), **RESUMED),
+    Case("a tile with a 1-D transmissibility", setup=_edit_tile(
+        lambda t: {**t, "transmissibility": t["transmissibility"][0]}), words=(), **RESUMED),
+    # no command replaces a file without --overwrite, and none ever writes over its own input
+    Case("calibrate into its data's folder", spec=None, args=("calibrate", "{d}/rig.yaml", "-q"),
+         setup=lambda d: _calibration_spec(d, "rigdir/map.csv", "rigdir"), words=("map.csv is", "an input"),
+         check=_unchanged_as("rigdir/map.csv", _rig_data)),
+    Case("calibrate --overwrite onto its data", spec=None, args=("calibrate", "{d}/rig.yaml", "-q", "--overwrite"),
+         setup=lambda d: _calibration_spec(d, "rigdir/map.csv", "rigdir"),
+         words=("an input of this command", "not even with --overwrite"), check=_unchanged_as("rigdir/map.csv", _rig_data)),
+    Case("calibrate: a spec named report.md", spec=None, args=("calibrate", "{d}/report.md", "-q", "--overwrite"),
+         setup=lambda d: _calibration_spec(d, "rigdir/data.csv", str(d), name="report.md"),
+         words=("report.md is", "an input of this command")),
+    Case("calibrate into a folder of earlier results", spec=None, args=("calibrate", "{d}/rig.yaml", "-q"),
+         setup=lambda d: (_calibration_spec(d, "rigdir/data.csv", "res"), (d / "res").mkdir(),
+                          (d / "res" / "corner.png").write_text("earlier")),
+         words=("corner.png exists",), check=lambda d: _same_text(d / "res" / "corner.png", "earlier")),
+    Case("validate-data onto its own data", spec=None,
+         args=("validate-data", "--data", "{d}/v/table.csv", "-o", "{d}/v", "--overwrite"),
+         setup=lambda d: ((d / "v").mkdir(), (d / "v" / "table.csv").write_text(_rig_data())),
+         words=("table.csv is", "an input of this command"), check=_unchanged_as("v/table.csv", _rig_data)),
+    Case("validate-data over an earlier table", spec=None, args=("validate-data", "-o", "{d}/v"),
+         setup=lambda d: ((d / "v").mkdir(), (d / "v" / "table.md").write_text("mine")),
+         words=("table.md exists", "--overwrite"), check=lambda d: _same_text(d / "v" / "table.md", "mine")),
+    Case("bench over notes beside its dataset", spec=None, args=("bench", "--quick", "-o", "{d}/notes.h5"),
+         setup=_bench_notes, words=("notes.png exists", "--overwrite"), absent=("notes.h5",),
+         check=lambda d: (_same_text(d / "notes.md", "my notes"), _same_text(d / "notes.png", "my picture"))),
+    Case("bench --calibrate over a calibration", spec=None,
+         args=("bench", "--calibrate", "--calibration", "{d}/cal.json", "-o", "{d}/wp.h5"),
+         setup=lambda d: (d / "cal.json").write_text("{}"), words=("cal.json exists",), absent=("wp.h5",),
+         check=lambda d: _same_text(d / "cal.json", "{}")),
+    Case("plot over an existing PNG", args=("plot", "{d}/out.h5"), setup=lambda d: (_good_cube(d), (
+        d / "out.png").write_text("mine")), words=("out.png exists", "--overwrite"), absent=(),
+        check=lambda d: _same_text(d / "out.png", "mine")),
+    Case("run over the calibration accuracy: reads", ACCURATE, env={"XDG_DATA_HOME": "{d}/xdg"},
+         args=("run", "{spec}", "-o", "{d}/xdg/friction_sweep/calibration.json", "--overwrite", "-q"),
+         setup=_user_calibration, words=("calibration.json is", "an input of this command"),
+         check=_unchanged_as("xdg/friction_sweep/calibration.json", lambda: _packaged_calibration())),
+    Case("validate: output the calibration accuracy: reads", ACCURATE, env={"XDG_DATA_HOME": "{d}/xdg"},
+         args=("validate", "{spec}", "-o", "{d}/xdg/friction_sweep/calibration.json"), setup=_user_calibration,
+         words=("an input of this command",)),
+    Case("plot onto a hard link of its cube", args=("plot", "{d}/out.h5", "-o", "{d}/link.png", "--overwrite"),
+         setup=lambda d: (_good_cube(d), os.link(d / "out.h5", d / "link.png")), words=("an input of this command",),
+         absent=(), check=_cube_unchanged),
+    # a lock with other names, or content fsweep did not write, is never written into
+    Case("lock hard-linked to a victim", setup=_hard_linked_lock, words=("2 names", "hard link"),
+         absent=("out.h5", ".out.h5.partial"), check=lambda d: _same_text(d / "victim.txt", "precious")),
+    Case("lock hard-linked to the previous cube", args=("run", "{spec}", "--overwrite", "-q"),
+         setup=_cube_linked_as_lock, words=("2 names",), absent=(".out.h5.partial",), check=_cube_unchanged),
+    Case("lock holding a user's text", setup=lambda d: (d / ".out.h5.lock").write_text("my notes\n"),
+         words=("holds data fsweep did not write",), absent=("out.h5", ".out.h5.partial"),
+         check=lambda d: _same_text(d / ".out.h5.lock", "my notes\n")),
+    # temporaries of a killed writer are removed by the next run on the same output
+    Case("temporaries of a killed run", setup=_stale_temporaries, exit=0, exist=("out.h5",),
+         absent=(".out.h5.partial", ".out.h5.lock")),
+    Case("temporaries of a killed run, output refused", setup=lambda d: (_good_cube(d), _stale_temporaries(d)),
+         args=("run", "{spec}", "--resume", "-q"), words=("nothing to resume",), absent=(".out.h5.partial",)),
+    Case("temporaries of a killed run, output exists", setup=lambda d: (_good_cube(d), _stale_temporaries(d)),
+         words=("exists", "--overwrite"), absent=(".out.h5.partial",), check=_cube_unchanged),
+    # names: UTF-8 without controls, short enough for fsweep's hidden files, a file; the same for validate
+    Case("spec name not UTF-8", spec=None, args=("run", "{d}/sp\udcff.yaml", "-q"),
+         setup=lambda d: (d / "sp\udcff.yaml").write_text(GOOD), words=("spec", "not valid UTF-8")),
+    Case("validate: spec name not UTF-8", spec=None, args=("validate", "{d}/sp\udcff.yaml"),
+         setup=lambda d: (d / "sp\udcff.yaml").write_text(GOOD), words=("not valid UTF-8",)),
+    Case("-o not UTF-8", args=("run", "{spec}", "-o", "\udced\udca0\udc80.h5", "-q"), words=("not valid UTF-8",)),
+    Case("validate: -o not UTF-8", args=("validate", "{spec}", "-o", "\udced\udca0\udc80.h5"),
+         words=("not valid UTF-8",)),
+    Case("output: a lone surrogate", GOOD.replace("output: out.h5", 'output: "\\ud800.h5"'), words=("not valid UTF-8",)),
+    Case("validate: output a lone surrogate", GOOD.replace("output: out.h5", 'output: "\\ud800.h5"'),
+         args=("validate", "{spec}"), words=("not valid UTF-8",)),
+    Case("validate-data: data name not UTF-8", spec=None, args=("validate-data", "--data", "{d}/d\udcff.csv", "-o",
+                                                                 "{d}/v"),
+         setup=lambda d: (d / "d\udcff.csv").write_text(_rig_data()), words=("data", "not valid UTF-8"), absent=("v",)),
+    Case("calibrate: spec name not UTF-8", spec=None, args=("calibrate", "{d}/r\udcff.yaml", "-q"),
+         setup=lambda d: (_calibration_spec(d, "rigdir/data.csv", "res"), (d / "rig.yaml").rename(d / "r\udcff.yaml")),
+         words=("spec", "not valid UTF-8"), absent=("res",)),
+    Case("plot -o not UTF-8", args=("plot", "{d}/out.h5", "-o", "\udcff.png"), setup=_good_cube,
+         words=("not valid UTF-8",), absent=()),
+    Case("validate: a 240-character name", args=("validate", "{spec}", "-o", "a" * 237 + ".h5"),
+         words=("240 bytes long", "at most 215")),
+    Case("a 217-byte name", args=("run", "{spec}", "-o", "é" * 107 + ".h5", "-q"), words=("217 bytes long",)),
+    Case("DEL in -o", args=("run", "{spec}", "-o", "out\x7f.h5", "-q"), words=("control character", "U+007F")),
+    Case("NEL in -o", args=("validate", "{spec}", "-o", "out\x85.h5"), words=("control character", "U+0085")),
+    Case("line separator in -o", args=("run", "{spec}", "-o", "out\u2028.h5", "-q"), words=("U+2028",)),
+    Case("paragraph separator in the spec's output", GOOD.replace("output: out.h5", 'output: "out\\u2029.h5"'),
+         words=("U+2029",)),
+    Case("right-to-left override in -o", args=("run", "{spec}", "-o", "out\u202egnp.h5", "-q"), words=("U+202E",)),
+    Case("zero-width space in bench -o", spec=None, args=("bench", "--quick", "-o", "{d}/wp\u200b.h5"),
+         words=("U+200B",)),
+    Case("-o x.h5/.", args=("run", "{spec}", "-o", "x.h5/.", "-q"), words=("names a folder",), absent=("x.h5",)),
+    Case("validate: -o x.h5/..", args=("validate", "{spec}", "-o", "x.h5/.."), words=("names a folder",)),
     # ---- issue 28: signals, executors and the estimate (signals, Dask faults and the estimate's model:
     # tests/test_signals.py, tests/test_estimate.py)
     Case("--scheduler empty", args=("run", "{spec}", "--scheduler", "", "-q"), words=("is not a scheduler address",)),
@@ -364,7 +889,11 @@ CASES = [
 
 # cases whose set-up interrupts a real event run in a child process (seconds each), and the deepest YAML
 SLOW_CASES = {"bad manifest.json", "truncated tile", "checkpoint of another sweep", "lock is a symlink to a victim",
-              "a folder named like a tile", "a tile of strings", "a tile of regime 1e300", "5000-deep list"}
+              "a folder named like a tile", "a tile of strings", "a tile of regime 1e300", "5000-deep list",
+              "resume after the user calibration changed", "a tile of another sweep of the same shape",
+              "a tile in another tile's place", "a tile without its proof", "a tile claiming other grid values",
+              "a tile cast to float16", "a tile of int64 regimes", "a tile missing phase",
+              "a tile with an extra variable", "a tile with a 1-D transmissibility"}
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c.id in SLOW_CASES else c for c in CASES],
@@ -377,7 +906,7 @@ def test_hostile_case(case: Case, tmp_path: Path, compiled) -> None:
         case.setup(d)
     args = [a.format(spec=d / "spec.yaml", d=d) for a in case.args]
     with in_dir(d):
-        res = CliRunner().invoke(main, args)
+        res = CliRunner().invoke(main, args, env={k: v.format(d=d) for k, v in case.env.items()})
     assert res.exception is None or isinstance(res.exception, SystemExit), (
         f"traceback: {res.exception!r}\n{res.output}")
     assert "Traceback" not in res.output

@@ -500,3 +500,50 @@ def test_random_bytes_or_text_validate_exit_0_or_2(data) -> None:
         note(f"validate: exit {res.exit_code}\n{res.output}")
         _no_traceback(res, "validate")
         assert _files(d) == [SPEC], _files(d)
+
+
+# ---- the Python API with hostile arguments (issue 28) -----------------------------------------------
+
+#: numpy values that once escaped as TypeError, ValueError or RecursionError (longdouble's tolist is itself)
+NUMPY_VALUES = [np.longdouble("1e4000"), np.longdouble(0.5), np.float32(0.5), np.float64(math.nan), np.int64(3),
+                np.uint8(2), np.bool_(True), np.str_("base"), np.array(2), np.array(0.5), np.array([[0.5, 1.0]]),
+                np.array([]), np.array([0.5, 1.0]), np.array([1.0, 0.5]), np.array([0.5, 1.0], dtype=np.longdouble),
+                np.array(["a"]), np.array([1 + 1j]), np.array([0.5], dtype=object)]
+ODD_VALUES = [None, True, 10**400, -(2**63), math.nan, math.inf, 2.5, "", "a\x00b", b"a\x00b", b"\xff.yaml",
+              Path("nowhere.yaml"), Path("."), [], {}, [1], {"scene": 1}, object(), "\ud800", "threads", "serial"]
+HOSTILE_ARGUMENTS = st.one_of(st.sampled_from(NUMPY_VALUES + ODD_VALUES), st.integers(), st.floats(),
+                              st.text(max_size=12), st.binary(max_size=12))
+#: where a hostile value replaces part of a small valid dict spec
+DICT_PLACES = [("scene", "excitation"), ("grid", "frequency_ratio"), ("grid", "force_ratio"), ("method",),
+               ("outputs",), ("settings",), ("grid",), ("x",)]
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(call=st.sampled_from(["sweep", "sweep_dict", "sweep_yaml", "open_cube"]), value=HOSTILE_ARGUMENTS,
+       place=st.sampled_from(DICT_PLACES),
+       jobs=st.one_of(st.just(1), HOSTILE_ARGUMENTS), executor=st.one_of(st.just("serial"), HOSTILE_ARGUMENTS))
+@example(call="sweep", value=12, place=("x",), jobs=1, executor="serial")
+@example(call="sweep_dict", value=np.longdouble(0.5), place=("grid", "force_ratio"), jobs=1, executor="serial")
+def test_any_api_argument_gives_a_result_or_a_fsweep_error(call, value, place, jobs, executor) -> None:
+    """fs.sweep (path or dict), fs.sweep_yaml and fs.open_cube, with any argument of any type in any place
+    (jobs, executor, the spec, a value inside a dict spec): a Dataset, or a FsweepError; never another
+    exception (TypeError, ValueError, UnicodeEncodeError, RecursionError, YAMLStreamError before)."""
+    import friction_sweep as fs
+
+    spec = {"scene": {"excitation": "base"}, "grid": {"frequency_ratio": [1.0], "force_ratio": [0.1]},
+            "method": "theory"}
+    node = spec
+    for key in place[:-1]:
+        node = node[key]
+    node[place[-1]] = value
+    runs = {"sweep": lambda: fs.sweep(value, jobs=jobs, executor=executor),
+            "sweep_dict": lambda: fs.sweep(spec, jobs=jobs, executor=executor),
+            "sweep_yaml": lambda: fs.sweep_yaml(value, jobs=jobs, executor=executor),
+            "open_cube": lambda: fs.open_cube(value)}
+    with tempfile.TemporaryDirectory(prefix="fsweep-api-") as tmp, in_dir(Path(tmp)):
+        try:
+            result = runs[call]()
+        except fs.FsweepError as err:
+            assert str(err), "a refusal says why"
+            return
+    assert isinstance(result, xr.Dataset)

@@ -88,6 +88,15 @@ BAD_FILES = {
     "zero_frequency": (GOOD.encode() + b"0.1,0,12\n", ":4: frequency_ratio must be between 0.01 and 100 (got 0)"),
     "tiny_frequency": (GOOD.encode() + b"0.1,1e-6,12\n", ":4: frequency_ratio must be between 0.01 and 100 (got 1e-6)"),
     "negative_force": (GOOD.encode() + b"-0.1,1.5,12\n", ":4: force_ratio must be 0 or between 1e-12 and 1e+06 (got -0.1)"),
+    # issue 28: numbers Python's float() reads but no CSV writer writes, and phases no rig measures
+    "arabic_indic_digits": (GOOD.encode() + "0.1,\u0661.\u0664,12\n".encode(),
+                            ":4: frequency_ratio must be a number in plain ASCII digits"),
+    "fullwidth_digits": (GOOD.encode() + "0.1,1.5,\uff11\uff12\n".encode(), ":4: phase_deg must be a number in plain"),
+    "underscore": (GOOD.encode() + b"0.1,1.5,1_4353\n", ":4: phase_deg must be a number in plain ASCII digits, such "
+                   "as 1.4353 or -2.5e-3 (got '1_4353')"),
+    "phase_999": (GOOD.encode() + b"0.1,1.5,999\n", ":4: phase_deg must be a phase lag in degrees within [-180, 360] "
+                  "(got 999)"),
+    "phase_-200": (GOOD.encode() + b"0.1,1.5,-200\n", ":4: phase_deg must be a phase lag in degrees within"),
 }
 
 
@@ -334,7 +343,7 @@ def test_validate_data_on_a_full_disk_changes_nothing(tmp_path, limit):
     out.mkdir()
     (out / "table.csv").write_text("previous run\n")
     before = tree(out)
-    proc = _run_child(["validate-data", "--data", str(data), "-o", str(out)], limit)
+    proc = _run_child(["validate-data", "--data", str(data), "-o", str(out), "--overwrite"], limit)
     assert proc.returncode == 1, proc.stderr
     assert "Traceback" not in proc.stderr
     lines = proc.stderr.splitlines()
@@ -349,7 +358,7 @@ def test_bench_on_a_full_disk_changes_nothing(tmp_path, limit):
     out = tmp_path / "wp.h5"
     out.write_text("previous run\n")
     before = tree(tmp_path)
-    proc = _run_child(["bench", "--quick", "-o", str(out)], limit)
+    proc = _run_child(["bench", "--quick", "-o", str(out), "--overwrite"], limit)
     assert proc.returncode == 1, proc.stderr
     assert "Traceback" not in proc.stderr
     lines = proc.stderr.splitlines()

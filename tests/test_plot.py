@@ -385,7 +385,7 @@ def test_plot_refusals(runner, cubes, tmp_path):
     _refused(runner, [str(good), "-o", str(theory_cube)], tmp_path, "does not end in .png")
     named_png = tmp_path / "cube.png"
     shutil.copy(cubes["event"], named_png)
-    _refused(runner, [str(named_png)], tmp_path, "is the RESULT itself")
+    _refused(runner, [str(named_png)], tmp_path, "an input of this command")
     res = runner.invoke(main, ["plot", str(good), "--kind", "bars"])
     assert "Invalid value for '--kind'" in one_error_line(res, 2)
 

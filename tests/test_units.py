@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from friction_sweep.batch import pipeline
@@ -22,6 +22,7 @@ from friction_sweep.spec import SpecError, parse_spec_text
 from friction_sweep.spec.grid import round_significant
 from friction_sweep.spec.quantities import (
     ACCELERATION,
+    ANGLE,
     FORCE,
     FREQUENCY,
     LENGTH,
@@ -75,7 +76,7 @@ def test_quantities_in_any_unit_of_their_dimension(text, kind, si):
     ("", FORCE, "cannot read"),
     ("nan N", FORCE, "must be finite"),
     ("1e400 N", FORCE, "must be finite"),
-    ("9**9**9 N", FORCE, "exponents of at most two digits"),
+    ("9**9**9 N", FORCE, "a unit's power is at most 4"),
     ("2 m/s", ACCELERATION, "an acceleration"),
     ("3 kg", RATIO, "a dimensionless number"),
     (True, FORCE, "must be a force"),
@@ -84,6 +85,79 @@ def test_quantities_refused_with_the_reason(text, kind, reason):
     with pytest.raises(QuantityError, match=None) as err:
         to_si(text, kind)
     assert reason in str(err.value)
+
+
+# ---- the grammar of a quantity's text (spec/expression.py; issue 28) ---------------------------------
+
+@pytest.mark.parametrize(("text", "kind", "si"), [
+    ("kg m / s^2", FORCE, 1.0),  # side by side is a product
+    ("kg*m/s**2", FORCE, 1.0),
+    ("1e3N", FORCE, 1000.0),
+    ("4.9 m/s\u00b2", ACCELERATION, 4.9),  # a superscript power
+    ("2 m squared / m", LENGTH, 2.0),
+    ("3 square m / mm", LENGTH, 3000.0),
+    ("(2 m)**2 / m", LENGTH, 4.0),
+    ("9**4 Hz", FREQUENCY, 6561.0),
+    ("10 s^-1", FREQUENCY, 10.0),
+    ("-2 N", FORCE, -2.0),  # the sign is the caller's to judge
+    ("5 \u00b0", ANGLE, 5.0),
+    ("1e-30 N", FORCE, 1e-30),  # the ends of the range of a physical value
+    ("1e30 N", FORCE, 1e30),
+    ("0 N", FORCE, 0.0),
+])
+def test_the_grammar_reads_products_powers_and_signs(text, kind, si):
+    assert to_si(text, kind) == pytest.approx(si, rel=1e-14)
+
+
+@pytest.mark.parametrize(("text", "kind", "reason"), [
+    ("(((9**99)**99)**99)**99 Hz", FREQUENCY, "exponent 99 at character 7 is beyond 4: a unit's power is at most 4"),
+    ("(9**99)**99 Hz", FREQUENCY, "a unit's power is at most 4"),
+    ("m**-5 N", FORCE, "exponent -5 at character 5 is beyond 4"),
+    ("m\u2075 N", FORCE, "is beyond 4"),
+    ("2**2**2 N", FORCE, "a power applies to a number, a unit or a parenthesis, once"),
+    ("m**(2) N", FORCE, "an exponent is a plain number of at most 4 (got '(' at character 4)"),
+    ("((((10**4)**4)**4)**4)**4 Hz", FREQUENCY, "must be finite: it is beyond a double's range"),
+    ("(((9**4)**4)**4)**3 * (((9**4)**4)**4)**3 Hz", FREQUENCY, "must be finite"),
+    ("((9**4)**4)**4 Hz", FREQUENCY, "must be 0 or between 1e-30 and 1e+30 Hz (got '((9**4)**4)**4 Hz': 1.18e+61 Hz)"),
+    ("1e200 Hz", FREQUENCY, "must be 0 or between 1e-30 and 1e+30 Hz"),
+    ("1e-200 kg", MASS, "must be 0 or between 1e-30 and 1e+30 kg"),
+    ("1e-320 N", FORCE, "must be 0 or between 1e-30 and 1e+30 N"),
+    ("1e31", RATIO, "must be 0 or between 1e-30 and 1e+30 (got '1e31': 1e+31)"),
+    (10**400, RATIO, "must be finite (got an integer of 401 digits)"),
+    ("5 / 0 Hz", FREQUENCY, "divides by zero"),
+    ("(-8)**0.5 N", FORCE, "a complex number"),
+    ("1,5 N", FORCE, "a comma (write 1.5, not 1,5; 1000, not 1,000) at character 2"),
+    ("\u0661\u0662 N", FORCE, "at character 1 is not part of a quantity"),  # Arabic-Indic digits
+    ("__import__('os') N", FORCE, "is not part of a quantity"),
+    ("inf N", FORCE, "must be finite (got 'inf')"),
+    ("(5 N", FORCE, "the parenthesis at character 1 is not closed"),
+    ("5 N)", FORCE, "unexpected ')' at character 4"),
+    ("5 *", FORCE, "ends where a number or unit should follow"),
+])
+def test_the_grammar_refuses_with_the_reason(text, kind, reason):
+    with pytest.raises(QuantityError) as err:
+        to_si(text, kind)
+    assert reason in str(err.value)
+
+
+#: the characters a quantity's text is made of, and some it is not
+EXPRESSION_TEXT = st.lists(st.sampled_from(list("0123456789.eE+-*/^() %,") + ["**", "Hz", "kg", "m", "N", "s", "rad",
+                                                                                "\u00b2", "\u207b"]),
+                           max_size=30).map("".join)
+
+
+@settings(max_examples=400, deadline=None)
+@given(text=EXPRESSION_TEXT, kind=st.sampled_from([FREQUENCY, FORCE, STIFFNESS, MASS, LENGTH, ACCELERATION, RATIO]))
+@example(text="(((9**4)**4)**4)**3 * (((9**4)**4)**4)**3 Hz", kind=FREQUENCY)  # pint: OverflowError
+@example(text="1e-200 Hz", kind=FREQUENCY)
+def test_any_text_is_a_float_in_the_physical_range_or_a_quantity_error(text, kind):
+    """Never an OverflowError, ZeroDivisionError or pint's own exceptions, and never a value outside the
+    range every physical value keeps (0, or 1e-30 to 1e30 in SI)."""
+    try:
+        x = to_si(text, kind)
+    except QuantityError:
+        return
+    assert math.isfinite(x) and (x == 0 or 1e-30 <= abs(x) <= 1e30), (text, x)
 
 
 RIG = """\

@@ -1,11 +1,18 @@
 """Finished tiles survive an interrupted run; one run at a time per output.
 
 Beside the output `out.h5` a run keeps `.out.h5.partial/`: `manifest.json` (a fingerprint of
-everything that decides the numbers: spec content, method, settings, tile layout, versions) and one
-`tile-NNNNN.npz` per finished tile, each written to a temporary name and renamed, so a kill -9 leaves
-only whole tiles. `fsweep run --resume` reloads them and computes the rest; the folder is removed once
-the cube is written. `.out.h5.lock` is held with flock for the whole run: the kernel releases it
-when the process ends, however it ends; a run that ends normally also removes the file.
+everything that decides the numbers, batch.pipeline.checkpoint_key, and the variables and dtypes of
+the first tile saved) and one `tile-NNNNN.npz` per finished tile, each written to a temporary name and
+renamed, so a kill -9 leaves only whole tiles. Each tile carries its proof: the fingerprint, its own
+index and its grid values; `fsweep run --resume` reloads the tiles that prove they belong and hold the
+manifest's variables in its dtypes, computes the rest again, and removes the folder once the cube is
+written.
+
+`.out.h5.lock` is held with flock for the whole run: the kernel releases it when the process ends,
+however it ends; a run that ends normally also removes the file. fsweep writes its process id into
+the lock, and so writes only into a lock it created, or one left by an earlier run (empty, or a
+number): never into a file of other content, nor one with more than one name (a hard link to some
+other file would be written through).
 """
 
 from __future__ import annotations
@@ -38,16 +45,25 @@ class SaveFailed(RuntimeError):
 
 
 def fingerprint(**parts) -> str:
-    """Stable hash of JSON-able parts (arrays by their bytes)."""
+    """Stable hash of JSON-able parts (arrays by their shape and bytes, bytes as they are)."""
     h = hashlib.sha256()
     for key in sorted(parts):
         value = parts[key]
         h.update(key.encode())
         if isinstance(value, np.ndarray):
+            h.update(repr(value.shape).encode())
             h.update(np.ascontiguousarray(value, dtype=np.float64).tobytes())
+        elif isinstance(value, bytes):
+            h.update(hashlib.sha256(value).digest())
         else:
             h.update(json.dumps(value, sort_keys=True, default=str).encode())
     return h.hexdigest()
+
+
+#: the entries of a tile's .npz that prove where it belongs (not variables)
+PROOF = ("fsweep_key", "fsweep_index", "fsweep_frequency_ratio", "fsweep_force_ratio")
+#: a lock fsweep wrote holds at most a process id
+_LOCK_BYTES = 20
 
 
 class Lock:
@@ -61,9 +77,15 @@ class Lock:
     def __enter__(self):
         while True:
             try:
-                # never through a link (a link to another file would have it truncated), never
-                # waiting on a FIFO
-                fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW | os.O_NONBLOCK, 0o644)
+                # never through a symbolic link (a link to another file would have it truncated),
+                # never waiting on a FIFO; created here, or opened as an earlier run left it
+                try:
+                    fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_NONBLOCK,
+                                 0o644)
+                    created = True
+                except FileExistsError:
+                    fd = os.open(self.path, os.O_RDWR | os.O_NOFOLLOW | os.O_NONBLOCK)
+                    created = False
                 kind = os.fstat(fd).st_mode
                 if not stat.S_ISREG(kind):
                     os.close(fd)
@@ -85,13 +107,15 @@ class Lock:
                 os.close(fd)
                 raise Busy(f"another fsweep run is writing {self.out} (it holds {self.path}); wait for it "
                            f"to finish") from None
+            foreign = self._foreign(fd, created)  # checked as late as can be, just before the write
+            if foreign:
+                os.close(fd)  # releases the flock, which changed nothing in the file
+                raise Busy(f"{self.path}, where fsweep locks {self.out}, {foreign}, which fsweep never writes "
+                           f"into: remove that name (rm {shlex.quote(str(self.path))}) if no run is writing "
+                           f"{self.out}")
             # the run before us may have removed the file between our open and our lock: then we
             # hold a lock on a file nobody else can see, so take the one now at the path
-            try:
-                same = os.stat(self.path).st_ino == os.fstat(fd).st_ino
-            except FileNotFoundError:
-                same = False
-            if same:
+            if self._at_path(fd):
                 break
             os.close(fd)
         self.fd = fd
@@ -100,11 +124,35 @@ class Lock:
             os.write(fd, str(os.getpid()).encode())
         except OSError:
             pass
+        atomic.remove_stale(self.out)  # temporaries of runs killed while writing this output
         return self
+
+    @staticmethod
+    def _foreign(fd: int, created: bool) -> str | None:
+        """Why the open file is no lock fsweep may write (None if it is): it has other names (a hard
+        link: writing would change that file too), or content no run wrote (fsweep writes a number)."""
+        st = os.fstat(fd)
+        if st.st_nlink > 1:
+            return f"has {st.st_nlink} names (a hard link to another file)"
+        if created:
+            return None
+        head = os.pread(fd, _LOCK_BYTES + 1, 0)
+        if len(head) > _LOCK_BYTES or not head.strip().isdigit() and head.strip():
+            return "holds data fsweep did not write (a lock holds a process id)"
+        return None
+
+    def _at_path(self, fd: int) -> bool:
+        """Whether the path still names the open file."""
+        try:
+            here, held = os.stat(self.path, follow_symlinks=False), os.fstat(fd)
+        except FileNotFoundError:
+            return False
+        return (here.st_dev, here.st_ino) == (held.st_dev, held.st_ino)
 
     def __exit__(self, *exc):
         if self.fd is not None:
-            self.path.unlink(missing_ok=True)  # while still held: no one can take the old file
+            if self._at_path(self.fd):  # ours alone: while still held, so no one can take the old file
+                self.path.unlink(missing_ok=True)
             fcntl.flock(self.fd, fcntl.LOCK_UN)
             os.close(self.fd)
             self.fd = None
@@ -112,10 +160,16 @@ class Lock:
 
 
 class Checkpoint:
-    def __init__(self, out: Path, key: str, n_tiles: int):
+    """The finished tiles of one sweep. `grids[i]` holds the grid values of tile i by name (frequency_ratio,
+    force_ratio): a tile must carry them, its index and the sweep's fingerprint `key` to be used again."""
+
+    def __init__(self, out: Path, key: str, grids: list[dict[str, np.ndarray]]):
         self.dir = out.parent / f".{out.name}.partial"
         self.key = key
-        self.n_tiles = n_tiles
+        self.grids = grids
+        self.n_tiles = len(grids)
+        #: the variables (name: dtype) of this sweep's tiles, as the first one saved had them
+        self.variables: dict[str, str] | None = None
 
     @property
     def clear_command(self) -> str:
@@ -127,57 +181,104 @@ class Checkpoint:
     def finished(self) -> int:
         return len(list(self.dir.glob("tile-*.npz"))) if self.dir.is_dir() else 0
 
-    def belongs(self) -> bool:
-        """Whether the checkpoint on disk is this sweep's (Mismatch if it cannot be read)."""
+    def _manifest(self) -> dict | None:
+        """The manifest on disk (None if there is none; Mismatch if it cannot be read)."""
         if self.dir.is_symlink() or not self.dir.is_dir():
             raise Mismatch(f"{self.dir} is not a folder, so it holds no checkpoint; remove it with: "
                            f"{self.clear_command}")
         try:
             manifest = json.loads((self.dir / "manifest.json").read_text(encoding="utf-8"))
-            return manifest["key"] == self.key
+            if not isinstance(manifest, dict) or not isinstance(manifest["key"], str):
+                raise TypeError("not a manifest")
+            return manifest
         except FileNotFoundError:
-            return False  # killed before its manifest was written: it holds nothing of any sweep
+            return None  # killed before its manifest was written: it holds nothing of any sweep
         except (OSError, ValueError, KeyError, TypeError) as err:
             raise Mismatch(f"{self.dir}/manifest.json cannot be read ({_why(err)}), so its tiles cannot be "
                            f"trusted; clear them with: {self.clear_command}") from None
 
+    def belongs(self) -> bool:
+        """Whether the checkpoint on disk is this sweep's (Mismatch if it cannot be read)."""
+        manifest = self._manifest()
+        return manifest is not None and manifest["key"] == self.key
+
     def foreign(self) -> str:
         """What to say of a checkpoint that `belongs()` to another sweep."""
-        return (f"{self.dir} holds {self.finished()} finished tiles of a different sweep (spec, method, settings "
-                f"or version changed); clear them with: {self.clear_command}")
+        return (f"{self.dir} holds {self.finished()} finished tiles of a different sweep (spec, method, settings, "
+                f"calibration, code or version changed); clear them with: {self.clear_command}")
 
-    def start(self, resume: bool) -> tuple[dict[int, dict], list[str]]:
-        """Open for writing; with resume, return the finished tiles, and the names of damaged tiles
-        that were dropped (to be computed again)."""
+    def start(self, resume: bool) -> tuple[dict[int, dict], list[tuple[str, str]]]:
+        """Open for writing; with resume, return the finished tiles that prove they belong, and the
+        names of the others, with why, which are removed (to be computed again)."""
         done: dict[int, dict] = {}
-        dropped: list[str] = []
+        dropped: list[tuple[str, str]] = []
         if self.exists():
-            if not self.belongs():
+            manifest = self._manifest()
+            if manifest is None or manifest["key"] != self.key:
                 raise Mismatch(self.foreign())
+            recorded = manifest.get("variables")
+            self.variables = recorded if isinstance(recorded, dict) and recorded else None
             if resume:
                 for path in sorted(self.dir.glob("tile-*.npz")):
                     try:
-                        index = int(path.stem.split("-")[1])
-                        with np.load(path) as data:
-                            tile = {k: data[k] for k in data.files}
-                        if not 0 <= index < self.n_tiles or not tile:
-                            raise ValueError("not a tile of this sweep")
-                    except Exception:  # any damage (truncated, not a zip, bad index): compute it again
+                        index, tile = self._load(path)
+                    except Exception as err:  # any damage (truncated, not a zip, foreign): compute it again
                         _discard(path)
-                        dropped.append(path.name)
+                        dropped.append((path.name, str(err) or "damaged"))
                         continue
                     done[index] = tile
         try:
             self.dir.mkdir(parents=True, exist_ok=True)
-            manifest = {"key": self.key, "tiles": self.n_tiles}
-            atomic.write_bytes(self.dir / "manifest.json", json.dumps(manifest).encode())
+            atomic.remove_stale_in(self.dir)  # tiles a killed run was writing; saves then need not look
+            self._write_manifest()
         except OSError as err:
             raise SaveFailed(f"could not start a checkpoint in {self.dir}: {_why(err)}") from None
         return done, dropped
 
-    def save(self, index: int, tile: dict) -> None:
+    def _load(self, path: Path) -> tuple[int, dict]:
+        """A finished tile and its index, once it proves it belongs here (ValueError saying why not)."""
         try:
-            atomic.write(self.dir / f"tile-{index:05d}.npz", lambda fh: np.savez(fh, **tile))
+            index = int(path.stem.split("-")[1])
+            with np.load(path, allow_pickle=False) as data:
+                tile = {k: data[k] for k in data.files}
+        except Exception:
+            raise ValueError("was damaged") from None
+        if not 0 <= index < self.n_tiles:
+            raise ValueError("is not a tile of this sweep (its index is outside the grid)")
+        proof = {k: tile.pop(k, None) for k in PROOF}
+        if any(v is None for v in proof.values()) or str(proof["fsweep_key"]) != self.key:
+            raise ValueError("does not carry this sweep's fingerprint")
+        if proof["fsweep_index"].shape != () or int(proof["fsweep_index"]) != index:
+            raise ValueError(f"carries another tile's index ({proof['fsweep_index']!s:.20})")
+        for name, values in self.grids[index].items():
+            got = proof[f"fsweep_{name}"]
+            if got.dtype != values.dtype or got.shape != values.shape or not np.array_equal(got, values):
+                raise ValueError(f"was computed at other {name} values than its place in this grid")
+        if self.variables is None:
+            raise ValueError("cannot be checked: the manifest records no variables")
+        found = {k: v.dtype.str for k, v in tile.items()}
+        if found != self.variables:
+            missing, extra = sorted(set(self.variables) - set(found)), sorted(set(found) - set(self.variables))
+            what = (f"lacks {', '.join(missing)}" if missing else f"holds {', '.join(extra)} too" if extra
+                    else "holds variables of other dtypes")
+            raise ValueError(f"{what}, unlike the tiles of this sweep")
+        return index, tile
+
+    def _write_manifest(self) -> None:
+        manifest: dict = {"key": self.key, "tiles": self.n_tiles}
+        if self.variables is not None:
+            manifest["variables"] = self.variables
+        atomic.write_bytes(self.dir / "manifest.json", json.dumps(manifest).encode())
+
+    def save(self, index: int, tile: dict) -> None:
+        grid = self.grids[index]
+        entries: dict = {**tile, "fsweep_key": np.array(self.key), "fsweep_index": np.array(index),
+                         **{f"fsweep_{name}": values for name, values in grid.items()}}
+        try:
+            if self.variables is None:  # the first tile: what every tile of this sweep holds
+                self.variables = {k: np.asarray(v).dtype.str for k, v in tile.items()}
+                self._write_manifest()
+            atomic.write(self.dir / f"tile-{index:05d}.npz", lambda fh: np.savez(fh, **entries), sweep=False)
         except OSError as err:
             raise SaveFailed(f"could not save a finished tile in {self.dir}: {_why(err)}; its "
                              f"{self.finished()} finished tiles are kept: rerun with --resume once it can be "

@@ -7,13 +7,17 @@ them in a row.
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import json
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
+import friction_sweep
 from friction_sweep import catalogue
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR
 from friction_sweep.spec import Spec
@@ -32,6 +36,62 @@ def run_settings(spec: Spec, table: dict | None = None) -> tuple[dict[str, Any],
     chosen, row = choose(record.calibrated_as or record.name, spec.accuracy, table, spec.scene.effects)
     settings.update(chosen)
     return settings, {"accuracy_requested": spec.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
+
+
+def checkpoint_key(spec: Spec, settings: dict[str, Any], extra_attrs: dict[str, Any]) -> str:
+    """The fingerprint of every input that changes a number of the run, for its checkpoint: tiles of a
+    run whose key differs are never joined with this one's. The spec as parsed (scene, effects, system,
+    grid, method, settings, accuracy, sweep, outputs, time histories; not where the cube goes), the grid's
+    values and tiles, the settings the run resolved (what `accuracy:` chose from which calibration, and
+    the calibration file itself), what the cube records as method_settings, the package's version and
+    the hash of its code."""
+    from friction_sweep.batch import checkpoint
+    from friction_sweep.batch.layout import TILE_FORCES, TILE_FREQUENCIES
+
+    sweep = spec.sweep.direction if spec.sweep is not None else None
+    calibration = b""
+    if spec.accuracy is not None:
+        from friction_sweep.bench.workprecision import calibration_path
+
+        try:
+            calibration = calibration_path().read_bytes()
+        except OSError:
+            calibration = b"unreadable"
+    return checkpoint.fingerprint(
+        spec=spec.model_dump(mode="json", exclude={"output"}), r=np.asarray(spec.frequency_ratio, dtype=float),
+        beta=np.asarray(spec.force_ratio, dtype=float), tile=TILE_FORCES if sweep else TILE_FREQUENCIES,
+        sweep=sweep, settings=settings, recorded=recorded_settings(spec, settings), accuracy=extra_attrs,
+        calibration=calibration, version=friction_sweep.__version__, code=code_version())
+
+
+@functools.lru_cache(maxsize=1)
+def code_version() -> str:
+    """A hash of the package's Python sources: a checkpoint of other code (kernels changed in a
+    checkout without a new version number) is not resumed. Reading them takes milliseconds."""
+    root = Path(friction_sweep.__file__).parent
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def tile_grids(spec: Spec) -> list[dict[str, np.ndarray]]:
+    """Each tile's grid values (batch.layout, as batch.runner cuts the grid), which a checkpoint tile
+    must carry to be used again."""
+    from friction_sweep.batch.layout import layout
+
+    r = np.asarray(spec.frequency_ratio, dtype=float)
+    beta = np.asarray(spec.force_ratio, dtype=float)
+    sweep = spec.sweep.direction if spec.sweep is not None else None
+    grids = []
+    for s in layout(r.size, spec.force_count, sweep):
+        if sweep:
+            part = {"frequency_ratio": r, "force_ratio": beta[s]}
+        else:
+            part = {"frequency_ratio": r[s], "force_ratio": beta if beta.ndim == 1 else beta[:, s]}
+        grids.append({k: np.ascontiguousarray(v) for k, v in part.items()})
+    return grids
 
 
 def compute(spec: Spec, settings: dict[str, Any], *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,

@@ -116,16 +116,18 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
 
 
 def _fits(tile: dict, part: slice, n_r: int, n_beta: int, sweep: str | None) -> bool:
-    """Whether a tile read back from a checkpoint has the shape of its place in the grid and holds
-    known variables of their kind of number (a damaged or foreign one is computed again)."""
+    """Whether a tile read back from a checkpoint has, for every variable, the shape of its place in the
+    grid (a plane, or a line along the frequency ratio for a variable of that dim alone, as the schema
+    says) and the schema's exact dtype (a damaged, cast or foreign one is computed again)."""
     n = part.stop - part.start
     grid = (n, n_r) if sweep else (n_beta, n)
     line = (n_r,) if sweep else (n,)
-    return all(np.shape(v) in (grid, line) and _kind_fits(k, v) for k, v in tile.items())
+    return all(_kind_fits(k, v) and np.shape(v) == (line if VARIABLES[k].dims == ("frequency_ratio",) else grid)
+               for k, v in tile.items())
 
 
 def _kind_fits(name: str, values) -> bool:
-    """A schema variable, of integers where the schema stores codes, of real numbers otherwise."""
+    """A schema variable stored with exactly the schema's dtype: a tile cast to float16 (or int64 codes)
+    would give the whole cube its precision, since tiles are placed into one array."""
     var = VARIABLES.get(name)
-    kind = np.asarray(values).dtype.kind
-    return var is not None and kind in ("iu" if np.issubdtype(var.dtype, np.integer) else "fiu")
+    return var is not None and np.asarray(values).dtype == np.dtype(var.dtype)

@@ -288,10 +288,11 @@ def refuse_outputs(output, calibrate: bool = False, calibration: Path | None = N
     return next((reason for reason in map(refuse_special_output, paths) if reason), None)
 
 
-def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | None = None) -> list[Path]:
+def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | None = None, *,
+          overwrite: bool = True) -> list[Path]:
     """Write the dataset, figure, table (and calibration) of `output_paths`, all or nothing:
     everything is rendered first, then written (storage.outputs.write_all), so a failure (a full
-    disk) changes none of them. Returns the paths written."""
+    disk) changes none of them; without `overwrite`, none replaces a file. Returns the paths written."""
     import matplotlib.pyplot as plt
 
     from friction_sweep.storage import atomic, cube, outputs
@@ -308,7 +309,7 @@ def write(ds: xr.Dataset, output, calibrate: bool = False, calibration: Path | N
     if calibrate:
         writers.append((paths[3], lambda tmp: atomic.write_text(tmp, calibration_text)))
     try:
-        return outputs.write_all(writers)
+        return outputs.write_all(writers, overwrite=overwrite)
     finally:
         plt.close(fig)  # save_figure closes it too, but not when an earlier write failed
 
@@ -329,12 +330,101 @@ def calibration_table(ds: xr.Dataset) -> dict:
     return table
 
 
+#: a calibration is a few kilobytes (one row per method and setting); a file past this is something else
+MAX_CALIBRATION_BYTES = 2**20
+#: the keys of a calibration row (calibration_table)
+ROW_KEYS = ("settings", "worst_error", "seconds_per_point")
+
+
+class CalibrationError(LookupError):
+    """The calibration file `accuracy:` reads is not one `fsweep bench --calibrate` writes: `FILE: key: reason`.
+    A LookupError, as `accuracy:` finding no setting is: the spec's accuracy cannot be honoured."""
+
+
+def read_calibration(path: Path) -> dict:
+    """The calibration at `path`, its structure checked whole (CalibrationError otherwise): a JSON object
+    of rows by ALL_ROWS name, each a list of objects of exactly ROW_KEYS, whose settings are the row's
+    method's (catalogue) with numbers for values, worst_error a number >= 0 (inf: never met) or null (the
+    setting failed somewhere), seconds_per_point a finite number >= 0 (any number where worst_error is null)."""
+
+    def refuse(key: str, reason: str) -> CalibrationError:
+        return CalibrationError(f"{path}: {key}{': ' if key else ''}{reason}")
+
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_CALIBRATION_BYTES + 1)
+    except OSError as err:
+        raise refuse("", f"cannot be read: {err.strerror or err}") from None
+    if len(data) > MAX_CALIBRATION_BYTES:
+        raise refuse("", f"over {MAX_CALIBRATION_BYTES // 2**20} MiB: not a calibration (fsweep bench --calibrate)")
+    try:
+        table = json.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as err:
+        raise refuse("", f"not UTF-8 text (byte {err.start})") from None
+    except ValueError as err:  # json.JSONDecodeError: with its line and column
+        raise refuse("", f"not JSON ({err})") from None
+    except RecursionError:
+        raise refuse("", "not a calibration: nested too deeply") from None
+    if not isinstance(table, dict):
+        raise refuse("", f"must be a JSON object of rows by method (got {_json_kind(table)})")
+    for name, rows in table.items():
+        if name not in ALL_ROWS:
+            raise refuse(_shown(name), f"unknown row name (known: {', '.join(ALL_ROWS)})")
+        if not isinstance(rows, list):
+            raise refuse(name, f"must be a list of rows (got {_json_kind(rows)})")
+        known = catalogue.method(method_and_effects(name)[0]).settings
+        for i, row in enumerate(rows):
+            where = f"{name}[{i}]"
+            if not isinstance(row, dict):
+                raise refuse(where, f"must be an object with keys {', '.join(ROW_KEYS)} (got {_json_kind(row)})")
+            if set(row) != set(ROW_KEYS):
+                has = ", ".join(map(_shown, row))
+                raise refuse(where, f"must have exactly the keys {', '.join(ROW_KEYS)} (has {has})")
+            settings = row["settings"]
+            if not isinstance(settings, dict):
+                raise refuse(f"{where}.settings", f"must be an object of settings (got {_json_kind(settings)})")
+            for key, value in settings.items():
+                if key not in known:
+                    raise refuse(f"{where}.settings.{_shown(key)}", f"not a setting of {method_and_effects(name)[0]} "
+                                 f"(its settings: {', '.join(known)})")
+                if not _finite(value):
+                    raise refuse(f"{where}.settings.{key}", f"must be a finite number (got {_shown(value)})")
+            error, seconds = row["worst_error"], row["seconds_per_point"]
+            if error is not None and (not _number(error) or not error >= 0):
+                raise refuse(f"{where}.worst_error", f"must be a number >= 0, or null (got {_shown(error)})")
+            if not _number(seconds) or (error is not None and not (_finite(seconds) and seconds >= 0)):
+                raise refuse(f"{where}.seconds_per_point", f"must be a finite number >= 0 (got {_shown(seconds)})")
+    return table
+
+
+def _number(value) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _finite(value) -> bool:
+    try:
+        return _number(value) and math.isfinite(value)
+    except OverflowError:  # an int beyond any float
+        return False
+
+
+def _json_kind(value) -> str:
+    kinds = {dict: "an object", list: "a list", str: "a string", bool: "true/false", type(None): "null"}
+    return kinds.get(type(value), "a number")
+
+
+def _shown(value) -> str:
+    text = json.dumps(value, ensure_ascii=True) if not isinstance(value, float) else repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def choose(method: str, accuracy: float, table: dict | None = None, effects=None) -> tuple[dict, dict]:
     """The cheapest calibrated setting of `method`, within the catalogue's ranges, whose worst measured
     error meets `accuracy`, on a scene with `effects` (calibrated_rows).
 
-    Returns (settings, the calibration row). Raises LookupError when none does."""
-    table = table if table is not None else json.loads(calibration_path().read_text())
+    Returns (settings, the calibration row). Raises LookupError when none does, CalibrationError where the
+    calibration file is not one (read_calibration)."""
+    table = table if table is not None else read_calibration(calibration_path())
     rows_of = calibrated_rows(method, effects)
     # only settings that a spec could give itself: the benchmark also measures looser ones, to show
     # the whole curve, but outside the catalogue's ranges a point may be mislabelled

@@ -28,7 +28,7 @@ from .fit import fit_map
 from .model import ForwardModel
 from .posterior import Posterior
 from .sampler import NoLikelihood, Targets, sample, start_from_prior
-from .spec import load_calibration_spec
+from .spec import MAX_SEED, load_calibration_spec
 
 CALIBRATE_EXTRA = "pip install 'friction_sweep[calibrate]' (emcee and ArviZ)"
 #: a run estimated to take longer than this is refused without --yes
@@ -50,12 +50,19 @@ def missing_extra() -> str | None:
               "spec's `output`; default results/<spec name>).")
 @click.option("-j", "--jobs", type=click.IntRange(min=1, max=1024), default=1, show_default=True,
               help="Threads for the model evaluations.")
-@click.option("--seed", type=click.IntRange(min=0), default=None, help="Random seed (overrides sampler.seed).")
+@click.option("--seed", type=click.IntRange(min=0, max=MAX_SEED), default=None,
+              help="Random seed (overrides sampler.seed).")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("--yes", is_flag=True, help="Run even when estimated to take over 30 minutes.")
-def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None, quiet: bool, yes: bool):
+@click.option("--overwrite", is_flag=True, help="Replace the results of an earlier calibration in the folder "
+              "(all together; never the spec or the data).")
+def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None, quiet: bool, yes: bool,
+              overwrite: bool):
     """Calibrate the model to a rig's measurements (MAP, then posterior samples)."""
     began = time.perf_counter()
+    refusal = outputs.refuse_name(str(spec_path), "spec")  # paths are written into the report
+    if refusal:
+        fail(refusal)
     try:
         spec = load_calibration_spec(spec_path)
     except SpecError as err:
@@ -67,14 +74,24 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
         obs = read_observations(spec)
     except DataError as err:
         fail(str(err))
+    refusal = outputs.refuse_name(obs.path, "data")
+    if refusal:
+        fail(refusal)
     folder = output if output is not None else Path(spec.output or Path("results") / spec_path.stem)
-    for name in report.OUTPUT_FILES:
-        refusal = outputs.refuse_special_output(folder / name)
+    targets = [folder / name for name in report.OUTPUT_FILES]
+    for target in targets:
+        refusal = outputs.refuse_special_output(target)
         if refusal:
             fail(f"output: {refusal}")
+    refusal = outputs.refuse_replacing(targets, overwrite, inputs=[spec_path, obs.path])
+    if refusal:
+        fail(refusal)
     settings = spec.sampler
     seed = settings.seed if seed is None else seed
     model = ForwardModel(spec, obs, jobs=jobs)
+    short = model.too_few_rows()
+    if short:
+        fail(short)
     post = Posterior(model)
     rng = np.random.default_rng(seed)
     try:
@@ -126,7 +143,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     md = report.markdown(model, chains, params, fit.table, timing, obs.path)
     figures = (report.predictive_figure(post, theta), report.corner_figure(model, chains, fit))
     try:
-        paths = report.write(folder, idata, fit.table, md, figures)
+        paths = report.write(folder, idata, fit.table, md, figures, overwrite=overwrite)
+    except FileExistsError as err:
+        fail(str(err))
     except OSError as err:
         fail(f"could not write into {folder}: {err.strerror or err}; no output was changed", EXIT_RUNTIME)
     click.echo(params[["parameter", "unit", "map", "median", "ci95_low", "ci95_high", "identification", "tau",

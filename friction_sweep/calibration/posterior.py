@@ -74,15 +74,18 @@ class Posterior:
         theta = np.atleast_2d(theta)
         obs = self.model.obs
         total = np.zeros((theta.shape[0], obs.size))
-        if obs.phase is not None:
-            sd = np.radians(self.phase_sd(theta))
-            kappa = 1.0 / sd**2
-            d = np.radians(obs.phase[None, :] - predicted["phase"] - self.offset(theta)[:, None])
-            total += kappa * (np.cos(d) - 1.0) - np.log(2.0 * np.pi * special.i0e(kappa))
-        if obs.transmissibility is not None:
-            sd = self.sd(theta, "transmissibility")
-            z = (np.log(obs.transmissibility)[None, :] - np.log(predicted["transmissibility"])) / sd
-            total += -0.5 * z**2 - np.log(sd * np.sqrt(2.0 * np.pi))
+        # a zero sd (a noise level of 0 with no row uncertainty: the edge of its prior) has no density; it
+        # and a missing model value come out as inf or NaN here, and as -inf below, without warnings
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            if obs.phase is not None:
+                sd = np.radians(self.phase_sd(theta))
+                kappa = 1.0 / sd**2
+                d = np.radians(obs.phase[None, :] - predicted["phase"] - self.offset(theta)[:, None])
+                total += kappa * (np.cos(d) - 1.0) - np.log(2.0 * np.pi * special.i0e(kappa))
+            if obs.transmissibility is not None:
+                sd = self.sd(theta, "transmissibility")
+                z = (np.log(obs.transmissibility)[None, :] - np.log(predicted["transmissibility"])) / sd
+                total += -0.5 * z**2 - np.log(sd * np.sqrt(2.0 * np.pi))
         return np.where(np.isfinite(total), total, -np.inf)
 
     def __call__(self, theta: np.ndarray) -> np.ndarray:

@@ -226,8 +226,10 @@ def predictive_figure(post: Posterior, theta: np.ndarray):
         values = curves.predict(theta)[quantity]
         if quantity == "phase":
             values = values + post.offset(theta)[:, None]
-        with np.errstate(all="ignore"):
-            band = np.nanpercentile(values, [2.5, 50.0, 97.5], axis=0)
+        # where no draw has a value (theory off continuous motion) the band has none: no curve drawn there
+        band = np.full((3, grid.size), np.nan)
+        some = np.isfinite(values).any(axis=0)
+        band[:, some] = np.nanpercentile(values[:, some], [2.5, 50.0, 97.5], axis=0)
         ax.fill_between(grid, band[0], band[2], color=colour, alpha=0.25, lw=0)
         ax.plot(grid, band[1], color=colour, lw=1.2)
         marker = np.where(obs.fitted[rows], "o", "s")
@@ -288,8 +290,9 @@ def corner_figure(model: ForwardModel, chains: Chains, fit: MapFit):
     return fig
 
 
-def write(folder: Path, idata, table: pd.DataFrame, md: str, figures) -> list[Path]:
-    """Every output file into `folder`, all or none (outputs.write_all)."""
+def write(folder: Path, idata, table: pd.DataFrame, md: str, figures, *, overwrite: bool = True) -> list[Path]:
+    """Every output file into `folder`, all or none (outputs.write_all); without `overwrite`, none
+    replaces a file."""
     paths = [folder / name for name in OUTPUT_FILES]
     predictive_fig, corner_fig = figures
     return outputs.write_all([
@@ -298,4 +301,4 @@ def write(folder: Path, idata, table: pd.DataFrame, md: str, figures) -> list[Pa
         (paths[2], lambda tmp: write_text(tmp, md)),
         (paths[3], lambda tmp: save_figure(predictive_fig, tmp, dpi=FIGURE_DPI)),
         (paths[4], lambda tmp: save_figure(corner_fig, tmp, dpi=FIGURE_DPI)),
-    ])
+    ], overwrite=overwrite)

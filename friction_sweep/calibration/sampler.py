@@ -82,7 +82,10 @@ def diagnose(chain: np.ndarray, burn: int) -> tuple[np.ndarray, np.ndarray]:
     import emcee
 
     kept = chain[burn:]
-    tau = emcee.autocorr.integrated_time(kept, tol=0)
+    # a walker that has not moved in the kept window (early in a run) has no autocovariance: emcee divides
+    # by it and gets NaN, and a NaN tau is no convergence (converged() is False), which is the answer
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tau = emcee.autocorr.integrated_time(kept, tol=0)
     rhat = np.array([float(az.rhat(np.ascontiguousarray(kept[:, :, i].T))) for i in range(kept.shape[2])])
     return tau, rhat
 
@@ -136,7 +139,10 @@ def sample(post: Posterior, start: np.ndarray, *, seed: int, targets: Targets, m
     previous = np.inf
     while steps < max_steps:
         n = min(check_every, max_steps - steps)
-        state = sampler.run_mcmc(state, n, progress=False)
+        # a proposal outside the prior or where the model has no value has log posterior -inf, which emcee
+        # rejects by design; its arithmetic on it (-inf - -inf in a move's acceptance) would only warn
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+            state = sampler.run_mcmc(state, n, progress=False)
         steps += n
         # the first quarter is burn-in; a run counts as converged only on a tau estimate that also held
         # still since the last check (emcee's advice: an estimate from a short run is biased low)

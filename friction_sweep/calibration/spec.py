@@ -120,11 +120,15 @@ class Data(Model):
     holdout: Annotated[list[float | str], Field(min_length=1)] | None = None
 
 
+#: the largest seed: emcee draws from numpy's RandomState, which takes seeds 0 .. 2**32 - 1
+MAX_SEED = 2**32 - 1
+
+
 class Sampler(Model):
     """The ensemble sampler's settings and the targets its run must meet (the diagnostics)."""
 
     walkers: Annotated[int, Strict(), Field(ge=8, le=1024)] = 32
-    seed: Annotated[int, Strict(), Field(ge=0)] = 0
+    seed: Annotated[int, Strict(), Field(ge=0, le=MAX_SEED)] = 0
     #: the run's length at least this many integrated autocorrelation times of every parameter
     autocorr_times: Annotated[float, Strict(), Field(ge=5, le=10_000)] = 50.0
     #: effective sample size of every parameter at least this

@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from friction_sweep.codes import Regime, SteadyState
+from friction_sweep.kernels.balance import balanced
 from friction_sweep.kernels.event import advance_period
 from friction_sweep.kernels.jit import jit, jit_inline
 from friction_sweep.kernels.measure import (
@@ -87,6 +88,10 @@ OUT_END_V = OUT["end_v"]
 OUT_END_MODE = OUT["end_mode"]
 OUT_FRICTION_ENERGY = OUT["friction_energy"]
 OUT_FLOQUET = OUT["floquet_multiplier"]
+
+#: the slots _record_measurement fills: NaN again where the orbit is refused (kernels/balance.py)
+MEASURED_SLOTS = (OUT_TRANSMISSIBILITY, OUT_PEAK_TRANSMISSIBILITY, OUT_PHASE, OUT_PEAK_PHASE, OUT_STOPS_PER_PERIOD,
+                  OUT_STUCK_FRACTION, OUT_FRICTION_ENERGY, OUT_ORBIT_PERIOD)
 
 #: the phase convention of friction_sweep.theory.phase, compiled
 wrap_degrees = jit_inline(phase.wrap_degrees)
@@ -539,6 +544,13 @@ def solve_point(p, settings, guess_q, guess_v, out):
             out[OUT_REGIME] = Regime.UNSETTLED.value
             return
     _record_measurement(out, acc, orbit, p, settings[SET_STEADY_TOL])
+    if (status != SteadyState.APERIODIC and out[OUT_REGIME] != Regime.STUCK.value
+            and not balanced(acc, orbit, p, settings, q, v)):
+        for slot in MEASURED_SLOTS:
+            out[slot] = math.nan
+        out[OUT_STEADY_STATE] = SteadyState.UNBALANCED.value
+        out[OUT_REGIME] = Regime.UNSETTLED.value
+        return
     # undefined on the family (a continuum: multiplier 1 along it) and at rest (a continuum of rest
     # positions); an aperiodic motion has no orbit
     if (settings[SET_STABILITY] != 0.0 and status == SteadyState.CONVERGED

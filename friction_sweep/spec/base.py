@@ -15,6 +15,8 @@ def show(v: Any) -> str:
         return "null"
     if isinstance(v, bool):
         return "true" if v else "false"
+    if type(v).__name__ == "TaggedScalar":  # a value with a tag of its own: `!custom 1`
+        v = f"{v.tag} {v.value}"
     if isinstance(v, float):
         if v != v:
             return ".nan"

@@ -24,12 +24,14 @@ FREQUENCY_RATIO_SPAN = f"between {FREQUENCY_RATIO_RANGE[0]:g} and {FREQUENCY_RAT
 FORCE_RATIO_SPAN = f"0 or between {FORCE_RATIO_MIN_POSITIVE:g} and {FORCE_RATIO_MAX:g}"
 
 
-def frequency_ratio_ok(r: float) -> bool:
-    return FREQUENCY_RATIO_RANGE[0] <= r <= FREQUENCY_RATIO_RANGE[1]
+def frequency_ratio_ok(r):
+    """Whether r is in the meaningful range: a bool for a number, elementwise for an array (NaN is not)."""
+    return (FREQUENCY_RATIO_RANGE[0] <= r) & (r <= FREQUENCY_RATIO_RANGE[1])
 
 
-def force_ratio_ok(beta: float) -> bool:
-    return beta == 0 or FORCE_RATIO_MIN_POSITIVE <= beta <= FORCE_RATIO_MAX
+def force_ratio_ok(beta):
+    """Whether beta is 0 or in the resolved range: a bool for a number, elementwise for an array."""
+    return (beta == 0) | ((FORCE_RATIO_MIN_POSITIVE <= beta) & (beta <= FORCE_RATIO_MAX))
 SIGNIFICANT_DIGITS = 12
 LATTICE_RTOL = 1e-9
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ruamel.yaml import YAML
-from ruamel.yaml.constructor import DuplicateKeyError
+from ruamel.yaml.constructor import ConstructorError, DuplicateKeyError, RoundTripConstructor
 from ruamel.yaml.error import MarkedYAMLError, YAMLError
 from ruamel.yaml.nodes import MappingNode, ScalarNode, SequenceNode
 
@@ -66,8 +66,7 @@ def read_text(path: str | os.PathLike[str]) -> str:
         if not stat.S_ISREG(st.st_mode):
             raise SpecError.single(source, "is not a regular file (a FIFO, a device?): give a spec file")
         if st.st_size > MAX_SPEC_BYTES:
-            raise SpecError.single(source, f"is {st.st_size} bytes; a spec is at most {MAX_SPEC_BYTES} (long "
-                                   "grids are written {start, stop, num} or {start, stop, step})")
+            raise SpecError.single(source, _too_large(st.st_size))
         with open(source, encoding="utf-8") as fh:
             return fh.read(MAX_SPEC_BYTES + 1)
     except FileNotFoundError:
@@ -78,11 +77,46 @@ def read_text(path: str | os.PathLike[str]) -> str:
         raise SpecError.single(source, f"not UTF-8 text ({e.reason} at byte {e.start})") from None
     except OSError as e:
         raise SpecError.single(source, f"cannot read file: {e.strerror or e}") from None
+    except ValueError:  # a NUL in the path (os.stat's "embedded null byte")
+        raise SpecError.single(source.replace("\0", "\\0"), "a path holding a NUL character names no file") from None
+
+
+#: YAML's own tags, as a spec writes them
+_YAML_TAG = "tag:yaml.org,2002:"
+
+
+def short_tag(tag: str) -> str:
+    """tag:yaml.org,2002:float -> !!float."""
+    return "!!" + tag.removeprefix(_YAML_TAG) if tag.startswith(_YAML_TAG) else tag
+
+
+class _LocatedConstructor(RoundTripConstructor):
+    """A value its tag cannot hold (`!!float "abc"`, `!!bool maybe`) is an error at its line and column:
+    ruamel raises a bare ValueError or KeyError without a position."""
+
+    def construct_non_recursive_object(self, node: Any, tag: str | None = None) -> Any:
+        try:
+            return super().construct_non_recursive_object(node, tag)
+        except (YAMLError, RecursionError):
+            raise
+        except Exception:
+            value = node.value if isinstance(node, ScalarNode) else "..."
+            raise ConstructorError(None, None, f"{short_tag(str(node.tag))} cannot hold {value!r}",
+                                   node.start_mark) from None
+
+
+def _too_large(size: int) -> str:
+    return f"is {size} bytes; a spec is at most {MAX_SPEC_BYTES} (long grids are written {{start, stop, num}} or " \
+        "{start, stop, step})"
 
 
 def parse_yaml(text: str, source: str) -> Document:
-    """Parse one YAML document (YAML 1.2, duplicate keys rejected) into a Document."""
+    """Parse one YAML document (YAML 1.2, duplicate keys rejected) of at most MAX_SPEC_BYTES into a Document."""
+    size = len(text.encode("utf-8", "surrogatepass")) if len(text) * 4 > MAX_SPEC_BYTES else len(text)
+    if size > MAX_SPEC_BYTES:
+        raise SpecError.single(source, _too_large(size))
     yaml = YAML(typ="rt")
+    yaml.Constructor = _LocatedConstructor
     try:
         # ruamel constructs a recursive alias as null, silently: find it in the node graph first
         _refuse_recursion(YAML(typ="rt").compose(text), source)
@@ -241,7 +275,9 @@ def _scalar(v: Any) -> Any:
         return float(v)
     if isinstance(v, str):
         return str(v)
-    return v  # timestamps, tagged scalars: left for validation to reject
+    if type(v).__name__ == "TaggedScalar" and str(v.tag) == _YAML_TAG + "str":  # `!!str 1` is the text "1"
+        return str(v.value)
+    return v  # timestamps, tagged scalars: left for validation to reject (base.show writes them as in YAML)
 
 
 def format_key(path: KeyPath) -> str:

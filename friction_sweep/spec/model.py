@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
@@ -10,6 +11,8 @@ from pydantic import (
     AfterValidator,
     Discriminator,
     Field,
+    PlainSerializer,
+    PlainValidator,
     PrivateAttr,
     Strict,
     Tag,
@@ -39,7 +42,7 @@ from .base import problem as _error
 from .base import raise_all as _raise_all
 from .base import show
 from .quantities import FORCE, FREQUENCY
-from .system import PhysicalMap, System, physical_axis, ratios
+from .system import PhysicalMap, System, physical_axis, range_problem, ratios
 
 
 def _bound_problem(kind: str, bounds: Bounded, value: Any) -> str | None:
@@ -52,6 +55,8 @@ def _bound_problem(kind: str, bounds: Bounded, value: Any) -> str | None:
     if not bounds.contains(value):
         high = f"{number_text(bounds.high)} ({number_text(bounds.high)} excluded)" if bounds.high_open else \
             number_text(bounds.high)
+        if 0.0 < value < bounds.floor:
+            return f"must be 0 or at least {number_text(bounds.floor)} (got {show(value)}): {bounds.why}"
         return f"must be between {number_text(bounds.low)} and {high} (got {show(value)}): {bounds.why}"
     return None
 
@@ -60,7 +65,7 @@ def _bound_problem(kind: str, bounds: Bounded, value: Any) -> str | None:
 MAX_HISTORY_SAMPLES = 2_000_000
 
 # Union tags appear in pydantic's error locations; the angle brackets keep them apart from YAML keys.
-AXIS_TAGS = frozenset({"<number>", "<list>", "<range>"})
+AXIS_TAGS = frozenset({"<number>", "<list>", "<range>", "<array>"})
 
 Finite = Annotated[float, Strict(), Field(allow_inf_nan=False)]
 Positive = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0)]
@@ -147,6 +152,8 @@ def _increasing(values: list[float]) -> list[float]:
 
 
 def _axis_kind(v: Any) -> str | None:
+    if isinstance(v, np.ndarray):  # the Python API's arrays (api.spec_of_dict), checked as a whole
+        return "<array>"
     if isinstance(v, (dict, _Range)):  # a model instance when serialising
         return "<range>"
     if isinstance(v, list):
@@ -156,11 +163,43 @@ def _axis_kind(v: Any) -> str | None:
     return None
 
 
-def _axis(element: Any, range_model: type[_Range]) -> Any:
+def _array_axis(ok: Callable[[np.ndarray], np.ndarray], span: str, note: str) -> Callable[[np.ndarray], np.ndarray]:
+    """The validator of an axis given as a numpy array: the rules of a list of numbers (finite, within
+    `span`, strictly increasing), applied to the whole array at once, the first offending item reported
+    with how many more; the values as float64 (a longdouble beyond a double's range is infinite)."""
+
+    def check(v: np.ndarray) -> np.ndarray:
+        if v.dtype.kind not in "iuf":
+            raise _error("array_dtype", f"must be an array of numbers (got an array of dtype {v.dtype})")
+        if v.ndim != 1:
+            raise _error("array_shape", f"must be a 1-D array of numbers (got shape {v.shape})")
+        if v.size == 0:
+            raise _error("array_empty", "must not be empty")
+        with np.errstate(over="ignore", invalid="ignore"):
+            values = v.astype(np.float64)
+        bad = np.flatnonzero(~(np.isfinite(values) & ok(values)))
+        if bad.size:
+            i, more = int(bad[0]), f" ({bad.size - 1} more)" if bad.size > 1 else ""
+            got = f"(got {show(values[i].item())})"
+            raise _error("array_range", f"must be a finite number {got}" if not np.isfinite(values[i]) else
+                         f"must be {span} {got}{more}: {note}", (i,))
+        j = g.first_not_increasing(values)
+        if j is not None:
+            what = "duplicate value" if values[j] == values[j - 1] else "not sorted"
+            raise _error("not_increasing", f"values must be strictly increasing: {what} {show(values[j].item())} "
+                         f"after {show(values[j - 1].item())}", (j,))
+        values.flags.writeable = False
+        return values
+
+    return check
+
+
+def _axis(element: Any, range_model: type[_Range], array: Callable[[np.ndarray], np.ndarray]) -> Any:
     return Annotated[
         Annotated[element, Tag("<number>")]
         | Annotated[list[element], Field(min_length=1), AfterValidator(_increasing), Tag("<list>")]
-        | Annotated[range_model, Tag("<range>")],
+        | Annotated[range_model, Tag("<range>")]
+        | Annotated[Any, PlainValidator(array), PlainSerializer(lambda a: a.tolist()), Tag("<array>")],
         Discriminator(
             _axis_kind,
             custom_error_type="grid_axis",
@@ -171,20 +210,21 @@ def _axis(element: Any, range_model: type[_Range]) -> Any:
 
 
 if TYPE_CHECKING:  # what pydantic builds from _axis, as a type checker can read it
-    FrequencyAxis = float | list[float] | FrequencyRange
-    ForceAxis = float | list[float] | ForceRange
+    FrequencyAxis = float | list[float] | np.ndarray | FrequencyRange
+    ForceAxis = float | list[float] | np.ndarray | ForceRange
 else:
-    FrequencyAxis = _axis(FrequencyRatio, FrequencyRange)
-    ForceAxis = _axis(ForceRatio, ForceRange)
+    FrequencyAxis = _axis(FrequencyRatio, FrequencyRange,
+                          _array_axis(g.frequency_ratio_ok, g.FREQUENCY_RATIO_SPAN, g.FREQUENCY_RATIO_NOTE))
+    ForceAxis = _axis(ForceRatio, ForceRange, _array_axis(g.force_ratio_ok, g.FORCE_RATIO_SPAN, g.FORCE_RATIO_NOTE))
 
 
-def _axis_size(axis: float | list[float] | _Range) -> int:
+def _axis_size(axis: float | list[float] | np.ndarray | _Range) -> int:
     if isinstance(axis, _Range):
         return axis.size
-    return len(axis) if isinstance(axis, list) else 1
+    return len(axis) if isinstance(axis, (list, np.ndarray)) else 1
 
 
-def _axis_values(axis: float | list[float] | _Range) -> np.ndarray:
+def _axis_values(axis: float | list[float] | np.ndarray | _Range) -> np.ndarray:
     if isinstance(axis, _Range):
         return axis.values()
     return np.atleast_1d(np.asarray(axis, dtype=np.float64)).copy()
@@ -504,6 +544,21 @@ class Spec(_Sourced):
                 friction_force, beta = physical, ratios(physical, force)
                 problems += _mapped_problems(beta, physical, "N", f"beta = F_mu / F_k at F_k = {force:.6g} N",
                                              g.force_ratio_ok, g.FORCE_RATIO_SPAN, where)
+        if not problems and self.system is not None:  # what the grid derives through the system
+            history = None if self.time_history is None or f_n is None else \
+                np.array([r_ for r_, _ in self.time_history.points]) * f_n
+            scales = [("the frequency f = r f_n", frequency, "Hz", ("grid", "frequency_ratio")),
+                      ("the friction force F_mu = beta F_k", friction_force, "N", ("grid", "force_ratio")),
+                      ("the frequency f = r f_n of a time-history point", history, "Hz", ("time_history", "points"))]
+            if acceleration is not None and frequency is not None:
+                length_at = acceleration / (2.0 * np.pi * np.asarray(frequency)) ** 2
+                force_at = None if system.stiffness_si is None else system.stiffness_si * length_at
+                at = ("system", "base_acceleration")
+                scales += [("the base's amplitude Y = a / omega^2", length_at, "m", at),
+                           ("the excitation force F_k = k a / omega^2", force_at, "N", at),
+                           ("the energy scale F_k Y", None if force_at is None else force_at * length_at, "J", at)]
+            problems += [p for what, values, unit, at in scales if values is not None
+                         and (p := range_problem(what, values, unit, at)) is not None]
         if problems:
             return problems
         assert r is not None and beta is not None  # every way to leave one out is a problem above

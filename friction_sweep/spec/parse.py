@@ -10,7 +10,7 @@ from pydantic_core import ErrorDetails
 from friction_sweep.catalogue import number_text
 
 from .errors import SpecError, SpecProblem
-from .grid import FORCE_RATIO_NOTE, FREQUENCY_RATIO_NOTE
+from .grid import FORCE_RATIO_NOTE, FREQUENCY_RATIO_NOTE, MAX_POINTS
 from .load import Document, KeyPath, format_key, parse_yaml, read_text
 from .model import AXIS_TAGS, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
 from .system import System
@@ -34,16 +34,20 @@ def load_spec(path: str | os.PathLike[str]) -> Spec:
 
 def parse_spec_text(text: str, source: str = "<string>") -> Spec:
     """Validate spec YAML `text`; `source` names it in error messages and `spec.source_path`."""
-    doc = parse_yaml(text, source)
+    return spec_of_document(parse_yaml(text, source), text)
+
+
+def spec_of_document(doc: Document, text: str) -> Spec:
+    """Validate a parsed spec; `text` is what the spec records as its own (spec.text)."""
     if not isinstance(doc.data, dict):
         got = "an empty document" if doc.data is None else f"a {type(doc.data).__name__}"
         reason = f"the spec must be a mapping of keys (got {got})"
-        raise SpecError.single(source, reason, line=1, column=1)
+        raise SpecError.single(doc.source, reason, line=1, column=1)
     try:
         spec = Spec.model_validate(doc.data)
     except ValidationError as e:
         raise SpecError(problems_of(e, doc)) from None
-    spec._source_path = source
+    spec._source_path = doc.source
     spec._text = text
     return spec
 
@@ -111,7 +115,10 @@ def _reason(err: ErrorDetails, path: KeyPath, models: dict[KeyPath, type[BaseMod
 
 
 def _range_note(path: KeyPath, limit: str) -> str:
-    """Why a grid value has the bounds it has (a negative force ratio needs no explanation)."""
+    """Why a grid value has the bounds it has (a negative force ratio needs no explanation); an axis's
+    num is a count of points, not a ratio."""
+    if path and path[-1] in ("num", "step"):
+        return f": an axis has at most {MAX_POINTS} points" if path[-1] == "num" and limit == "le" else ""
     if "frequency_ratio" in path:
         return f": {FREQUENCY_RATIO_NOTE}"
     if "force_ratio" in path and limit == "le":

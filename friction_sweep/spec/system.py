@@ -26,7 +26,20 @@ from pydantic import BeforeValidator, model_validator
 
 from . import grid as g
 from .base import Model, problem, raise_all, show
-from .quantities import ACCELERATION, FORCE, FREQUENCY, LENGTH, MASS, RATIO, STIFFNESS, Kind, QuantityError, to_si
+from .quantities import (
+    ACCELERATION,
+    FORCE,
+    FREQUENCY,
+    LENGTH,
+    MASS,
+    RATIO,
+    SI_SPAN,
+    STIFFNESS,
+    Kind,
+    QuantityError,
+    in_range,
+    to_si,
+)
 
 
 def _quantity(kind: Kind, *, zero: bool = False):
@@ -87,8 +100,27 @@ class System(Model):
                 ("normal_load", "friction_coefficient")
             problems.append(problem("friction_half", f"{have} needs {need}: the friction force is their "
                                     "product", (have,)))
-        raise_all("system", problems)
+        raise_all("system", problems or self._derived_problems())
         return self
+
+    def _derived_problems(self) -> list:
+        """Each value the system derives, finite and in the range of a physical value (quantities.SI_RANGE),
+        located at the key it comes from: what a product or ratio of two values in range may leave."""
+        f_n, k, force, length = self.natural_frequency_si, self.stiffness_si, self.reference_force, self.length_scale
+        given_f = self.natural_frequency is not None
+        derived = [
+            ("the natural frequency f_n = sqrt(k / m) / (2 pi)", f_n, "Hz", "stiffness", not given_f),
+            ("omega_n = 2 pi f_n", None if f_n is None else 2.0 * math.pi * f_n, "rad/s",
+             "natural_frequency" if given_f else "stiffness", True),
+            ("the stiffness k = m (2 pi f_n)^2", k, "N/m", "mass", self.stiffness is None),
+            ("the excitation force F_k = k Y", force, "N", "base_amplitude", self.excitation_force is None),
+            ("the length scale L = F_k / k", length, "m", "excitation_force", self.base_amplitude is None),
+            ("the energy scale F_k L", None if force is None or length is None else force * length, "J",
+             "excitation_force" if self.excitation_force is not None else "base_amplitude", True),
+            ("the friction force mu N", self.friction, "N", "normal_load", self.friction_force is None),
+        ]
+        return [p for what, value, unit, key, is_derived in derived if is_derived and value is not None
+                and (p := range_problem(what, np.array([value]), unit, (key,))) is not None]
 
     @property
     def natural_frequency_si(self) -> float | None:
@@ -135,6 +167,18 @@ class System(Model):
         if self.friction_coefficient is not None and self.normal_load is not None:
             return self.friction_coefficient * self.normal_load
         return None
+
+
+def range_problem(what: str, values: np.ndarray, unit: str, at: tuple):
+    """A problem where a derived physical value is not finite or leaves quantities.SI_RANGE (the first such
+    value and how many more), else None."""
+    values = np.asarray(values, dtype=np.float64).ravel()
+    bad = np.flatnonzero(~in_range(values))
+    if not bad.size:
+        return None
+    more = f" ({bad.size - 1} more)" if bad.size > 1 else ""
+    return problem("derived_range", f"{what} is {values[bad[0]]:.3g} {unit}{more}: every physical value must be "
+                   f"{SI_SPAN} in SI units (the inputs are out of proportion)", at)
 
 
 def physical_axis(value: Any, kind: Kind) -> tuple[float, ...]:

@@ -7,11 +7,16 @@ leaves any earlier file at the target untouched.
 
 Writers get a Python file object, never a path: a library that writes by path (h5py) crashes the
 process on a full disk, while a file object turns it into an ordinary OSError.
+
+A kill -9 leaves the temporary file behind. Its name carries the writer's process id,
+`.NAME.PID-XXXXXXXX.tmp`, so the next write of the same target removes the ones whose writer is gone
+(`remove_stale`) and never one of a live writer (a reused id only keeps a stale file longer).
 """
 
 from __future__ import annotations
 
 import os
+import re
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
@@ -34,12 +39,16 @@ def umask() -> int:
     return old
 
 
-def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = True) -> Path:
+def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = True, sweep: bool = True) -> Path:
     """Write `path` through `writer(file)`. Without `overwrite`, an existing `path` is never replaced
-    (FileExistsError, checked at the final link, so a file that appeared meanwhile is kept)."""
+    (FileExistsError, checked at the final link, so a file that appeared meanwhile is kept). `sweep`:
+    first remove the temporaries killed writers left of `path` (a caller writing many files into one
+    folder sweeps it once instead, remove_stale_in)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    if sweep:
+        remove_stale(path)
+    fd, name = tempfile.mkstemp(prefix=temporary_prefix(path), suffix=".tmp", dir=path.parent)
     tmp = Path(name)
     try:
         # mkstemp creates 0600; a result is for colleagues too: the mode a new file would get
@@ -58,6 +67,63 @@ def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = Tru
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def temporary_prefix(path: Path, tag: str = "") -> str:
+    """The start of the name of a temporary file that becomes `path`: hidden, the target's name, the
+    writer's process id (what `remove_stale` reads). `tag` names a staged copy (storage.outputs)."""
+    return f".{path.name}.{os.getpid()}-{tag}"
+
+
+#: the temporaries of a target NAME: `.NAME.PID-XXXXXXXX.tmp` (mkstemp's 8 random characters) or a
+#: staged copy `.NAME.PID-staged.tmp`, and the temporary of a staged copy, `..NAME.PID-staged.tmp.PID-XXXXXXXX.tmp`
+_TEMPORARY = r"\.\.?{name}\.(\d+)-(?:staged|[a-z0-9_]{{8}})(?:\.tmp\.\d+-[a-z0-9_]{{8}})?\.tmp"
+
+
+def remove_stale(path: str | os.PathLike[str]) -> list[Path]:
+    """Remove the temporary files of `path` left by writers that are gone (killed mid-write); returns
+    them. Only regular files of fsweep's own naming whose process id names no running process."""
+    path = Path(path)
+    return _remove_stale(path.parent, re.escape(path.name))
+
+
+def remove_stale_in(folder: str | os.PathLike[str]) -> list[Path]:
+    """remove_stale for every target in `folder` (a checkpoint's tiles: one listing, not one per tile)."""
+    return _remove_stale(Path(folder), r"[^/]+?")
+
+
+def _remove_stale(folder: Path, name: str) -> list[Path]:
+    pattern = re.compile(_TEMPORARY.format(name=name))
+    removed: list[Path] = []
+    try:
+        names = os.listdir(folder)
+    except OSError:
+        return removed
+    for name in names:
+        match = pattern.fullmatch(name)
+        if match is None or _alive(int(match.group(1))):
+            continue
+        stale = folder / name
+        try:
+            if os.path.isfile(stale) and not os.path.islink(stale):
+                stale.unlink()
+                removed.append(stale)
+        except OSError:
+            pass  # another run removed it first, or the folder is read-only: nothing to do
+    return removed
+
+
+def _alive(pid: int) -> bool:
+    """Whether a process with this id runs (another user's counts: it may be writing)."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, ValueError):
+        return True
+    return True
 
 
 def write_bytes(path: str | os.PathLike[str], data: bytes | memoryview, *, overwrite: bool = True) -> Path:

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from friction_sweep.printable import escape
 from friction_sweep.storage import schema
 
 
@@ -50,12 +51,13 @@ class Problem:
     where: tuple[tuple[str, float], ...] = ()
 
     def __str__(self) -> str:
+        """The problem in one line, names from the file escaped (friction_sweep.printable)."""
         if self.count is None:
-            return f"{self.variable}: {self.what}"
+            return escape(f"{self.variable}: {self.what}")
         text = f"{self.variable}: {self.count} of {self.total} values {self.what}"
         if self.example is not None:
             text += f" (e.g. {_number(self.example)}{_location(self)})"
-        return text
+        return escape(text)
 
 
 #: every coordinate a cube may have: the grid's, and the physical ones of a spec with a system
@@ -93,6 +95,8 @@ def _values(ds, name, var, spec) -> list[Problem]:
     values = np.asarray(var.values)
     if values.dtype.kind not in "biuf":  # strings, objects: nothing numeric to check
         return [Problem(name, f"holds {values.dtype} values, not numbers")]
+    if values.dtype.kind == "f" and values.dtype.itemsize < 8:  # float16/32: compared with float64 ranges
+        values = values.astype(np.float64)
     found = []
     is_coord = name in _COORDS and name in ds.coords
 

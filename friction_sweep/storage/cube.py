@@ -11,12 +11,17 @@ written by the same writer; a test holds the file read back by xarray identical 
 from __future__ import annotations
 
 import io
+import os
+import stat
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final, NamedTuple
 
 import numpy as np
 
+from friction_sweep.errors import FsweepError
+from friction_sweep.printable import escape
 from friction_sweep.storage import atomic, provenance
+from friction_sweep.storage.outputs import file_kind
 from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES, cube_dims
 
 if TYPE_CHECKING:
@@ -126,13 +131,60 @@ def write_atomic(cube: CubeParts | xr.Dataset, path: Path, *, overwrite: bool) -
     atomic.write_bytes(path, netcdf_bytes(parts), overwrite=overwrite)
 
 
+class UnsoundCube(FsweepError):
+    """A cube that opens but holds what no run writes; `problems`: every audit finding (storage.audit).
+    The message names the first, and how many more there are."""
+
+    def __init__(self, path, problems: list):
+        self.problems = problems
+        more = f" (and {len(problems) - 1} more problems: fsweep info lists them)" if len(problems) > 1 else ""
+        super().__init__(f"{escape(path)}: {problems[0]}{more}")
+
+
 def open_cube(path) -> xr.Dataset:
-    """Open a result cube (loaded into memory, the file closed)."""
+    """The result cube at `path`, loaded into memory (the file closed), audited: the one reader of
+    `fsweep info`, `check`, `plot` and the Python API. FsweepError where `path` is not a regular file or
+    cannot be read, the file is one no reader may load (storage.bounds: checked on its metadata before a
+    value is read), it is not a friction_sweep cube, and UnsoundCube where it holds values no run writes
+    (storage.audit)."""
+    import h5py
     import xarray as xr
 
-    with xr.open_dataset(path, engine=ENGINE) as ds:
-        return ds.load()
+    from friction_sweep.storage import audit, bounds
+
+    try:
+        name = os.fspath(path)
+    except TypeError:
+        raise FsweepError(f"a cube's path must be a str or os.PathLike, not {type(path).__name__}") from None
+    shown = escape(name)
+    try:
+        # O_NONBLOCK: a FIFO opens at once (to be refused below) instead of waiting for a writer
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    except (OSError, ValueError) as err:  # ValueError: a NUL in the name
+        raise FsweepError(f"{shown}: {getattr(err, 'strerror', None) or err}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        raise FsweepError(f"{shown} is not a regular file: it is {file_kind(mode)}")
+    with os.fdopen(fd, "rb") as fh:
+        try:
+            with h5py.File(fh, "r") as f:
+                bounds.check(f)
+            fh.seek(0)
+            # phony_dims: a dataset without dimension scales gets named dims (the audit refuses them) quietly
+            with xr.open_dataset(fh, engine=ENGINE, phony_dims="access") as ds:
+                ds = ds.load()
+        except bounds.Refused as err:
+            raise FsweepError(f"{shown} is not a cube fsweep reads: {escape(err)}") from None
+        except Exception as err:  # any reader failure means: not a cube we can read
+            raise FsweepError(f"{shown} is not a readable result cube: {escape(' '.join(str(err).split()))}") from None
+    if "friction_sweep_version" not in ds.attrs:
+        raise FsweepError(f"{shown} is not a friction_sweep result cube (no provenance attributes)")
+    problems = audit.audit(ds)
+    if problems:
+        raise UnsoundCube(name, problems)
+    return ds
 
 
-__all__ = ["ENGINE", "CubeParts", "cube_parts", "build_dataset", "as_dataset", "netcdf_bytes", "write_atomic",
-           "open_cube", "provenance"]
+__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "netcdf_bytes",
+           "write_atomic", "open_cube", "provenance"]

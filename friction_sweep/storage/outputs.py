@@ -4,8 +4,10 @@ The atomic writers (friction_sweep.storage.atomic, cube.write_atomic) rename a f
 file over the target. That is right for a regular file, but renaming over a symlink replaces the
 link (not the file it points to), and a directory, FIFO or device in the target's place fails only
 after the computation. So a command asks `refuse_special_output` (and, if it draws,
-`missing_figures_extra`) first and stops with the reason; then computes everything; then writes
-its files with `write_all`, so that a full disk leaves the previous outputs as they were.
+`missing_figures_extra`) first and stops with the reason, and `refuse_replacing` for files already
+there (replaced only with --overwrite, and never an input of the same command); then computes
+everything; then writes its files with `write_all`, so that a full disk leaves the previous outputs
+as they were.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import importlib
 import os
 import stat
+import unicodedata
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
@@ -30,6 +33,32 @@ _KINDS = (
 #: the extra that brings matplotlib, as the refusal names it
 FIGURES_EXTRA = "pip install 'friction_sweep[figures]'"
 
+#: bytes a file name may have (Linux's NAME_MAX), less what fsweep's hidden files beside an output add
+#: to its name (the longest: the temporary of a staged copy, `..NAME.PID-staged.tmp.PID-XXXXXXXX.tmp`)
+NAME_MAX = 255
+HIDDEN_NAME_EXTRA = 40
+MAX_NAME_BYTES = NAME_MAX - HIDDEN_NAME_EXTRA
+
+#: Unicode categories refused in names: controls (C0, DEL, C1 such as NEL), format characters
+#: (bidirectional overrides, zero-width ones), line and paragraph separators (U+2028, U+2029)
+_CONTROL_CATEGORIES = ("Cc", "Cf", "Zl", "Zp")
+
+
+def refuse_name(text: str, what: str = "name") -> str | None:
+    """Why `text` cannot be a file name fsweep records and writes (None if it can): bytes that are not
+    UTF-8 (a surrogate, as Python decodes them) or a control or format character. Shared by every
+    command, and by `validate` and `run` for the spec's own path, before anything is computed."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return (f"{what} {ascii(text)} is not valid UTF-8 (undecodable bytes, or a lone surrogate): "
+                "rename it")
+    bad = next((ch for ch in text if unicodedata.category(ch) in _CONTROL_CATEGORIES), None)
+    if bad is not None:
+        return (f"{what} {ascii(text)} holds a control character (U+{ord(bad):04X}, "
+                f"{unicodedata.name(bad, 'a control')}): name a file without one")
+    return None
+
 
 def refuse_special_output(path: str | os.PathLike[str]) -> str | None:
     """Why `path` must not be written as an output file, or None when it may be.
@@ -40,10 +69,15 @@ def refuse_special_output(path: str | os.PathLike[str]) -> str | None:
     one of whose parents exists as something other than a folder.
     """
     text = os.fspath(path)
-    if any(ord(ch) < 32 for ch in text):
-        return f"{text!r} holds a control character (a NUL, a newline): name a file"
-    if text.endswith(os.sep) or not text:
+    reason = refuse_name(text, "output")
+    if reason is not None:
+        return reason
+    if text.endswith(os.sep) or not text or os.path.basename(text) in (".", ".."):
         return f"{text!r} names a folder: name the file to write"
+    size = len(os.path.basename(text).encode("utf-8"))
+    if size > MAX_NAME_BYTES:
+        return (f"output: the file name is {size} bytes long; fsweep takes at most {MAX_NAME_BYTES}, as it "
+                f"writes hidden files beside it whose names are longer (a name has at most {NAME_MAX})")
     path = Path(path)
     try:
         st = os.lstat(path)
@@ -118,7 +152,37 @@ def file_kind(mode: int) -> str:
 
 
 
-def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], object]]]) -> list[Path]:
+def refuse_replacing(targets: Iterable[str | os.PathLike[str]], overwrite: bool,
+                     inputs: Iterable[str | os.PathLike[str]] = ()) -> str | None:
+    """Why a command must not write `targets` (None if it may), asked before it computes: one of them is
+    an input of the same command (never written over, even with --overwrite), or exists already and
+    --overwrite was not given. A command's files are published together (write_all), so one refusal
+    stops them all."""
+    sources = [Path(p) for p in inputs]
+    for target in map(Path, targets):
+        for source in sources:
+            if _same_file(target, source):
+                return (f"output: {target} is {source}, an input of this command; fsweep never writes over "
+                        "its own input (not even with --overwrite): name another output")
+        if os.path.lexists(target) and not overwrite:
+            return f"output: {target} exists; pass --overwrite to replace it"
+    return None
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """Whether two paths name one file (hard links included), or would once written (one path)."""
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return os.path.abspath(a) == os.path.abspath(b)
+
+
+class Appeared(FileExistsError):
+    """A target that did not exist when the command started exists when its result is published."""
+
+
+def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], object]]], *,
+              overwrite: bool = True) -> list[Path]:
     """Write a command's outputs all or nothing; returns their paths.
 
     `writers` pairs each target with a function that writes a given path (atomically, through
@@ -127,22 +191,40 @@ def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], o
     writing (a full disk, a read-only folder) thus changes none of the targets and leaves no staged
     file: the error is re-raised for the command to report. Renames need no space, so the second
     phase fails only in exotic cases (the folder removed meanwhile), which re-raise likewise.
+    Without `overwrite` no existing file is replaced: each staged file is linked to its target,
+    which fails where one appeared meanwhile (Appeared), and the targets already published by this
+    call are removed again, so none or all of them appear.
     """
     staged: list[tuple[Path, Path]] = []
+    published: list[Path] = []
     try:
         for target, write in writers:
             target = Path(target)
             target.parent.mkdir(parents=True, exist_ok=True)
-            tmp = target.with_name(f".{target.name}.{os.getpid()}.staged")
+            atomic.remove_stale(target)
+            tmp = target.with_name(atomic.temporary_prefix(target, "staged") + ".tmp")
             staged.append((tmp, target))
             write(tmp)
         for tmp, target in staged:
-            os.replace(tmp, target)
+            if overwrite:
+                os.replace(tmp, target)
+                continue
+            try:
+                os.link(tmp, target)
+            except FileExistsError:
+                raise Appeared(f"{target} appeared while the command ran; nothing was replaced "
+                               "(pass --overwrite)") from None
+            published.append(target)
     except BaseException:
+        for target in published:  # ours alone: linked from our staged file just now
+            target.unlink(missing_ok=True)
         for tmp, _ in staged:
             if os.path.lexists(tmp):
                 os.unlink(tmp)
         raise
+    for tmp, _ in staged:
+        if os.path.lexists(tmp):
+            os.unlink(tmp)
     for folder in {target.parent for _, target in staged}:
         atomic.fsync_folder(folder)
     return [target for _, target in staged]

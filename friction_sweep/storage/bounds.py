@@ -1,0 +1,126 @@
+"""What a cube file may make a reader load: checked with h5py on the file's metadata, before xarray
+reads a single value.
+
+An HDF5 file is a description of data as much as data: a 249 kB file can declare variables of 10^8
+values each that were never written (reading them materialises gigabytes of fill values), store a
+variable's values in an external file (a FIFO there blocks the reader forever), map it onto other files
+(a virtual dataset), or link elsewhere. A cube fsweep writes does none of that, so `check` refuses:
+
+* anything at the root but datasets reached by hard links (groups, soft or external links);
+* a dataset with external storage or a virtual layout, an extensible shape, or values that are not
+  plain numbers (strings, compounds, references: no cube variable holds them);
+* a dataset of more values than the largest array fsweep writes (MAX_VALUES: a grid of
+  spec.grid.MAX_POINTS, or a time history of spec.model.MAX_HISTORY_SAMPLES samples), more datasets
+  than a cube can hold (MAX_DATASETS), or more bytes in all than MAX_CUBE_BYTES;
+* a dataset that declares values it does not store: every variable a run writes is written whole, so
+  its allocated storage holds all its bytes (compressed: some bytes); only the netCDF dimension scales
+  of dims without a coordinate (history, sample) are left unwritten, as netCDF itself does;
+* a dataset or the root with more than MAX_ATTRIBUTES attributes.
+
+Each refusal is a `Refused` with the reason; `check` reads no value, so its cost is the metadata's.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from friction_sweep.spec.grid import MAX_POINTS
+from friction_sweep.spec.model import MAX_HISTORY_SAMPLES
+from friction_sweep.storage.schema import COORDS, PHYSICAL_COORDS, VARIABLES
+
+#: the most values one array of a cube holds: its grid's points, or a time history's samples
+MAX_VALUES = max(MAX_POINTS, MAX_HISTORY_SAMPLES)
+#: every variable and coordinate the schema knows, and a dimension scale for each dim it names
+MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + 8
+#: the largest cube a run can write: every schema variable at its largest (grid variables at MAX_POINTS
+#: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
+MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if "history" in v.dims else MAX_POINTS)
+                     for v in (*VARIABLES.values(), *COORDS.values(), *PHYSICAL_COORDS.values()))
+#: a variable has a dozen CF attributes, the root a few dozen
+MAX_ATTRIBUTES = 256
+#: how netCDF (and h5netcdf) marks a dimension scale that is not a variable: never written, never loaded
+_DIMENSION_ONLY = b"This is a netCDF dimension but not a netCDF variable."
+
+
+class Refused(ValueError):
+    """The file holds something no cube holds, or more than a reader may load."""
+
+
+def check(f) -> None:
+    """Refuse (raise Refused) what the open h5py File `f` must not make a reader load."""
+    import h5py
+
+    _attributes(f, "the file")
+    names = list(f)
+    if len(names) > MAX_DATASETS:
+        raise Refused(f"{len(names)} objects at its root; a cube has at most {MAX_DATASETS}")
+    total = 0
+    for name in names:
+        link = f.get(name, getlink=True)
+        if not isinstance(link, h5py.HardLink):
+            raise Refused(f"{name!r} is a link ({type(link).__name__}); a cube holds its variables, never links")
+        obj = f[name]
+        if not isinstance(obj, h5py.Dataset):
+            raise Refused(f"{name!r} is a {type(obj).__name__.lower()}; a cube holds variables only")
+        total += _dataset(name, obj)
+        if total > MAX_CUBE_BYTES:
+            raise Refused(f"its variables declare more than {_bytes(MAX_CUBE_BYTES)}, more than the largest "
+                          "cube fsweep writes")
+
+
+def _dataset(name: str, ds) -> int:
+    """The bytes the dataset `ds` makes a reader load (Refused where it must not be read)."""
+    if ds.is_virtual:
+        raise Refused(f"variable {name!r} is a virtual dataset (its values live in other files)")
+    if ds.external:
+        raise Refused(f"variable {name!r} keeps its values in an external file ({ds.external[0][0]!r}); a cube "
+                      "holds its own values")
+    dtype = ds.dtype
+    if dtype.kind not in "iuf" or dtype.itemsize > 8 or dtype.fields is not None or dtype.subdtype is not None:
+        raise Refused(f"variable {name!r} holds {_kind(dtype)}, not numbers")
+    if ds.shape is None:
+        raise Refused(f"variable {name!r} has no shape")
+    if ds.maxshape != ds.shape:
+        raise Refused(f"variable {name!r} is extensible (max shape {ds.maxshape}); a cube's are fixed")
+    values = math.prod(ds.shape)
+    if values > MAX_VALUES:
+        raise Refused(f"variable {name!r} declares {values} values ({' x '.join(map(str, ds.shape))}); fsweep "
+                      f"writes at most {MAX_VALUES} in one variable")
+    _attributes(ds, f"variable {name!r}")
+    nbytes = values * dtype.itemsize
+    stored = ds.id.get_storage_size()
+    if _dimension_only(ds):
+        return 0  # h5netcdf reads its shape as a dimension's size, never its values
+    filtered = bool(ds.id.get_create_plist().get_nfilters())  # compressed: fewer bytes stored than held
+    if nbytes and (stored == 0 or (not filtered and stored < nbytes)):
+        raise Refused(f"variable {name!r} declares {values} values but stores {stored} of their {nbytes} bytes; "
+                      "a cube stores every value it holds")
+    return nbytes
+
+
+def _dimension_only(ds) -> bool:
+    text = ds.attrs.get("NAME", b"")
+    return isinstance(text, bytes) and text.startswith(_DIMENSION_ONLY) and ds.ndim == 1
+
+
+def _attributes(obj, what: str) -> None:
+    n = obj.attrs.__len__()
+    if n > MAX_ATTRIBUTES:
+        raise Refused(f"{what} has {n} attributes; a cube's have at most {MAX_ATTRIBUTES}")
+
+
+def _kind(dtype) -> str:
+    if dtype.kind == "O" or dtype.kind in "SU":
+        return "strings" if dtype.kind in "SU" or dtype.metadata and "vlen" in dtype.metadata else "objects"
+    if dtype.fields is not None:
+        return "records (a compound type)"
+    return f"{dtype} values"
+
+
+def _bytes(n: int) -> str:
+    return f"{n / 2**30:.1f} GiB"
+
+
+__all__ = ["MAX_VALUES", "MAX_DATASETS", "MAX_CUBE_BYTES", "MAX_ATTRIBUTES", "Refused", "check"]
