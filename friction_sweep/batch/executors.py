@@ -185,6 +185,7 @@ class _Local(Tiles):
                 index = self._in_flight.pop(fut)
                 yield index, fut.result()
                 self._fill()
+        self.stop()  # all handed over: the workers end (iterated outside a `with` too)
 
     def finished(self) -> list[tuple[int, dict]]:
         return [(i, f.result()) for f, i in list(self._in_flight.items())
@@ -366,6 +367,7 @@ class _Dask(Tiles):
                 # the scheduler dropped it: Dask's own words name the reason (a lost connection)
                 raise DaskLost(f"the Dask scheduler dropped the run's tasks: {str(err).split(': ', 1)[-1]}") from None
             yield self.futures[fut], result
+        self.stop()  # all handed over: the client and our cluster close (iterated outside a `with` too)
 
     def _worker_count(self) -> int:
         try:
