@@ -208,7 +208,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _on_sigterm)
-    if scheduler:
+    if scheduler is not None:  # even "": refused below as no scheduler address, not ignored
         executor = "dask"
 
     s = _load(spec)
@@ -223,7 +223,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     if executor == "dask":
         _check_dask(scheduler)
     settings, extra = _accuracy_settings(s, spec, quiet=False)
-    cost = cost_model.estimate(s, settings, jobs=jobs, executor=executor)
+    cost = cost_model.estimate(s, settings, jobs=jobs, executor=executor, scheduler=scheduler)
     if (cost.seconds > cost_model.HUGE_SECONDS or cost.bytes > cost_model.HUGE_BYTES) and not yes:
         fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
               f"pass --yes to run it")

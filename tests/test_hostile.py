@@ -866,6 +866,24 @@ CASES = [
          words=("U+200B",)),
     Case("-o x.h5/.", args=("run", "{spec}", "-o", "x.h5/.", "-q"), words=("names a folder",), absent=("x.h5",)),
     Case("validate: -o x.h5/..", args=("validate", "{spec}", "-o", "x.h5/.."), words=("names a folder",)),
+    # ---- issue 28: signals, executors and the estimate (signals, Dask faults and the estimate's model:
+    # tests/test_signals.py, tests/test_estimate.py)
+    Case("--scheduler empty", args=("run", "{spec}", "--scheduler", "", "-q"), words=("is not a scheduler address",)),
+    Case("--scheduler empty beside another executor",
+         args=("run", "{spec}", "--executor", "threads", "-j", "2", "--scheduler", "", "-q"),
+         words=("is not a scheduler address",)),
+    Case("-j 1024 threads: as many workers as help", args=("run", "{spec}", "-j", "1024"), exit=0,
+         words=("(not 1024:", "wrote"), exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    Case("-j 1024 processes: as many workers as help", args=("run", "{spec}", "--executor", "processes", "-j", "1024"),
+         exit=0, words=("(not 1024:", "wrote"), exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"),
+         lines=None),
+    Case("-j 24 dask on one point: one worker", spec=GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "[1.5]")
+         .replace("[0.1, 0.4]", "[0.3]"), args=("run", "{spec}", "--executor", "dask", "-j", "24"), exit=0,
+         words=("with 1 worker(s) (not 24: the run has 1 tile(s))", "wrote"), exist=("out.h5",),
+         absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    Case("-j 1024 serial: one worker", args=("run", "{spec}", "--executor", "serial", "-j", "1024"), exit=0,
+         words=("with 1 worker(s) (not 1024: --executor serial runs one)",), exist=("out.h5",),
+         absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
 ]
 
 

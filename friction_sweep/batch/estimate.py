@@ -18,17 +18,35 @@ Single points vary more than column means (at r < 0.1 a small force ratio can co
 column's mean), so a grid of only such points can take longer than `seconds`. `worst` bounds a grid
 whose every point runs into its budget: work_budget events at 0.3 us, or max_periods periods at
 21 us + 13 ns x max_orbit_period, whichever comes first.
-Numba-free: `fsweep validate` prints the estimate without loading any kernel.
+
+Effects and settings: with static above kinetic friction each point is solved three times (two
+starts); viscous damping costs nothing more (measured: 18-24 us a point at zeta 1e-6 to 0.8 against 30
+undamped, 150 points r 0.2-3, beta 0.05-0.9); with a Jenkins contact (contact_stiffness kappa) a mass
+that sticks swings on the contact spring sqrt(1 + kappa) times per natural period: a point costs about
+300 sqrt(1 + kappa) events of 0.1 us more, never more than its work_budget (a plane's mean, README's
+cost table: 309 us a point at kappa 1e2, 1,798 at 1e4; one stick-slip point, r = beta = 0.3: 5.7e3
+events at kappa 1e2, 7.4e4 at 1e4, 1.5e6 at 1e6, the budget at 1e8; 8 x 8 points at kappa 1e8: 6.6 s),
+and about 2 in 1,000 points never settle and use all of it; rk4 sub-steps its sticks ceil(sqrt(1 +
+kappa)) times (README: 201 -> 1,026 us a point at kappa 100).
+
+Executors: workers never outnumber tiles, nor (on this machine) cores (executors.workers); a worker
+process (processes, a Dask LocalCluster) holds its own Python, numba and kernels, and a Dask worker
+starts as a fresh Python that imports them.
+
+Compile: where numba's cache holds no valid entry for a kernel the run calls (its index file beside
+the source, or under NUMBA_CACHE_DIR, stamped with the source's mtime and size), the first call compiles
+it; that time (measured on the 2-core reference machine, CPU seconds) is added.
+Numba-free: `fsweep validate` prints the estimate without loading any kernel or numba.
 """
 
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
+from friction_sweep.batch.executors import capped, cores, local_workers
 from friction_sweep.batch.layout import layout
 from friction_sweep.catalogue import METHODS, effect_value
 
@@ -42,6 +60,22 @@ POINT_BYTES = 1000
 #: loading the compiled kernels from numba's cache, once per run (the simulation methods; make bench:
 #: numba's first call of any cached kernel alone costs ~0.4 s)
 KERNEL_LOAD_SECONDS = 0.4
+#: a point that sticks on a Jenkins contact: events per sqrt(1 + kappa), and seconds an event
+JENKINS_EVENTS = 300.0
+EVENT_SECONDS = 0.1e-6
+#: points on a Jenkins contact that never settle and so use their whole work budget (README: 1-2 of
+#: 1,121 at kappa 1e2-1e4)
+JENKINS_UNSETTLED = 2e-3
+#: rk4 with the contact: the sticks' sub-steps per sqrt(1 + kappa), relative to a rigid point's steps
+RK4_JENKINS_STEPS = 0.4
+#: a worker process's own memory (Python, numba, the kernels): -j 32 processes peaked at 4.1 GB
+WORKER_BYTES = 120 * 2**20
+#: starting one worker: a forked process inherits the loaded kernels; a Dask worker is a fresh Python
+#: that imports numba and loads them (-j 24 on 2 cores: 34.8 s for one point)
+WORKER_START_SECONDS = {"processes": 0.2, "dask": 2.5}
+#: seconds to compile a family of kernels that numba's cache does not hold (first run of a version):
+#: CPU seconds of the first call with an empty NUMBA_CACHE_DIR, on the 2-core reference machine
+COMPILE_SECONDS = {"steady": 26.0, "jenkins_steady": 59.0}
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
@@ -60,24 +94,38 @@ def _event_point_seconds(r: np.ndarray, joined: bool) -> np.ndarray:
     return 8e-6 * np.maximum(1.0, (0.66 / r) ** 1.5)
 
 
-def _tile_seconds(method: str, r: np.ndarray, n_beta: int, joined: bool, solves: int, knobs: dict) -> float:
-    """Typical seconds for one tile of frequency ratios `r` by all `n_beta` force ratios."""
+def _tile_seconds(method: str, r: np.ndarray, n_beta: int, joined: bool, solves: int, knobs: dict,
+                  kappa: float = 0.0) -> float:
+    """Typical seconds for one tile of frequency ratios `r` by all `n_beta` force ratios (`kappa`: the
+    Jenkins contact's stiffness, 0 for the rigid contact)."""
     seconds = float(_frequency_seconds(r).sum())
     if method in ("theory", "auto"):
         seconds += _theory_seconds(r, n_beta, joined)
     if method in ("event", "auto"):
         seconds += float(_event_point_seconds(r, joined).sum()) * n_beta * solves
+        if kappa > 0.0:
+            seconds += _jenkins_point_seconds(kappa, knobs) * r.size * n_beta * solves
     if method == "rk4":
-        seconds += 1.2e-6 * knobs["steps_per_period"] * r.size * n_beta * solves
+        steps = 1.0 + (RK4_JENKINS_STEPS * math.sqrt(1.0 + kappa) if kappa > 0.0 else 0.0)
+        per_point = min(1.2e-6 * knobs["steps_per_period"] * steps, _worst_point_seconds(method, knobs, 1))
+        seconds += per_point * r.size * n_beta * solves
     if method == "paper":  # a smooth point; stick-slip runs into max_evaluations (`worst`)
         seconds += (5.7e-6 * 2e4 + 0.2e-6 * knobs["periods"] * knobs["samples_per_period"]) * r.size * n_beta
     return seconds
 
 
-def _worst_point_seconds(method: str, knobs: dict, solves: int) -> float:
+def _jenkins_point_seconds(kappa: float, knobs: dict) -> float:
+    """What a point that sticks adds on a Jenkins contact of stiffness `kappa`: its swings on the
+    contact spring, up to the point's work budget."""
+    return min(JENKINS_EVENTS * math.sqrt(1.0 + kappa), float(knobs["work_budget"])) * EVENT_SECONDS
+
+
+def _worst_point_seconds(method: str, knobs: dict, solves: int, kappa: float = 0.0) -> float:
     """A point that runs into its budget."""
     if method == "theory":
         return 0.0
+    if kappa > 0.0:  # a period's swings on the contact spring: the work budget is the bound
+        return solves * 0.3e-6 * knobs["work_budget"]
     if method == "paper":
         return 5.7e-6 * knobs["max_evaluations"] + 0.2e-6 * knobs["periods"] * knobs["samples_per_period"]
     per_period = 21e-6 + 13e-9 * knobs["max_orbit_period"]
@@ -93,39 +141,61 @@ class Estimate:
     worst: float  # wall time if every point ran its whole budget
     bytes: int
     workers: int
+    compile: float = 0.0  # of `seconds`: compiling kernels that numba's cache does not hold
+    jobs: int = 1  # the workers asked for (-j)
+    why_fewer: str = ""  # why `workers` is below `jobs`
 
     def describe(self) -> str:
         text = f"about {duration(self.seconds)} with {self.workers} worker(s)"
+        if self.workers < self.jobs:
+            text += f" (not {self.jobs}: {self.why_fewer})"
+        if self.compile > 0:
+            text += f", {duration(self.compile)} of it compiling the simulation kernels (first run)"
         if self.worst > 2 * self.seconds:
             text += f" (at most {duration(self.worst)} if every point used its whole budget)"
         return text + f" and {self.bytes / 2**30:.2g} GiB of memory"
 
 
-def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str) -> Estimate:
-    """The cost of running `spec` with `jobs` workers on `executor`, with the run's `settings` (those
-    `accuracy:` chose included; default: the spec's)."""
+def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, scheduler: str | None = None,
+             cache: bool = True) -> Estimate:
+    """The cost of running `spec` with `jobs` workers on `executor` (dask: on a LocalCluster, or on
+    `scheduler`), with the run's `settings` (those `accuracy:` chose included; default: the spec's).
+    cache: look at numba's cache for the kernels the run calls (False: count them as compiled)."""
     r, n_beta = spec.frequency_ratio, spec.force_count
     knobs = {**METHODS[spec.method].defaults, **(spec.settings if settings is None else settings)}
     joined = spec.scene.excitation == "joined"
+    kappa = effect_value(spec.scene.effects, "contact_stiffness") if spec.method != "theory" else 0.0
     solves = 3 if _two_starts(spec, knobs) else 1
     sweep = spec.sweep.direction if spec.sweep is not None else None
     parts = layout(r.size, n_beta, sweep)
     if sweep:  # tiles of force ratios, each over every frequency ratio
-        serial = sum(_tile_seconds(spec.method, r, p.stop - p.start, joined, solves, knobs) for p in parts)
+        serial = sum(_tile_seconds(spec.method, r, p.stop - p.start, joined, solves, knobs, kappa) for p in parts)
     else:
-        serial = sum(_tile_seconds(spec.method, r[p], n_beta, joined, solves, knobs) for p in parts)
+        serial = sum(_tile_seconds(spec.method, r[p], n_beta, joined, solves, knobs, kappa) for p in parts)
     if spec.method != "theory":
         serial += KERNEL_LOAD_SECONDS
     points = r.size * n_beta
+    worst_point = _worst_point_seconds(spec.method, knobs, solves, kappa)
     history = 0
     if spec.time_history is not None:
         n = len(spec.time_history.points)
         history = n * spec.time_history.samples_per_period * 8 * 8  # eight float64 variables
-        serial += n * _worst_point_seconds(spec.method, knobs, solves)
-    worst = serial + points * _worst_point_seconds(spec.method, knobs, solves)
-    workers = _workers(executor, jobs, len(parts))
-    return Estimate(points=points, seconds=serial / workers, worst=worst / workers,
-                    bytes=BASE_BYTES + points * POINT_BYTES * solves + history, workers=workers)
+        serial += n * worst_point
+    if kappa > 0.0:  # the few points that never settle on the contact run their whole budget
+        serial += JENKINS_UNSETTLED * points * worst_point
+    worst = serial + points * worst_point
+    n_workers = local_workers(executor, jobs, len(parts), scheduler)
+    # worker processes of this machine (executors.execute): each its own memory, and start-ups that
+    # the cores share
+    own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)
+    processes = n_workers if own else 0
+    start = processes * WORKER_START_SECONDS.get(executor, 0.0) / min(max(processes, 1), cores())
+    compiling = _compile_seconds(spec, solves > 1, kappa) if cache else 0.0
+    return Estimate(points=points, seconds=serial / n_workers + start + compiling,
+                    worst=worst / n_workers + start + compiling,
+                    bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * solves + history,
+                    workers=n_workers, compile=compiling, jobs=jobs,
+                    why_fewer=capped(executor, jobs, n_workers, len(parts), scheduler))
 
 
 def _two_starts(spec, knobs: dict) -> bool:
@@ -134,13 +204,27 @@ def _two_starts(spec, knobs: dict) -> bool:
             and knobs.get("starts", 1) == 2)
 
 
-def _workers(executor: str, jobs: int, n_tiles: int) -> int:
-    """Workers that can run at once: one for serial; never more than tiles, nor (locally) cores."""
-    if executor == "serial" or jobs <= 1:
-        return 1
-    if executor == "dask":  # a remote cluster's size is unknown here: -j is the user's word for it
-        return max(1, min(jobs, n_tiles))
-    return max(1, min(jobs, n_tiles, os.cpu_count() or 1))
+def kernels_called(spec, two_starts: bool, kappa: float) -> list[tuple[str, str]]:
+    """The compiled entry points (kernel module, function) that a run of `spec` calls: numba compiles
+    each with everything it calls, so these are what its cache must hold."""
+    if spec.method in ("theory", "paper"):
+        return []
+    module, suffix = ("jenkins_steady", "_jenkins") if kappa > 0.0 else ("steady", "")
+    names = [f"solve_sweep{suffix}"] if spec.sweep is not None else [f"solve_points{suffix}"]
+    if two_starts:
+        names.append(f"solve_points{suffix}_from")
+    if spec.time_history is not None:
+        names.append(f"sample_orbit{suffix}")
+    return [(module, name) for name in names]
+
+
+def _compile_seconds(spec, two_starts: bool, kappa: float) -> float:
+    """What compiling the run's kernels costs where numba's cache does not hold them: a family's compile
+    once (its entry points share what they call)."""
+    from friction_sweep.batch import kernel_cache
+
+    cold = {module for module, name in kernels_called(spec, two_starts, kappa) if not kernel_cache.warm(module, name)}
+    return sum(COMPILE_SECONDS[module] for module in cold)
 
 
 def duration(seconds: float) -> str:

@@ -89,11 +89,26 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         compute_tile((method_name, excitation, r[:1], beta[:1] if beta.ndim == 1 else beta[:1, :1], *common))
     log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
              sum((r.size if sweep else n_beta) * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
-    for k, tile in execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler):
-        index = todo[k]
-        if on_done is not None:
-            on_done(index, tile)
-        place(parts[index], tile)
+    with execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler) as running:
+        saving = None
+        try:
+            for k, tile in running:
+                saving = (k, tile)
+                if on_done is not None:
+                    on_done(todo[k], tile)
+                saving = None
+                place(parts[todo[k]], tile)
+        except BaseException as err:
+            # stopped (Ctrl-C, SIGTERM, a lost cluster): keep every tile that was finished, the one
+            # being saved when a signal came too; not where the save itself failed (it would again).
+            # A second signal, or a save that fails, ends this at once
+            if on_done is not None and (saving is None or isinstance(err, KeyboardInterrupt)):
+                for k, tile in ([saving] if saving else []) + running.finished():
+                    try:
+                        on_done(todo[k], tile)
+                    except Exception:
+                        break
+            raise
     if len({frozenset(t) for t in done.values()} | ({frozenset(tile)} if todo else set())) > 1:
         raise ValueError("the checkpoint's tiles hold other variables than this run computes: clear the "
                          "checkpoint folder and run again")
