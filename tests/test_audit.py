@@ -115,7 +115,7 @@ BAD = [
     ("regime", 93, "are not valid regime codes"),
     ("regime", -1, "are not valid regime codes"),
     ("regime_moving", 5, "are not valid regime codes"),
-    ("steady_state", 8, "are not valid steady_state codes"),
+    ("steady_state", 9, "are not valid steady_state codes"),  # 8 is unbalanced
     ("steady_states", 3, "outside the valid range [0, 2]"),
     ("stuck_fraction", 2.0, "outside the valid range [0, 1]"),
     ("stuck_fraction", -1e-3, "outside the valid range [0, 1]"),
