@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from friction_sweep.batch.executors import EXECUTORS
+from friction_sweep.batch.executors import EXECUTORS, MAX_JOBS
 from friction_sweep.errors import FsweepError
 from friction_sweep.spec import Spec, SpecError, grid, load_spec, parse_spec_text
 from friction_sweep.spec.base import show
@@ -40,8 +40,6 @@ if TYPE_CHECKING:
 
 #: the source a dict spec is named by in messages
 DICT_SOURCE = "<dict>"
-#: the most workers a run may ask for (fsweep run -j takes the same)
-MAX_JOBS = 1024
 #: where a dict may hold a numpy array (or a long list of numbers) checked as a whole
 ARRAY_AXES: tuple[KeyPath, ...] = (("grid", "frequency_ratio"), ("grid", "force_ratio"))
 

@@ -17,7 +17,7 @@ import numpy as np
 
 import friction_sweep
 from friction_sweep import codes
-from friction_sweep.batch.executors import DEFAULT_EXECUTOR, EXECUTORS
+from friction_sweep.batch.executors import DEFAULT_EXECUTOR, EXECUTORS, MAX_JOBS
 from friction_sweep.errors import FsweepError
 from friction_sweep.exits import (
     EXIT_FINDINGS,
@@ -189,7 +189,7 @@ def _methods_table() -> None:
 @click.argument("spec", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(), help="Result file (overrides the spec's `output`).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing result (atomically).")
-@click.option("-j", "--jobs", type=click.IntRange(min=1, max=1024), default=1, show_default=True, help="Workers.")
+@click.option("-j", "--jobs", type=click.IntRange(min=1, max=MAX_JOBS), default=1, show_default=True, help="Workers.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("--yes", is_flag=True, help="Run even a huge grid (one estimated to take over 30 min or 4 GiB).")
 @click.option("--executor", type=click.Choice(EXECUTORS), default=DEFAULT_EXECUTOR,

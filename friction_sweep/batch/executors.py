@@ -28,6 +28,9 @@ EXECUTORS = ("threads", "processes", "dask", "serial")
 #: chosen by measurement on 2 cores (README, make bench): threads share one compiled kernel and skip
 #: process start-up; the kernels release the GIL
 DEFAULT_EXECUTOR = "threads"
+#: the most workers a command may ask for (run and calibrate -j, the API's jobs); a run starts no more
+#: than its tiles and, locally, the cores allow
+MAX_JOBS = 1024
 #: seconds between the main thread's looks for a signal while it waits for tiles
 WAKE_S = 0.2
 

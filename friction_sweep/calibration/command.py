@@ -16,6 +16,7 @@ from pathlib import Path
 import click
 import numpy as np
 
+from friction_sweep.batch.executors import MAX_JOBS
 from friction_sweep.exits import EXIT_RUNTIME, fail
 from friction_sweep.measured import DataError
 from friction_sweep.progress import ProgressBar
@@ -48,7 +49,7 @@ def missing_extra() -> str | None:
 @click.argument("spec_path", metavar="SPEC", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(path_type=Path), help="Folder for the results (overrides the "
               "spec's `output`; default results/<spec name>).")
-@click.option("-j", "--jobs", type=click.IntRange(min=1, max=1024), default=1, show_default=True,
+@click.option("-j", "--jobs", type=click.IntRange(min=1, max=MAX_JOBS), default=1, show_default=True,
               help="Threads for the model evaluations.")
 @click.option("--seed", type=click.IntRange(min=0, max=MAX_SEED), default=None,
               help="Random seed (overrides sampler.seed).")
