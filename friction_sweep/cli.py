@@ -10,7 +10,9 @@ import signal
 import sys
 import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import click
 import numpy as np
@@ -110,17 +112,35 @@ def main():
     """Sweep a 1-DoF oscillator with Coulomb friction over frequency ratio r and force ratio beta."""
 
 
+#: the options `run` and `validate` share: validate takes them all, so that it gives every refusal run would
+_RUN_OPTIONS = [
+    click.option("-o", "--output", type=click.Path(), help="Result file (overrides the spec's `output`)."),
+    click.option("--overwrite", is_flag=True, help="Replace an existing result (atomically)."),
+    click.option("-j", "--jobs", type=click.IntRange(min=1, max=MAX_JOBS), default=1, show_default=True,
+                 help="Workers."),
+    click.option("--yes", is_flag=True, help="Run even a huge grid (one estimated to take over 30 min or 4 GiB)."),
+    click.option("--executor", type=click.Choice(EXECUTORS), default=DEFAULT_EXECUTOR, show_default=True,
+                 help="Where tiles run (dask: a LocalCluster of -j workers, or --scheduler)."),
+    click.option("--scheduler", metavar="ADDRESS", help="A Dask scheduler to run on (implies --executor dask)."),
+    click.option("--resume", is_flag=True, help="Continue an interrupted run from its finished tiles."),
+]
+
+
+def _run_options(command):
+    for option in reversed(_RUN_OPTIONS):
+        command = option(command)
+    return command
+
+
 @main.command()
 @click.argument("spec", type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(), help="Result file to check "
-              "(overrides the spec's `output`).")
-def validate(spec: Path, output: str | None):
-    """Check SPEC, and where its result would go, without computing or writing anything."""
-    s = _load(spec)
-    out = _output_path(spec, s, output)
-    _refuse_destroying_spec(out, spec)
-    _refuse_replacing_calibration(s, out)
-    settings, _ = _accuracy_settings(s, spec, quiet=True)
+@_run_options
+def validate(spec: Path, output: str | None, overwrite: bool, jobs: int, yes: bool, executor: str,
+             scheduler: str | None, resume: bool):
+    """Check SPEC, and where its result would go, without computing or writing anything: every refusal
+    `fsweep run` with the same options would give, and the settings `accuracy:` chooses."""
+    plan = _plan(spec, output, overwrite, resume, jobs, executor, scheduler, yes)
+    s, out = plan.spec, plan.out
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
         f"{escape(spec)}: ok: excitation {s.scene.excitation}, method {s.method}, "
@@ -131,10 +151,8 @@ def validate(spec: Path, output: str | None):
 
     for line in effect_lines(s.scene.excitation, s.scene.effects):
         click.echo(f"  effect {line}")
-    from friction_sweep.batch.estimate import estimate
-
-    cost = estimate(s, settings, jobs=1, executor="serial")
-    click.echo(f"  estimate on one worker: {cost.describe()}")
+    click.echo(f"  settings: {json.dumps(plan.recorded)}")
+    click.echo(f"  estimate: {plan.cost.describe()}")
     if s.physical is not None:
         for line in s.physical.describe(s.scene.excitation):
             click.echo(f"  {line}")
@@ -187,37 +205,60 @@ def _methods_table() -> None:
 
 @main.command()
 @click.argument("spec", type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(), help="Result file (overrides the spec's `output`).")
-@click.option("--overwrite", is_flag=True, help="Replace an existing result (atomically).")
-@click.option("-j", "--jobs", type=click.IntRange(min=1, max=MAX_JOBS), default=1, show_default=True, help="Workers.")
+@_run_options
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
-@click.option("--yes", is_flag=True, help="Run even a huge grid (one estimated to take over 30 min or 4 GiB).")
-@click.option("--executor", type=click.Choice(EXECUTORS), default=DEFAULT_EXECUTOR,
-              show_default=True, help="Where tiles run (dask: a LocalCluster of -j workers, or --scheduler).")
-@click.option("--scheduler", metavar="ADDRESS", help="A Dask scheduler to run on (implies --executor dask).")
-@click.option("--resume", is_flag=True, help="Continue an interrupted run from its finished tiles.")
 @click.option("-v", "--verbose", count=True, help="Log what happens (-vv: more).")
 def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool, yes: bool, executor: str,
         scheduler: str | None, resume: bool, verbose: int):
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
-    from friction_sweep.batch import checkpoint, pipeline
-    from friction_sweep.batch import estimate as cost_model
+    from friction_sweep.batch import checkpoint
     from friction_sweep.storage import atomic
 
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _on_sigterm)
+    plan = _plan(spec, output, overwrite, resume, jobs, executor, scheduler, yes)
+    atomic.remove_stale(plan.out)  # what runs killed while writing this output left, whatever this one does next
+    if not quiet:
+        click.echo(f"estimate: {plan.cost.describe()}", err=True)
+    try:
+        with checkpoint.Lock(plan.out):
+            _run_locked(plan.spec, spec, plan.out, overwrite, resume, jobs, quiet, plan.executor, scheduler,
+                        plan.store, plan.settings, plan.extra)
+    except (checkpoint.Busy, checkpoint.Mismatch) as err:
+        fail(str(err))
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """What `run` and `validate` decide before anything is computed."""
+
+    spec: Any
+    out: Path
+    executor: str
+    settings: dict
+    extra: dict
+    recorded: dict  # the method settings the cube will record (what `accuracy:` chose included)
+    cost: Any
+    store: Any
+
+
+def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: int, executor: str,
+          scheduler: str | None, yes: bool) -> _Plan:
+    """Every refusal `run` gives before it takes the output's lock, in run's order; `validate` gives the
+    same (it writes nothing: the checkpoint's state is read, not changed)."""
+    from friction_sweep.batch import checkpoint, pipeline
+    from friction_sweep.batch import estimate as cost_model
+
     if scheduler is not None:  # even "": refused below as no scheduler address, not ignored
         executor = "dask"
-
     s = _load(spec)
     out = _output_path(spec, s, output)
     if resume and overwrite:
         fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
     _refuse_destroying_spec(out, spec)
     _refuse_replacing_calibration(s, out)
-    atomic.remove_stale(out)  # what runs killed while writing this output left, whatever this one does next
     if out.exists() and not overwrite and not resume:
         fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
@@ -228,15 +269,27 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
         fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
               f"pass --yes to run it")
     _check_writable(out)
-    if not quiet:
-        click.echo(f"estimate: {cost.describe()}", err=True)
     store = checkpoint.Checkpoint(out, pipeline.checkpoint_key(s, settings, extra), pipeline.tile_grids(s))
-    try:
-        with checkpoint.Lock(out):
-            _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
-                        extra)
-    except (checkpoint.Busy, checkpoint.Mismatch) as err:
-        fail(str(err))
+    reason = _checkpoint_refusal(store, out, resume)
+    if reason is not None:
+        fail(reason)
+    return _Plan(s, out, executor, settings, extra, pipeline.recorded_settings(s, settings), cost, store)
+
+
+def _checkpoint_refusal(store, out: Path, resume: bool) -> str | None:
+    """Why the output's checkpoint state forbids this run (None: it does not); reads, never changes it. An
+    empty checkpoint (a run that failed before finishing a tile) forbids nothing: run removes it."""
+    if not store.exists() or (store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir()):
+        if resume and out.exists():
+            return (f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
+                    f"instead of --resume)")
+        return None
+    if not resume:
+        if not store.belongs():
+            return store.foreign()
+        return (f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
+                f"continue it, or clear them with: {store.clear_command}")
+    return None
 
 
 def _accuracy_settings(s, spec: Path, quiet: bool) -> tuple[dict, dict]:
@@ -295,14 +348,9 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
 
     if store.exists() and store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir():
         store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
-    if store.exists() and not resume:
-        if not store.belongs():
-            raise checkpoint.Mismatch(store.foreign())
-        fail(f"an interrupted run left {store.finished()} finished tiles in {store.dir}: pass --resume to "
-              f"continue it, or clear them with: {store.clear_command}")
-    if resume and out.exists() and not store.exists():
-        fail(f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
-              f"instead of --resume)")
+    reason = _checkpoint_refusal(store, out, resume)  # again, now that the lock is held
+    if reason is not None:
+        fail(reason)
     try:
         done, dropped = store.start(resume)
     except checkpoint.SaveFailed as err:
