@@ -139,7 +139,7 @@ def validate(spec: Path, output: str | None, overwrite: bool, jobs: int, yes: bo
              scheduler: str | None, resume: bool):
     """Check SPEC, and where its result would go, without computing or writing anything: every refusal
     `fsweep run` with the same options would give, and the settings `accuracy:` chooses."""
-    plan = _plan(spec, output, overwrite, resume, jobs, executor, scheduler, yes)
+    plan = _plan(spec, output, overwrite, resume, jobs, executor, scheduler, yes, for_run=False)
     s, out = plan.spec, plan.out
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
@@ -213,13 +213,11 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
     from friction_sweep.batch import checkpoint
-    from friction_sweep.storage import atomic
 
     _logging(verbose)
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _on_sigterm)
-    plan = _plan(spec, output, overwrite, resume, jobs, executor, scheduler, yes)
-    atomic.remove_stale(plan.out)  # what runs killed while writing this output left, whatever this one does next
+    plan = _plan(spec, output, overwrite, resume, jobs, executor, scheduler, yes, for_run=True)
     if not quiet:
         click.echo(f"estimate: {plan.cost.describe()}", err=True)
     try:
@@ -245,9 +243,11 @@ class _Plan:
 
 
 def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: int, executor: str,
-          scheduler: str | None, yes: bool) -> _Plan:
-    """Every refusal `run` gives before it takes the output's lock, in run's order; `validate` gives the
-    same (it writes nothing: the checkpoint's state is read, not changed)."""
+          scheduler: str | None, yes: bool, *, for_run: bool) -> _Plan:
+    """Every refusal `run` gives, in run's order. For run (`for_run`), what runs killed while writing this
+    output left is removed first, whatever this one does next, and the checkpoint's state is left to run,
+    which judges it holding the output's lock (a live run's checkpoint is that run's, not an interrupted
+    one); `validate` writes nothing and reads the checkpoint's state as it is."""
     from friction_sweep.batch import checkpoint, pipeline
     from friction_sweep.batch import estimate as cost_model
 
@@ -259,6 +259,10 @@ def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: i
         fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
     _refuse_destroying_spec(out, spec)
     _refuse_replacing_calibration(s, out)
+    if for_run:
+        from friction_sweep.storage import atomic
+
+        atomic.remove_stale(out)
     if out.exists() and not overwrite and not resume:
         fail(f"{out} exists; pass --overwrite to replace it")
     if executor == "dask":
@@ -270,7 +274,7 @@ def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: i
               f"pass --yes to run it")
     _check_writable(out)
     store = checkpoint.Checkpoint(out, pipeline.checkpoint_key(s, settings, extra), pipeline.tile_grids(s))
-    reason = _checkpoint_refusal(store, out, resume)
+    reason = None if for_run else _checkpoint_refusal(store, out, resume)
     if reason is not None:
         fail(reason)
     return _Plan(s, out, executor, settings, extra, pipeline.recorded_settings(s, settings), cost, store)
@@ -279,6 +283,15 @@ def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: i
 def _checkpoint_refusal(store, out: Path, resume: bool) -> str | None:
     """Why the output's checkpoint state forbids this run (None: it does not); reads, never changes it. An
     empty checkpoint (a run that failed before finishing a tile) forbids nothing: run removes it."""
+    from friction_sweep.batch.checkpoint import Mismatch
+
+    try:
+        return _checkpoint_state(store, out, resume)
+    except Mismatch as err:  # a .partial that is not a checkpoint folder
+        return str(err)
+
+
+def _checkpoint_state(store, out: Path, resume: bool) -> str | None:
     if not store.exists() or (store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir()):
         if resume and out.exists():
             return (f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
@@ -348,7 +361,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
 
     if store.exists() and store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir():
         store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
-    reason = _checkpoint_refusal(store, out, resume)  # again, now that the lock is held
+    reason = _checkpoint_refusal(store, out, resume)
     if reason is not None:
         fail(reason)
     try:

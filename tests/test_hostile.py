@@ -1067,13 +1067,14 @@ def test_the_estimate_counts_tiles_and_workers_honestly():
 @pytest.mark.slow
 def test_sigterm_ends_like_ctrl_c_keeping_finished_tiles(tmp_path):
     code = (
-        "import os, signal, sys\n"
+        "import os, signal, sys, time\n"
         "import friction_sweep.methods.event as e\n"
         "real, n = e.compute_tile, [0]\n"
         "def once(*a, **k):\n"
         "    n[0] += 1\n"
         "    if n[0] > 2:\n"
         "        os.kill(os.getpid(), signal.SIGTERM)\n"
+        "        time.sleep(600)  # the third tile never finishes: the stop must not wait for it\n"
         "    return real(*a, **k)\n"
         "e.compute_tile = once\n"
         "from friction_sweep.cli import main\n"
