@@ -325,8 +325,11 @@ class _Dask(Tiles):
             previous = signal.signal(signal.SIGINT, signal.SIG_IGN) if _main_thread() else None
             try:
                 quiet = logging.INFO if log.isEnabledFor(logging.INFO) else logging.CRITICAL
+                # no dashboard; the scheduler's HTTP server (health and metrics routes) still starts, by
+                # default on port 8787, warning when that port is taken: a free loopback port instead
                 self.cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                                            dashboard_address=None, silence_logs=quiet)
+                                            dashboard_address=None, silence_logs=quiet,
+                                            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"})
             finally:
                 if previous is not None:
                     signal.signal(signal.SIGINT, previous)
