@@ -112,7 +112,8 @@ Effects = Mapping[str, EffectValue]
 EFFECTS: Mapping[str, Effect] = MappingProxyType({
     "viscous_damping": Effect(
         0.0, 1.0, "the damping ratio zeta of the dashpot's force 2 zeta v, v the velocity across it "
-        "(underdamped), 0 without a dashpot; below 1e-6 the rounding of the damped motion at resonance (terms of "
+        f"(underdamped), 0 without a dashpot; below {VISCOUS_DAMPING_FLOOR:g} the rounding of the damped motion at "
+        "resonance (terms of "
         "size 1/(2 zeta) cancel, ~10 eps / zeta of the orbit is left) exceeds 1e-9 and outgrows the damping's own "
         "effect, and below 2e-17 exp(-2 pi zeta) rounds to 1: no double-precision solver sees the dashpot",
         high_open=True, floor=VISCOUS_DAMPING_FLOOR,

@@ -35,8 +35,9 @@ settings: {steps_per_period: 16384}
 output: out.h5
 """
 FSWEEP = "import sys; from friction_sweep.cli import main; sys.exit(main(sys.argv[1:]))"
-#: seconds a stopped run may take to end (it took the rest of the run, 30 s to minutes, before)
-STOP_S = 15.0
+#: seconds a stopped run may take to end: a guard against a run that goes on, not a speed test (it ends in
+#: about a second; before, it took the rest of the run: 20 s to minutes, here ~2 minutes of rk4 a core)
+STOP_S = 30.0
 
 
 def _tiles(d: Path) -> list[Path]:
@@ -114,12 +115,11 @@ def test_a_stop_returns_without_waiting_for_running_tiles(executor, jobs):
     try:
         with executors.execute(_blocking(release), list(range(6)), executor, jobs) as tiles:
             first = next(iter(tiles))
-            start = time.monotonic()
             tiles.stop()
-            took = time.monotonic() - start
-        assert first[0] == 0 and took < 5.0
-        # nothing the interpreter would wait for at exit: the running tiles' threads are daemons
+        # stop() returned while tiles still run (they end only when `release` is set, below): it did not
+        # wait for them; and nothing the interpreter would wait for at exit: their threads are daemons
         running = [t for t in threading.enumerate() if t.name.startswith("fsweep-tile")]
+        assert first[0] == 0 and not release.is_set()
         assert running and all(t.daemon for t in running)
     finally:
         release.set()
