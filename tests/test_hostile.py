@@ -350,6 +350,40 @@ def _bench_notes(d: Path) -> None:
     (d / "notes.png").write_text("my picture")
 
 
+def _partial_holding(*names: str) -> Callable[[Path], None]:
+    """A checkpoint folder holding a user's files `names` (and nothing of fsweep's)."""
+    def setup(d: Path) -> None:
+        for name in names:
+            path = d / ".out.h5.partial" / name
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text("precious")
+    return setup
+
+
+def _kept_in_partial(name: str, top: bool = False) -> Callable[[Path], None]:
+    def check(d: Path) -> None:
+        assert (d / name if top else d / ".out.h5.partial" / name).read_text() == "precious"
+    return check
+
+
+def _partial_link(d: Path) -> None:
+    (d / "victim.txt").write_text("precious")
+    (d / ".out.h5.partial").mkdir()
+    (d / ".out.h5.partial" / "tile-00000.npz").symlink_to(d / "victim.txt")
+
+
+def _partial_stale_temporary(d: Path) -> None:
+    """What a run killed while writing its manifest leaves: a temporary whose writer is gone."""
+    (d / ".out.h5.partial").mkdir()
+    (d / ".out.h5.partial" / ".manifest.json.2147483646-abcdefgh.tmp").write_text("{")
+
+
+def _user_tile_folder(d: Path) -> None:
+    _interrupted(d, EVENT_LONG)
+    (d / ".out.h5.partial" / "tile-00003.npz").mkdir()
+    (d / ".out.h5.partial" / "tile-00003.npz" / "x").write_text("precious")
+
+
 KEEP = ("out.h5", ".out.h5.partial", ".out.h5.lock")  # the default `absent`
 RESUME = ("run", "{spec}", "--resume", "-q")
 RESUMED = {"spec": None, "args": RESUME, "exit": 0, "exist": ("out.h5",), "absent": (".out.h5.partial", ".out.h5.lock"),
@@ -886,6 +920,44 @@ CASES = [
     Case("-j 1024 serial: one worker", args=("run", "{spec}", "--executor", "serial", "-j", "1024"), exit=0,
          words=("with 1 worker(s) (not 1024: --executor serial runs one)",), exist=("out.h5",),
          absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    # ---- issue 28, round 2: files, names and the API
+    # fsweep removes only a checkpoint folder that is provably its own (its names, its manifest, regular files);
+    # anything else in .out.h5.partial is refused (exit 2, named, with the rm -r command) and left as it was
+    Case("a user's file in an empty checkpoint folder", setup=_partial_holding("thesis.tex"),
+         words=("thesis.tex", "did not write", "rm -r"), absent=("out.h5", ".out.h5.lock"),
+         check=_kept_in_partial("thesis.tex")),
+    Case("validate: a user's file in the checkpoint folder", args=("validate", "{spec}"),
+         setup=_partial_holding("thesis.tex"), words=("thesis.tex", "did not write"),
+         absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("thesis.tex")),
+    Case("--overwrite: a user's file in the checkpoint folder", args=("run", "{spec}", "-q", "--overwrite"),
+         setup=_partial_holding("thesis.tex"), words=("thesis.tex",), absent=("out.h5", ".out.h5.lock"),
+         check=_kept_in_partial("thesis.tex")),
+    Case("a user's folder in the checkpoint folder", setup=_partial_holding("chapters/one.tex"),
+         words=("chapters",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("chapters/one.tex")),
+    Case("a user's hidden file in the checkpoint folder", setup=_partial_holding(".notes"),
+         words=(".notes",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial(".notes")),
+    Case("a file named like fsweep's but not its", setup=_partial_holding("tile-1.npz"),
+         words=("tile-1.npz",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("tile-1.npz")),
+    Case("a manifest.json that is not fsweep's", setup=_partial_holding("manifest.json"),
+         words=("manifest.json cannot be read", "rm -r"), absent=("out.h5", ".out.h5.lock"),
+         check=_kept_in_partial("manifest.json")),
+    Case("a manifest.json of JSON not fsweep's", setup=lambda d: ((d / ".out.h5.partial").mkdir(),
+                                                                 (d / ".out.h5.partial/manifest.json").write_text('{"a": 1}')),
+         words=("manifest.json cannot be read",), absent=("out.h5", ".out.h5.lock"),
+         check=lambda d: _same_text(d / ".out.h5.partial/manifest.json", '{"a": 1}')),
+    Case("a link in the checkpoint folder", setup=_partial_link, words=("tile-00000.npz", "did not write"),
+         absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("victim.txt", top=True)),
+    Case("five strangers in the checkpoint folder", setup=_partial_holding("a", "b", "c", "d", "e"),
+         words=("a, b, c and 2 more",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("e")),
+    Case("an empty checkpoint folder is fsweep's to remove", setup=lambda d: (d / ".out.h5.partial").mkdir(),
+         exit=0, exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    Case("a checkpoint of only a killed writer's temporary", setup=_partial_stale_temporary, exit=0,
+         exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    Case("--resume: a user's file among the finished tiles", spec=None, args=RESUME,
+         setup=lambda d: (_interrupted(d, EVENT_LONG), (d / ".out.h5.partial" / "thesis.tex").write_text("precious")),
+         words=("thesis.tex",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("thesis.tex")),
+    Case("--resume: a user's folder named like a tile", spec=None, args=RESUME, setup=_user_tile_folder,
+         words=("tile-00003.npz",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("tile-00003.npz/x")),
 ]
 
 
@@ -895,7 +967,8 @@ SLOW_CASES = {"bad manifest.json", "truncated tile", "checkpoint of another swee
               "resume after the user calibration changed", "a tile of another sweep of the same shape",
               "a tile in another tile's place", "a tile without its proof", "a tile claiming other grid values",
               "a tile cast to float16", "a tile of int64 regimes", "a tile missing phase",
-              "a tile with an extra variable", "a tile with a 1-D transmissibility"}
+              "a tile with an extra variable", "a tile with a 1-D transmissibility",
+              "--resume: a user's file among the finished tiles", "--resume: a user's folder named like a tile"}
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c.id in SLOW_CASES else c for c in CASES],

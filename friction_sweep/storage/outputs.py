@@ -191,9 +191,10 @@ def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], o
     writing (a full disk, a read-only folder) thus changes none of the targets and leaves no staged
     file: the error is re-raised for the command to report. Renames need no space, so the second
     phase fails only in exotic cases (the folder removed meanwhile), which re-raise likewise.
-    Without `overwrite` no existing file is replaced: each staged file is linked to its target,
-    which fails where one appeared meanwhile (Appeared), and the targets already published by this
-    call are removed again, so none or all of them appear.
+    Without `overwrite` no existing file is replaced: each staged file is published with
+    atomic.publish_new (a hard link, or where there are none an exclusive create then a rename), which
+    fails where one appeared meanwhile (Appeared), and the targets already published by this call are
+    removed again, so none or all of them appear.
     """
     staged: list[tuple[Path, Path]] = []
     published: list[Path] = []
@@ -210,7 +211,7 @@ def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], o
                 os.replace(tmp, target)
                 continue
             try:
-                os.link(tmp, target)
+                atomic.publish_new(tmp, target)
             except FileExistsError:
                 raise Appeared(f"{target} appeared while the command ran; nothing was replaced "
                                "(pass --overwrite)") from None
