@@ -647,7 +647,8 @@ def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None, o
     if calibrate and quick:
         fail("--calibrate needs the full benchmark, not --quick")
     # every refusal before the benchmark's seconds to minutes of computing
-    problem = (refuse_special_output(output) or wp.refuse_outputs(output, calibrate, calibration)
+    reason = refuse_special_output(output)
+    problem = ((f"output: {reason}" if reason else None) or wp.refuse_outputs(output, calibrate, calibration)
                or refuse_replacing(wp.output_paths(output, calibrate, calibration), overwrite)
                or missing_figures_extra())
     if problem:
