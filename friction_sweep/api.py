@@ -174,6 +174,8 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
     if len(path) > MAX_DEPTH:
         raise SpecError.single(DICT_SOURCE, f"nested deeper than {MAX_DEPTH} levels (a spec nests 4; does the dict "
                                "hold itself?)", key=format_key(path[:MAX_DEPTH]))
+    if isinstance(value, np.ma.MaskedArray):  # np.asarray would drop the mask: a masked value would be run
+        value = _unmasked(value, path)
     if path in ARRAY_AXES and (array := _number_array(value)) is not None:
         mark = f"fsweep-array-{len(arrays)}-{id(value):x}"
         arrays[mark] = array
@@ -192,6 +194,17 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
     if isinstance(value, (list, tuple)):
         return [_plain(v, (*path, i), arrays, budget) for i, v in enumerate(value)]
     return value
+
+
+def _unmasked(value: np.ma.MaskedArray, path: KeyPath) -> np.ndarray:
+    """A numpy masked array's values, where none is masked; SpecError naming the key where one is (a masked
+    value means "no value here", which fsweep cannot compute, and np.asarray would turn into a number)."""
+    masked = int(np.ma.count_masked(value))
+    if masked:
+        raise SpecError.single(DICT_SOURCE, f"a numpy masked array with {masked} masked value(s) of {value.size}: "
+                               "fsweep computes every value it is given; pass only the values to compute "
+                               "(e.g. values.compressed())", key=format_key(path))
+    return np.ma.getdata(value)
 
 
 def _number_array(value: Any) -> np.ndarray | None:

@@ -231,3 +231,37 @@ def test_an_axis_numpy_reads_as_an_array_is_one():
     first = fs.sweep({**SMALL, "grid": {"frequency_ratio": np.linspace(0.5, 2.0, 30), "force_ratio": [0.1]}})
     again = fs.sweep({**SMALL, "grid": {"frequency_ratio": first["frequency_ratio"], "force_ratio": [0.1]}})
     np.testing.assert_array_equal(again["frequency_ratio"].values, first["frequency_ratio"].values)
+
+
+@pytest.mark.parametrize("where, value, key", [
+    ("frequency_ratio", np.ma.masked_array([0.5, 1.5], [0, 1]), "grid.frequency_ratio"),
+    ("frequency_ratio", np.ma.masked_array(np.linspace(0.5, 2, 40), [0] * 39 + [1]), "grid.frequency_ratio"),
+    ("force_ratio", np.ma.masked_array([0.1, 0.2, 0.3], [1, 0, 0]), "grid.force_ratio"),
+    ("force_ratio", [0.1, np.ma.masked], "grid.force_ratio[1]"),
+    ("force_ratio", np.ma.masked_array(0.1, mask=True), "grid.force_ratio"),
+])
+def test_a_masked_value_is_refused_not_computed(where, value, key):
+    """Issue 28 round 2: np.asarray drops a masked array's mask, so the masked point was computed."""
+    grid = {"frequency_ratio": [0.5, 1.5], "force_ratio": [0.1], where: value}
+    with pytest.raises(fs.SpecError) as err:
+        fs.sweep({**SMALL, "grid": grid})
+    assert f"{key}: a numpy masked array with 1 masked value(s)" in str(err.value), str(err.value)
+
+
+def test_a_masked_array_without_a_masked_value_is_its_values():
+    cube = fs.sweep({**SMALL, "grid": {"frequency_ratio": np.ma.masked_array([0.5, 1.5], [0, 0]),
+                                       "force_ratio": [0.1]}})
+    np.testing.assert_array_equal(cube.frequency_ratio.values, [0.5, 1.5])
+
+
+@pytest.mark.parametrize("axis", [
+    lambda pd, xr: pd.Series([0.5, np.nan]), lambda pd, xr: pd.Series([0.5, None], dtype="Float64"),
+    lambda pd, xr: pd.array([1, None], dtype="Int64"), lambda pd, xr: xr.DataArray([0.5, np.nan]),
+    lambda pd, xr: pd.Index([0.5, np.nan]), lambda pd, xr: xr.DataArray(np.ma.masked_array([0.5, 1.5], [0, 1])),
+])
+def test_pandas_and_xarray_axes_holding_a_missing_value_are_refused(axis):
+    import pandas as pd
+    import xarray as xr
+
+    with pytest.raises(fs.SpecError, match=r"grid\.frequency_ratio\[1\]: must be a finite number"):
+        fs.sweep({**SMALL, "grid": {"frequency_ratio": axis(pd, xr), "force_ratio": [0.1]}})
