@@ -20,6 +20,7 @@ arrays (spec/model.py) and may hold up to the grid's MAX_POINTS values.
 
 from __future__ import annotations
 
+import datetime
 import operator
 import os
 from collections.abc import Mapping
@@ -193,7 +194,19 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
         value = list(value)  # each element a numpy scalar, read as one below
     if isinstance(value, (list, tuple)):
         return [_plain(v, (*path, i), arrays, budget) for i, v in enumerate(value)]
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > _MAX_INTEGER_BITS:
+        raise SpecError.single(DICT_SOURCE, f"{show(value)} is beyond any number a spec holds (a double holds at "
+                               "most 1.8e308)", key=format_key(path))
+    if not isinstance(value, _YAML_SCALARS):
+        raise SpecError.single(DICT_SOURCE, f"cannot be written as YAML (got {show(value)})", key=format_key(path))
     return value
+
+
+#: what YAML holds, as the safe loader reads it back (a spec key refuses the ones it does not take, by name)
+_YAML_SCALARS = (str, bytes, int, float, type(None), datetime.date, set, frozenset)
+#: an integer beyond a double's range holds no number fsweep computes with (and beyond 4300 digits Python
+#: cannot even write it as YAML)
+_MAX_INTEGER_BITS = 1024
 
 
 def _unmasked(value: np.ma.MaskedArray, path: KeyPath) -> np.ndarray:
@@ -246,8 +259,9 @@ def _dump(plain: Any) -> str:
     buffer = io.StringIO()
     try:
         yaml.dump(plain, buffer)
-    except Exception as err:  # a value YAML cannot hold (an object, a function)
-        raise SpecError.single(DICT_SOURCE, f"cannot be written as YAML: {' '.join(str(err).split())}") from None
+    except Exception:  # a key or a set's member YAML cannot hold: _plain refuses every other value, by its key
+        raise SpecError.single(DICT_SOURCE, "cannot be written as YAML (a key, or a member of a set, is no "
+                               "YAML value)") from None
     return buffer.getvalue()
 
 

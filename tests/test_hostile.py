@@ -984,6 +984,18 @@ CASES = [
          words=("error: output: the file name is 253 bytes",)),
     Case("plot -o not UTF-8: output said once", args=("plot", "{d}/out.h5", "-o", "p\udcff.png"), setup=_good_cube,
          words=("error: output: the file name 'p\\udcff.png' is not valid UTF-8",), absent=()),
+    # a value in a message is shown as YAML by one formatter (spec.base.show): never a Python repr of an internal
+    # type, never a huge integer converted to text whole
+    Case("a !!set axis", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "!!set {a}"), words=("(got a set (!!set) {'a'})",)),
+    Case("a !!set method", GOOD.replace("method: theory", "method: !!set {theory}"), words=("a set (!!set)",)),
+    Case("a !!binary setting", _settings("event", "steady_tol: !!binary aGVsbG8="),
+         words=("must be a number (got binary data of 5 bytes (!!binary))",)),
+    Case("a timestamp setting", _settings("event", "steady_tol: 2001-12-14"),
+         words=("must be a number (got a timestamp (2001-12-14))",)),
+    Case("a 101-digit ratio", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "1" + "0" * 100),
+         words=("(got an integer of 101 digits)",)),
+    Case("a 5001-digit integer", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "1" + "0" * 5000),
+         words=("!!int cannot hold '1000", "000...",)),
 ]
 
 
