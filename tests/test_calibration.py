@@ -403,3 +403,29 @@ def test_labels_and_columns(tmp_path, runner):
         parse_calibration_text(drive, source=str(tmp_path / "s.yaml"))
     with pytest.raises(SpecError, match=r"settings\.starts: a calibration computes each point from rest"):
         parse_calibration_text(text + "settings: {starts: 2}\n", source=str(tmp_path / "s.yaml"))
+
+
+RIG_SPEC = RIG.read_text()
+
+
+@pytest.mark.parametrize("broken, words", [
+    ("sampler: {walkers: 32, seed: 0}", "sampler: {walkers: 2, seed: -1}"),
+    ("output: results/calibration/rig", "output: [1]"),
+    ("phase: phase_deg", "phase: phase_deg\n  holdout: []"),
+    ("  file: ../../friction_sweep/data/experiment_phase_fixed_wall.csv", "  file: [1]"),
+], ids=["sampler", "output", "holdout", "file"])
+def test_every_problem_of_a_calibration_spec_at_once(broken, words):
+    """Issue 28 round 2: a prior's unit error was reported only once a problem in sampler: was fixed (pydantic
+    runs the checks across the spec only when every key validates)."""
+    from friction_sweep.spec import SpecError
+
+    text = RIG_SPEC.replace(broken, words).replace("{normal: [19.5721 rad/s, 0.5 rad/s]}",
+                                              "{normal: ['(9**99)**99 rad/s', 1 rad/s]}")
+    text = text.replace("noise_phase: {half_normal: 5 deg}", "noise_phase: {half_normal: 5 kg}")
+    with pytest.raises(SpecError) as err:
+        parse_calibration_text(text, source="rig.yaml")
+    keys = [p.key for p in err.value.errors]
+    top = words.split(":")[0].strip()
+    assert any(key.split(".")[0].split("[")[0] in (top, "data") for key in keys), keys
+    assert "parameters.natural_frequency.normal[0]" in keys and "parameters.noise_phase.half_normal" in keys, keys
+    assert len(keys) == len(set(keys)) and all(p.line is not None for p in err.value.errors), str(err.value)

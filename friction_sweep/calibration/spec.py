@@ -300,11 +300,51 @@ def parse_calibration_text(text: str, source: str = "<string>") -> CalibrationSp
     try:
         spec = CalibrationSpec.model_validate(doc.data)
     except _ValidationError as e:
-        raise SpecError(problems_of(e, doc, _MODELS)) from None
+        raise SpecError(_every_problem(e, doc)) from None
     spec._source_path = source
     spec._text = text
     spec._doc = doc
     return spec
+
+
+#: keys no check across the spec reads (the parameters' priors, their units, the columns they need): a
+#: problem there leaves every other check able to run
+_INDEPENDENT: tuple[KeyPath, ...] = (("sampler",), ("output",), ("data", "file"), ("data", "holdout"))
+
+
+def _every_problem(exc: _ValidationError, doc) -> list:
+    """Every problem of the spec at once. pydantic runs the checks across the spec (the priors among them)
+    only once every key validates, so a problem in a key none of them reads (_INDEPENDENT) would hide theirs
+    until it was fixed: the spec is validated again without those keys, and what that finds is added."""
+    problems = problems_of(exc, doc, _MODELS)
+    failed = {tuple(err["loc"][:len(key)]) for err in exc.errors() for key in _INDEPENDENT}
+    dropped = [key for key in _INDEPENDENT if key in failed]
+    if not dropped:
+        return problems
+    data = _without(doc.data, dropped)
+    try:
+        CalibrationSpec.model_validate(data)
+    except _ValidationError as again:
+        seen = {(p.key, p.reason) for p in problems}
+        problems += [p for p in problems_of(again, doc, _MODELS) if (p.key, p.reason) not in seen]
+    return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
+
+
+def _without(data: dict, keys: list[KeyPath]) -> dict:
+    """A copy of the spec's mapping without `keys` (their defaults apply; a required one, data.file, becomes
+    a placeholder: its own problem is reported already)."""
+    out = dict(data)
+    for key in keys:
+        holder = out
+        for part in key[:-1]:
+            if not isinstance(holder.get(part), dict):
+                break
+            holder[part] = holder = dict(holder[part])
+        else:
+            holder.pop(key[-1], None)
+            if key == ("data", "file"):
+                holder["file"] = "-"
+    return out
 
 
 def data_path(spec: CalibrationSpec) -> Path:
