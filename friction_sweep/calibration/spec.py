@@ -307,26 +307,33 @@ def parse_calibration_text(text: str, source: str = "<string>") -> CalibrationSp
     return spec
 
 
-#: keys no check across the spec reads (the parameters' priors, their units, the columns they need): a
-#: problem there leaves every other check able to run
-_INDEPENDENT: tuple[KeyPath, ...] = (("sampler",), ("output",), ("data", "file"), ("data", "holdout"))
+#: keys whose problem stops the checks across the spec (pydantic runs them only once every key validates),
+#: each with the keys of the problems those checks would find that still hold without it: all of them where
+#: none of the checks reads the key; where some do, the problems of the keys those read are left out (they
+#: would be judged against a default, not the spec: a natural_frequency prior read as a ratio without system)
+_HIDING: dict[KeyPath, tuple[str, ...]] = {
+    ("sampler",): (), ("output",): (), ("data", "file"): (), ("data", "holdout"): (),
+    ("system",): ("parameters.natural_frequency", "parameters.friction_force", "data.columns.drive_frequency",
+                  "data.columns.friction_force"),
+    ("method",): ("settings", "parameters.viscous_damping", "parameters.static_friction_ratio"),
+}
 
 
 def _every_problem(exc: _ValidationError, doc) -> list:
-    """Every problem of the spec at once. pydantic runs the checks across the spec (the priors among them)
-    only once every key validates, so a problem in a key none of them reads (_INDEPENDENT) would hide theirs
-    until it was fixed: the spec is validated again without those keys, and what that finds is added."""
+    """Every problem of the spec at once: where a key of _HIDING failed, the spec is validated again without
+    it (its default applies) and what that finds is added, less what depends on that key."""
     problems = problems_of(exc, doc, _MODELS)
-    failed = {tuple(err["loc"][:len(key)]) for err in exc.errors() for key in _INDEPENDENT}
-    dropped = [key for key in _INDEPENDENT if key in failed]
+    failed = {tuple(err["loc"][:len(key)]) for err in exc.errors() for key in _HIDING}
+    dropped = [key for key in _HIDING if key in failed]
     if not dropped:
         return problems
-    data = _without(doc.data, dropped)
+    unjudged = tuple(prefix for key in dropped for prefix in (".".join(map(str, key)), *_HIDING[key]))
     try:
-        CalibrationSpec.model_validate(data)
+        CalibrationSpec.model_validate(_without(doc.data, dropped))
     except _ValidationError as again:
         seen = {(p.key, p.reason) for p in problems}
-        problems += [p for p in problems_of(again, doc, _MODELS) if (p.key, p.reason) not in seen]
+        problems += [p for p in problems_of(again, doc, _MODELS) if (p.key, p.reason) not in seen
+                     and not any(p.key == u or p.key.startswith((u + ".", u + "[")) for u in unjudged)]
     return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
 
 
