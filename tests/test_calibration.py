@@ -416,7 +416,8 @@ RIG_SPEC = RIG.read_text()
     ("system: {natural_frequency: 19.5721 rad/s, excitation_force: 2.5 N}", "system: {natural_frequency: -1 rad/s, "
                                                                               "excitation_force: 2.5 N}"),
     ("method: event", "method: rk4"),
-], ids=["sampler", "output", "holdout", "file", "system", "method"])
+    ("scene: {excitation: base}", "scene: {excitation: bass}"),
+], ids=["sampler", "output", "holdout", "file", "system", "method", "scene"])
 def test_every_problem_of_a_calibration_spec_at_once(broken, words):
     """Issue 28 round 2: a prior's unit error was reported only once a problem in sampler: was fixed (pydantic
     runs the checks across the spec only when every key validates)."""

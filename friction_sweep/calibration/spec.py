@@ -312,7 +312,7 @@ def parse_calibration_text(text: str, source: str = "<string>") -> CalibrationSp
 #: none of the checks reads the key; where some do, the problems of the keys those read are left out (they
 #: would be judged against a default, not the spec: a natural_frequency prior read as a ratio without system)
 _HIDING: dict[KeyPath, tuple[str, ...]] = {
-    ("sampler",): (), ("output",): (), ("data", "file"): (), ("data", "holdout"): (),
+    ("sampler",): (), ("output",): (), ("data", "file"): (), ("data", "holdout"): (), ("scene",): (),
     ("system",): ("parameters.natural_frequency", "parameters.friction_force", "data.columns.drive_frequency",
                   "data.columns.friction_force"),
     ("method",): ("settings", "parameters.viscous_damping", "parameters.static_friction_ratio"),
@@ -337,9 +337,13 @@ def _every_problem(exc: _ValidationError, doc) -> list:
     return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
 
 
+#: what stands in for a required key that failed, in the second validation
+_PLACEHOLDERS: dict[KeyPath, Any] = {("data", "file"): "-", ("scene",): {"excitation": "base"}}
+
+
 def _without(data: dict, keys: list[KeyPath]) -> dict:
-    """A copy of the spec's mapping without `keys` (their defaults apply; a required one, data.file, becomes
-    a placeholder: its own problem is reported already)."""
+    """A copy of the spec's mapping without `keys` (their defaults apply; a required one becomes a
+    placeholder, _PLACEHOLDERS)."""
     out = dict(data)
     for key in keys:
         holder = out
@@ -349,8 +353,8 @@ def _without(data: dict, keys: list[KeyPath]) -> dict:
             holder[part] = holder = dict(holder[part])
         else:
             holder.pop(key[-1], None)
-            if key == ("data", "file"):
-                holder["file"] = "-"
+            if key in _PLACEHOLDERS:  # required: its own problem is reported already
+                holder[key[-1]] = _PLACEHOLDERS[key]
     return out
 
 
