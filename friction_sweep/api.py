@@ -20,6 +20,7 @@ arrays (spec/model.py) and may hold up to the grid's MAX_POINTS values.
 
 from __future__ import annotations
 
+import datetime
 import operator
 import os
 from collections.abc import Mapping
@@ -174,6 +175,8 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
     if len(path) > MAX_DEPTH:
         raise SpecError.single(DICT_SOURCE, f"nested deeper than {MAX_DEPTH} levels (a spec nests 4; does the dict "
                                "hold itself?)", key=format_key(path[:MAX_DEPTH]))
+    if isinstance(value, np.ma.MaskedArray):  # np.asarray would drop the mask: a masked value would be run
+        value = _unmasked(value, path)
     if path in ARRAY_AXES and (array := _number_array(value)) is not None:
         mark = f"fsweep-array-{len(arrays)}-{id(value):x}"
         arrays[mark] = array
@@ -191,7 +194,30 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
         value = list(value)  # each element a numpy scalar, read as one below
     if isinstance(value, (list, tuple)):
         return [_plain(v, (*path, i), arrays, budget) for i, v in enumerate(value)]
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > _MAX_INTEGER_BITS:
+        raise SpecError.single(DICT_SOURCE, f"{show(value)} is beyond any number a spec holds (a double holds at "
+                               "most 1.8e308)", key=format_key(path))
+    if not isinstance(value, _YAML_SCALARS):
+        raise SpecError.single(DICT_SOURCE, f"cannot be written as YAML (got {show(value)})", key=format_key(path))
     return value
+
+
+#: what YAML holds, as the safe loader reads it back (a spec key refuses the ones it does not take, by name)
+_YAML_SCALARS = (str, bytes, int, float, type(None), datetime.date, set, frozenset)
+#: an integer beyond a double's range holds no number fsweep computes with (and beyond 4300 digits Python
+#: cannot even write it as YAML)
+_MAX_INTEGER_BITS = 1024
+
+
+def _unmasked(value: np.ma.MaskedArray, path: KeyPath) -> np.ndarray:
+    """A numpy masked array's values, where none is masked; SpecError naming the key where one is (a masked
+    value means "no value here", which fsweep cannot compute, and np.asarray would turn into a number)."""
+    masked = int(np.ma.count_masked(value))
+    if masked:
+        raise SpecError.single(DICT_SOURCE, f"a numpy masked array with {masked} masked value(s) of {value.size}: "
+                               "fsweep computes every value it is given; pass only the values to compute "
+                               "(e.g. values.compressed())", key=format_key(path))
+    return np.ma.getdata(value)
 
 
 def _number_array(value: Any) -> np.ndarray | None:
@@ -233,8 +259,9 @@ def _dump(plain: Any) -> str:
     buffer = io.StringIO()
     try:
         yaml.dump(plain, buffer)
-    except Exception as err:  # a value YAML cannot hold (an object, a function)
-        raise SpecError.single(DICT_SOURCE, f"cannot be written as YAML: {' '.join(str(err).split())}") from None
+    except Exception:  # a key or a set's member YAML cannot hold: _plain refuses every other value, by its key
+        raise SpecError.single(DICT_SOURCE, "cannot be written as YAML (a key, or a member of a set, is no "
+                               "YAML value)") from None
     return buffer.getvalue()
 
 

@@ -282,7 +282,8 @@ def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: i
 
 def _checkpoint_refusal(store, out: Path, resume: bool) -> str | None:
     """Why the output's checkpoint state forbids this run (None: it does not); reads, never changes it. An
-    empty checkpoint (a run that failed before finishing a tile) forbids nothing: run removes it."""
+    empty checkpoint (a run that failed before finishing a tile) forbids nothing: run removes it; a folder
+    holding anything fsweep did not write forbids the run, which would otherwise use or remove it."""
     from friction_sweep.batch.checkpoint import Mismatch
 
     try:
@@ -292,6 +293,9 @@ def _checkpoint_refusal(store, out: Path, resume: bool) -> str | None:
 
 
 def _checkpoint_state(store, out: Path, resume: bool) -> str | None:
+    strangers = store.refuse_strangers()  # a folder holding anything not fsweep's is neither used nor removed
+    if strangers is not None:
+        return strangers
     if not store.exists() or (store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir()):
         if resume and out.exists():
             return (f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
@@ -359,11 +363,11 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     from friction_sweep.batch import checkpoint, pipeline
     from friction_sweep.storage import cube
 
-    if store.exists() and store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir():
-        store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
-    reason = _checkpoint_refusal(store, out, resume)
+    reason = _checkpoint_refusal(store, out, resume)  # first: it refuses a folder that is not provably fsweep's
     if reason is not None:
         fail(reason)
+    if store.exists() and store.finished() == 0:
+        store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
     try:
         done, dropped = store.start(resume)
     except checkpoint.SaveFailed as err:
@@ -643,7 +647,8 @@ def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None, o
     if calibrate and quick:
         fail("--calibrate needs the full benchmark, not --quick")
     # every refusal before the benchmark's seconds to minutes of computing
-    problem = (refuse_special_output(output) or wp.refuse_outputs(output, calibrate, calibration)
+    reason = refuse_special_output(output)
+    problem = ((f"output: {reason}" if reason else None) or wp.refuse_outputs(output, calibrate, calibration)
                or refuse_replacing(wp.output_paths(output, calibrate, calibration), overwrite)
                or missing_figures_extra())
     if problem:

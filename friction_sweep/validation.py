@@ -273,7 +273,7 @@ def validate_data(data: Path | None, output_dir: Path, overwrite: bool):
     for target in targets:
         refusal = outputs.refuse_special_output(target)
         if refusal:
-            fail(refusal)
+            fail(f"output: {refusal}")
     refusal = outputs.refuse_replacing(targets, overwrite, inputs=[data_path])
     if refusal:
         fail(refusal)

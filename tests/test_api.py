@@ -3,6 +3,8 @@ validated as the CLI validates, every refusal a FsweepError carrying the CLI's m
 
 from __future__ import annotations
 
+import datetime
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -68,7 +70,8 @@ def test_a_bad_dict_names_its_keys_without_lines():
     with pytest.raises(fs.SpecError) as err:
         fs.sweep({"scene": {"excitation": "base"}, "grid": {"frequency_ratio": [0.5], "force_ratio": [-0.3]}})
     assert str(err.value) == "<dict>: grid.force_ratio[0]: must be >= 0 (got -0.3)"
-    with pytest.raises(fs.SpecError, match="<dict>: cannot be written as YAML"):
+    with pytest.raises(fs.SpecError, match=r"^<dict>: scene\.excitation: cannot be written as YAML \(got a value of "
+                                           r"type object\)$"):
         fs.sweep({"scene": {"excitation": object()}})
 
 
@@ -231,3 +234,63 @@ def test_an_axis_numpy_reads_as_an_array_is_one():
     first = fs.sweep({**SMALL, "grid": {"frequency_ratio": np.linspace(0.5, 2.0, 30), "force_ratio": [0.1]}})
     again = fs.sweep({**SMALL, "grid": {"frequency_ratio": first["frequency_ratio"], "force_ratio": [0.1]}})
     np.testing.assert_array_equal(again["frequency_ratio"].values, first["frequency_ratio"].values)
+
+
+@pytest.mark.parametrize("where, value, key", [
+    ("frequency_ratio", np.ma.masked_array([0.5, 1.5], [0, 1]), "grid.frequency_ratio"),
+    ("frequency_ratio", np.ma.masked_array(np.linspace(0.5, 2, 40), [0] * 39 + [1]), "grid.frequency_ratio"),
+    ("force_ratio", np.ma.masked_array([0.1, 0.2, 0.3], [1, 0, 0]), "grid.force_ratio"),
+    ("force_ratio", [0.1, np.ma.masked], "grid.force_ratio[1]"),
+    ("force_ratio", np.ma.masked_array(0.1, mask=True), "grid.force_ratio"),
+])
+def test_a_masked_value_is_refused_not_computed(where, value, key):
+    """Issue 28 round 2: np.asarray drops a masked array's mask, so the masked point was computed."""
+    grid = {"frequency_ratio": [0.5, 1.5], "force_ratio": [0.1], where: value}
+    with pytest.raises(fs.SpecError) as err:
+        fs.sweep({**SMALL, "grid": grid})
+    assert f"{key}: a numpy masked array with 1 masked value(s)" in str(err.value), str(err.value)
+
+
+def test_a_masked_array_without_a_masked_value_is_its_values():
+    cube = fs.sweep({**SMALL, "grid": {"frequency_ratio": np.ma.masked_array([0.5, 1.5], [0, 0]),
+                                       "force_ratio": [0.1]}})
+    np.testing.assert_array_equal(cube.frequency_ratio.values, [0.5, 1.5])
+
+
+@pytest.mark.parametrize("axis", [
+    lambda pd, xr: pd.Series([0.5, np.nan]), lambda pd, xr: pd.Series([0.5, None], dtype="Float64"),
+    lambda pd, xr: pd.array([1, None], dtype="Int64"), lambda pd, xr: xr.DataArray([0.5, np.nan]),
+    lambda pd, xr: pd.Index([0.5, np.nan]), lambda pd, xr: xr.DataArray(np.ma.masked_array([0.5, 1.5], [0, 1])),
+])
+def test_pandas_and_xarray_axes_holding_a_missing_value_are_refused(axis):
+    import pandas as pd
+    import xarray as xr
+
+    with pytest.raises(fs.SpecError, match=r"grid\.frequency_ratio\[1\]: must be a finite number"):
+        fs.sweep({**SMALL, "grid": {"frequency_ratio": axis(pd, xr), "force_ratio": [0.1]}})
+
+
+@pytest.mark.parametrize("where, value, words", [
+    (("grid", "frequency_ratio"), [10**5000, 1.0], "grid.frequency_ratio[0]: an integer of 5001 digits is beyond"),
+    (("grid", "frequency_ratio"), 10**5000, "grid.frequency_ratio: an integer of 5001 digits is beyond"),
+    (("grid", "frequency_ratio"), {"start": 0.5, "stop": 2, "num": -10**400},
+     "grid.frequency_ratio.num: a negative integer of 401 digits is beyond"),
+    (("grid", "force_ratio"), [10**300], "grid.force_ratio[0]: must be <= 1000000 (got an integer of 301 digits)"),
+    (("method",), {"a"}, "method: must be a method name (got a set (!!set) {'a'})"),
+    (("method",), b"event", "method: must be a method name (got binary data of 5 bytes (!!binary))"),
+    (("method",), 1 + 2j, "method: cannot be written as YAML (got a complex number (1.0, 2.0))"),
+    (("settings",), {"steady_tol": datetime.date(2001, 12, 14)},
+     "settings.steady_tol: must be a number (got a timestamp (2001-12-14))"),
+], ids=["huge-int-in-list", "huge-int", "huge-num", "300-digit-int", "set", "bytes", "complex", "date"])
+def test_a_refusal_shows_values_as_yaml_never_as_python(where, value, words):
+    """Issue 28 round 2: a huge integer gave Python's "Exceeds the limit (4300 digits) for integer string
+    conversion", a set "set(odict_keys(['a']))": a value is shown by spec.base.show only."""
+    spec = {**SMALL, "method": "event", "grid": {"frequency_ratio": [0.5, 1.5], "force_ratio": [0.1]}}
+    if len(where) == 2:
+        spec[where[0]] = {**spec[where[0]], where[1]: value}
+    else:
+        spec[where[0]] = value
+    with pytest.raises(fs.SpecError) as err:
+        fs.sweep(spec)
+    text = str(err.value)
+    assert words in text and "Exceeds" not in text and "odict" not in text and "datetime" not in text, text

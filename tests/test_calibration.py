@@ -403,3 +403,57 @@ def test_labels_and_columns(tmp_path, runner):
         parse_calibration_text(drive, source=str(tmp_path / "s.yaml"))
     with pytest.raises(SpecError, match=r"settings\.starts: a calibration computes each point from rest"):
         parse_calibration_text(text + "settings: {starts: 2}\n", source=str(tmp_path / "s.yaml"))
+
+
+RIG_SPEC = RIG.read_text()
+
+
+@pytest.mark.parametrize("broken, words", [
+    ("sampler: {walkers: 32, seed: 0}", "sampler: {walkers: 2, seed: -1}"),
+    ("output: results/calibration/rig", "output: [1]"),
+    ("phase: phase_deg", "phase: phase_deg\n  holdout: []"),
+    ("  file: ../../friction_sweep/data/experiment_phase_fixed_wall.csv", "  file: [1]"),
+    ("system: {natural_frequency: 19.5721 rad/s, excitation_force: 2.5 N}", "system: {natural_frequency: -1 rad/s, "
+                                                                              "excitation_force: 2.5 N}"),
+    ("method: event", "method: rk4"),
+    ("scene: {excitation: base}", "scene: {excitation: bass}"),
+], ids=["sampler", "output", "holdout", "file", "system", "method", "scene"])
+def test_every_problem_of_a_calibration_spec_at_once(broken, words):
+    """Issue 28 round 2: a prior's unit error was reported only once a problem in sampler: was fixed (pydantic
+    runs the checks across the spec only when every key validates)."""
+    from friction_sweep.spec import SpecError
+
+    text = RIG_SPEC.replace(broken, words).replace("{normal: [19.5721 rad/s, 0.5 rad/s]}",
+                                              "{normal: ['(9**99)**99 rad/s', 1 rad/s]}")
+    text = text.replace("noise_phase: {half_normal: 5 deg}", "noise_phase: {half_normal: 5 kg}")
+    with pytest.raises(SpecError) as err:
+        parse_calibration_text(text, source="rig.yaml")
+    keys = [p.key for p in err.value.errors]
+    top = words.split(":")[0].strip()
+    assert any(key.split(".")[0].split("[")[0] in (top, "data") for key in keys), keys
+    assert "parameters.noise_phase.half_normal" in keys, keys
+    if top != "system":  # without a valid system, a natural frequency's unit is not known: not judged
+        assert "parameters.natural_frequency.normal[0]" in keys, keys
+    assert len(keys) == len(set(keys)) and all(p.line is not None for p in err.value.errors), str(err.value)
+
+
+def test_a_damping_draw_below_the_floor_is_no_dashpot(tmp_path):
+    """Issue 28 round 2: a damping ratio in (0, VISCOUS_DAMPING_FLOOR), which a prior such as half_normal: 0.02
+    draws, was computed as an unbalanced point (no value, zero likelihood): the prior lost its mass near 0. It
+    is now the undamped model, as the README's calibration section says; from the floor up it is a dashpot."""
+    from friction_sweep.catalogue import VISCOUS_DAMPING_FLOOR
+
+    parameters = ("  friction_force: {uniform: [0 N, 2.5 N]}\n  viscous_damping: {half_normal: 0.02}\n"
+                  "  noise_phase: {half_normal: 5 deg}\n")
+    spec = load_calibration_spec(_rig_spec(tmp_path, parameters=parameters))
+    model = ForwardModel(spec, read_observations(spec))
+    assert model.names[-2:] == ("viscous_damping", "noise_phase")
+    forces = [1.4, 1.0, 0.9, 0.6][:model.ndim - 2]
+    zetas = [0.0, 1e-12, VISCOUS_DAMPING_FLOOR / 2, VISCOUS_DAMPING_FLOOR, 0.02]
+    theta = np.array([[*forces, zeta, 1.0] for zeta in zetas])
+    assert [e["viscous_damping"] for e in model.effects(theta)] == [0.0, 0.0, 0.0, VISCOUS_DAMPING_FLOOR, 0.02]
+    phase = model.predict(theta)["phase"]
+    assert np.isfinite(phase[0]).all()
+    np.testing.assert_array_equal(phase[1], phase[0])
+    np.testing.assert_array_equal(phase[2], phase[0])
+    assert np.isfinite(phase[3:]).all() and not np.array_equal(phase[4], phase[0])

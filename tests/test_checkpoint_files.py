@@ -4,6 +4,8 @@ fingerprint covers."""
 
 from __future__ import annotations
 
+import errno
+import os
 import subprocess
 import sys
 import time
@@ -133,3 +135,68 @@ def test_a_resumed_checkpoint_drops_the_tile_a_killed_run_was_writing(tmp_path):
     left.write_bytes(b"half a tile")
     done, dropped = checkpoint.Checkpoint(tmp_path / "out.h5", "key", grids).start(resume=True)
     assert list(done) == [0] and dropped == [] and not left.exists()
+
+
+def test_removing_a_checkpoint_keeps_a_file_that_appeared_in_it(tmp_path):
+    """Issue 28 round 2: a finished run removes its checkpoint entry by entry, never as a tree, so a user's
+    file put into the folder during the run survives (and so does the folder holding it)."""
+    from friction_sweep.batch.checkpoint import Checkpoint
+
+    store = Checkpoint(tmp_path / "out.h5", "k" * 64, [{"frequency_ratio": np.ones(2)}])
+    store.start(resume=False)
+    store.save(0, {"regime": np.zeros(2, np.int8)})
+    (store.dir / "thesis.tex").write_text("precious")
+    store.remove()
+    assert sorted(p.name for p in store.dir.iterdir()) == ["thesis.tex"]
+    (store.dir / "thesis.tex").unlink()
+    store.remove()
+    assert not store.dir.exists()
+
+
+NO_HARD_LINKS = [errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EMLINK, errno.EXDEV]
+
+
+def _without_hard_links(monkeypatch, code: int) -> None:
+    def refuse(*args, **kwargs):
+        raise OSError(code, os.strerror(code))
+    monkeypatch.setattr(os, "link", refuse)
+
+
+@pytest.mark.parametrize("code", NO_HARD_LINKS, ids=errno.errorcode.get)
+def test_without_hard_links_outputs_are_still_published_whole(tmp_path, monkeypatch, code):
+    """Issue 28 round 2: FAT, exFAT, some CIFS/sshfs mounts have no hard links; a command without
+    --overwrite still publishes its files (before: OSError from os.link), and a cube likewise."""
+    _without_hard_links(monkeypatch, code)
+    first, second = tmp_path / "a.csv", tmp_path / "b.md"
+    paths = outputs.write_all([(first, lambda tmp: atomic.write_text(tmp, "one")),
+                               (second, lambda tmp: atomic.write_text(tmp, "two"))], overwrite=False)
+    assert paths == [first, second] and first.read_text() == "one" and second.read_text() == "two"
+    atomic.write_bytes(tmp_path / "c.h5", b"cube", overwrite=False)
+    assert (tmp_path / "c.h5").read_bytes() == b"cube"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "b.md", "c.h5"]
+
+
+@pytest.mark.parametrize("code", NO_HARD_LINKS, ids=errno.errorcode.get)
+def test_without_hard_links_a_file_that_appeared_is_never_replaced(tmp_path, monkeypatch, code):
+    _without_hard_links(monkeypatch, code)
+    first, second = tmp_path / "a.csv", tmp_path / "b.md"
+
+    def appear_meanwhile(tmp: Path) -> None:
+        atomic.write_text(tmp, "ours")
+        second.write_text("theirs")
+
+    with pytest.raises(outputs.Appeared):
+        outputs.write_all([(first, lambda tmp: atomic.write_text(tmp, "ours")), (second, appear_meanwhile)],
+                          overwrite=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.md"] and second.read_text() == "theirs"
+    with pytest.raises(FileExistsError):
+        atomic.write_bytes(second, b"cube", overwrite=False)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.md"] and second.read_text() == "theirs"
+
+
+def test_other_link_errors_are_not_taken_for_a_missing_feature(tmp_path, monkeypatch):
+    """A full disk or an I/O error while publishing is reported, not worked around."""
+    _without_hard_links(monkeypatch, errno.ENOSPC)
+    with pytest.raises(OSError) as caught:
+        atomic.write_bytes(tmp_path / "c.h5", b"cube", overwrite=False)
+    assert caught.value.errno == errno.ENOSPC and list(tmp_path.iterdir()) == []

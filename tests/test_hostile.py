@@ -350,6 +350,40 @@ def _bench_notes(d: Path) -> None:
     (d / "notes.png").write_text("my picture")
 
 
+def _partial_holding(*names: str) -> Callable[[Path], None]:
+    """A checkpoint folder holding a user's files `names` (and nothing of fsweep's)."""
+    def setup(d: Path) -> None:
+        for name in names:
+            path = d / ".out.h5.partial" / name
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text("precious")
+    return setup
+
+
+def _kept_in_partial(name: str, top: bool = False) -> Callable[[Path], None]:
+    def check(d: Path) -> None:
+        assert (d / name if top else d / ".out.h5.partial" / name).read_text() == "precious"
+    return check
+
+
+def _partial_link(d: Path) -> None:
+    (d / "victim.txt").write_text("precious")
+    (d / ".out.h5.partial").mkdir()
+    (d / ".out.h5.partial" / "tile-00000.npz").symlink_to(d / "victim.txt")
+
+
+def _partial_stale_temporary(d: Path) -> None:
+    """What a run killed while writing its manifest leaves: a temporary whose writer is gone."""
+    (d / ".out.h5.partial").mkdir()
+    (d / ".out.h5.partial" / ".manifest.json.2147483646-abcdefgh.tmp").write_text("{")
+
+
+def _user_tile_folder(d: Path) -> None:
+    _interrupted(d, EVENT_LONG)
+    (d / ".out.h5.partial" / "tile-00003.npz").mkdir()
+    (d / ".out.h5.partial" / "tile-00003.npz" / "x").write_text("precious")
+
+
 KEEP = ("out.h5", ".out.h5.partial", ".out.h5.lock")  # the default `absent`
 RESUME = ("run", "{spec}", "--resume", "-q")
 RESUMED = {"spec": None, "args": RESUME, "exit": 0, "exist": ("out.h5",), "absent": (".out.h5.partial", ".out.h5.lock"),
@@ -527,7 +561,7 @@ CASES = [
          setup=lambda d: (d / ".out.h5.lock").write_text(GOOD), words=("is the spec",), absent=("out.h5",),
          check=lambda d: _same_text(d / ".out.h5.lock", GOOD)),
     Case("NUL in the spec's output", GOOD.replace("output: out.h5", 'output: "out\\0.h5"'),
-         words=("control characters",)),
+         words=("control character",)),
     Case("newline in -o", args=("run", "{spec}", "-o", "out\n.h5", "-q"), words=("control character",)),
     Case("-o ending in a slash", args=("run", "{spec}", "-o", "newdir/", "-q"), words=("names a folder",),
          absent=("newdir", "out.h5")),
@@ -886,6 +920,82 @@ CASES = [
     Case("-j 1024 serial: one worker", args=("run", "{spec}", "--executor", "serial", "-j", "1024"), exit=0,
          words=("with 1 worker(s) (not 1024: --executor serial runs one)",), exist=("out.h5",),
          absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    # ---- issue 28, round 2: files, names and the API
+    # fsweep removes only a checkpoint folder that is provably its own (its names, its manifest, regular files);
+    # anything else in .out.h5.partial is refused (exit 2, named, with the rm -r command) and left as it was
+    Case("a user's file in an empty checkpoint folder", setup=_partial_holding("thesis.tex"),
+         words=("thesis.tex", "did not write", "rm -r"), absent=("out.h5", ".out.h5.lock"),
+         check=_kept_in_partial("thesis.tex")),
+    Case("validate: a user's file in the checkpoint folder", args=("validate", "{spec}"),
+         setup=_partial_holding("thesis.tex"), words=("thesis.tex", "did not write"),
+         absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("thesis.tex")),
+    Case("--overwrite: a user's file in the checkpoint folder", args=("run", "{spec}", "-q", "--overwrite"),
+         setup=_partial_holding("thesis.tex"), words=("thesis.tex",), absent=("out.h5", ".out.h5.lock"),
+         check=_kept_in_partial("thesis.tex")),
+    Case("a user's folder in the checkpoint folder", setup=_partial_holding("chapters/one.tex"),
+         words=("chapters",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("chapters/one.tex")),
+    Case("a user's hidden file in the checkpoint folder", setup=_partial_holding(".notes"),
+         words=(".notes",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial(".notes")),
+    Case("a file named like fsweep's but not its", setup=_partial_holding("tile-1.npz"),
+         words=("tile-1.npz",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("tile-1.npz")),
+    Case("a manifest.json that is not fsweep's", setup=_partial_holding("manifest.json"),
+         words=("manifest.json cannot be read", "rm -r"), absent=("out.h5", ".out.h5.lock"),
+         check=_kept_in_partial("manifest.json")),
+    Case("a manifest.json of JSON not fsweep's", setup=lambda d: ((d / ".out.h5.partial").mkdir(),
+                                                                 (d / ".out.h5.partial/manifest.json").write_text('{"a": 1}')),
+         words=("manifest.json cannot be read",), absent=("out.h5", ".out.h5.lock"),
+         check=lambda d: _same_text(d / ".out.h5.partial/manifest.json", '{"a": 1}')),
+    Case("a link in the checkpoint folder", setup=_partial_link, words=("tile-00000.npz", "did not write"),
+         absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("victim.txt", top=True)),
+    Case("five strangers in the checkpoint folder", setup=_partial_holding("a", "b", "c", "d", "e"),
+         words=("a, b, c and 2 more",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("e")),
+    Case("an empty checkpoint folder is fsweep's to remove", setup=lambda d: (d / ".out.h5.partial").mkdir(),
+         exit=0, exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    Case("a checkpoint of only a killed writer's temporary", setup=_partial_stale_temporary, exit=0,
+         exist=("out.h5",), absent=(".out.h5.partial", ".out.h5.lock"), lines=None),
+    Case("--resume: a user's file among the finished tiles", spec=None, args=RESUME,
+         setup=lambda d: (_interrupted(d, EVENT_LONG), (d / ".out.h5.partial" / "thesis.tex").write_text("precious")),
+         words=("thesis.tex",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("thesis.tex")),
+    Case("--resume: a user's folder named like a tile", spec=None, args=RESUME, setup=_user_tile_folder,
+         words=("tile-00003.npz",), absent=("out.h5", ".out.h5.lock"), check=_kept_in_partial("tile-00003.npz/x")),
+    # one rule for every name fsweep checks: UTF-8 without controls, format characters, separators, private-use
+    # characters, noncharacters or unassigned code points; and a refusal says "output:" once
+    Case("output: a noncharacter", GOOD.replace("output: out.h5", 'output: "a\\uFFFEb.h5"'), args=("validate", "{spec}"),
+         words=("noncharacter (U+FFFE)",)),
+    Case("-o U+FFFF", args=("run", "{spec}", "-o", "a\uffff.h5", "-q"), words=("noncharacter (U+FFFF)",)),
+    Case("-o U+FDD0", args=("validate", "{spec}", "-o", "a\ufdd0.h5"), words=("noncharacter (U+FDD0)",)),
+    Case("-o U+10FFFF", args=("run", "{spec}", "-o", "a\U0010ffff.h5", "-q"), words=("noncharacter (U+10FFFF)",)),
+    Case("-o a private-use character", args=("run", "{spec}", "-o", "a\ue000.h5", "-q"),
+         words=("private-use character (U+E000)",)),
+    Case("output: a plane-15 private-use character", GOOD.replace("output: out.h5", 'output: "a\\U000F0000.h5"'),
+         words=("private-use character (U+F0000)",)),
+    Case("-o an unassigned code point", args=("validate", "{spec}", "-o", "a\u0378.h5"),
+         words=("unassigned code point (U+0378)",)),
+    Case("spec named with a private-use character", spec=None, args=("run", "{d}/s\uf8ff.yaml", "-q"),
+         setup=lambda d: (d / "s\uf8ff.yaml").write_text(GOOD), words=("spec", "U+F8FF")),
+    Case("plot -o a noncharacter", args=("plot", "{d}/out.h5", "-o", "p\ufffe.png"), setup=_good_cube,
+         words=("error: output: the file name", "U+FFFE"), absent=()),
+    Case("bench -o a private-use character", spec=None, args=("bench", "--quick", "-o", "{d}/wp\ue000.h5"),
+         words=("error: output: the file name", "U+E000")),
+    Case("validate-data -o a noncharacter", spec=None,
+         args=("validate-data", "--data", "{d}/t.csv", "-o", "{d}/v\ufffe"),
+         setup=lambda d: (d / "t.csv").write_text(_rig_data()), words=("error: output: the file name", "U+FFFE")),
+    Case("a 253-byte name: output said once", args=("run", "{spec}", "-o", "a" * 250 + ".h5", "-q"),
+         words=("error: output: the file name is 253 bytes",)),
+    Case("plot -o not UTF-8: output said once", args=("plot", "{d}/out.h5", "-o", "p\udcff.png"), setup=_good_cube,
+         words=("error: output: the file name 'p\\udcff.png' is not valid UTF-8",), absent=()),
+    # a value in a message is shown as YAML by one formatter (spec.base.show): never a Python repr of an internal
+    # type, never a huge integer converted to text whole
+    Case("a !!set axis", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "!!set {a}"), words=("(got a set (!!set) {'a'})",)),
+    Case("a !!set method", GOOD.replace("method: theory", "method: !!set {theory}"), words=("a set (!!set)",)),
+    Case("a !!binary setting", _settings("event", "steady_tol: !!binary aGVsbG8="),
+         words=("must be a number (got binary data of 5 bytes (!!binary))",)),
+    Case("a timestamp setting", _settings("event", "steady_tol: 2001-12-14"),
+         words=("must be a number (got a timestamp (2001-12-14))",)),
+    Case("a 101-digit ratio", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "1" + "0" * 100),
+         words=("(got an integer of 101 digits)",)),
+    Case("a 5001-digit integer", GOOD.replace("{start: 0.5, stop: 2.0, num: 40}", "1" + "0" * 5000),
+         words=("!!int cannot hold '1000", "000...",)),
 ]
 
 
@@ -895,7 +1005,8 @@ SLOW_CASES = {"bad manifest.json", "truncated tile", "checkpoint of another swee
               "resume after the user calibration changed", "a tile of another sweep of the same shape",
               "a tile in another tile's place", "a tile without its proof", "a tile claiming other grid values",
               "a tile cast to float16", "a tile of int64 regimes", "a tile missing phase",
-              "a tile with an extra variable", "a tile with a 1-D transmissibility"}
+              "a tile with an extra variable", "a tile with a 1-D transmissibility",
+              "--resume: a user's file among the finished tiles", "--resume: a user's folder named like a tile"}
 
 
 @pytest.mark.parametrize("case", [pytest.param(c, marks=pytest.mark.slow) if c.id in SLOW_CASES else c for c in CASES],

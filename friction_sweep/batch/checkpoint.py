@@ -8,6 +8,11 @@ index and its grid values; `fsweep run --resume` reloads the tiles that prove th
 manifest's variables in its dtypes, computes the rest again, and removes the folder once the cube is
 written.
 
+fsweep removes only a checkpoint folder that is provably its own: every entry a regular file of its own
+naming (manifest.json, tile-NNNNN.npz, a temporary `.NAME.PID-XXXXXXXX.tmp` of one of them) or an empty
+folder of such a name, and a manifest, if any, that is fsweep's; and even then it removes those entries
+one by one, never the folder's tree, so a file that appeared meanwhile stays (`strangers`, `remove`).
+
 `.out.h5.lock` is held with flock for the whole run: the kernel releases it when the process ends,
 however it ends; a run that ends normally also removes the file. fsweep writes its process id into
 the lock, and so writes only into a lock it created, or one left by an earlier run (empty, or a
@@ -22,13 +27,14 @@ import fcntl
 import hashlib
 import json
 import os
+import re
 import shlex
-import shutil
 import stat
 from pathlib import Path
 
 import numpy as np
 
+from friction_sweep.printable import escape
 from friction_sweep.storage import atomic
 
 
@@ -62,6 +68,13 @@ def fingerprint(**parts) -> str:
 
 #: the entries of a tile's .npz that prove where it belongs (not variables)
 PROOF = ("fsweep_key", "fsweep_index", "fsweep_frequency_ratio", "fsweep_force_ratio")
+#: the names fsweep gives the entries of a checkpoint folder, and their temporaries (storage.atomic)
+_OWN_NAME = re.compile(r"manifest\.json|tile-\d{5}\.npz")
+_OWN_TEMPORARY = atomic.temporary_pattern(r"manifest\.json|tile-\d{5}\.npz")
+#: a manifest holds a fingerprint, a count and a few variable names: far less than this
+_MANIFEST_BYTES = 1 << 20
+#: strangers a refusal names before it says how many more there are
+_SHOWN = 3
 #: a lock fsweep wrote holds at most a process id
 _LOCK_BYTES = 20
 
@@ -165,6 +178,7 @@ class Checkpoint:
 
     def __init__(self, out: Path, key: str, grids: list[dict[str, np.ndarray]]):
         self.dir = out.parent / f".{out.name}.partial"
+        self.out = out
         self.key = key
         self.grids = grids
         self.n_tiles = len(grids)
@@ -181,19 +195,54 @@ class Checkpoint:
     def finished(self) -> int:
         return len(list(self.dir.glob("tile-*.npz"))) if self.dir.is_dir() else 0
 
+    def strangers(self) -> list[str]:
+        """The entries of the checkpoint folder fsweep did not write (empty: the folder is provably its
+        own, or there is none): a name fsweep never gives, a link, a folder that is not empty, anything not
+        a regular file. Mismatch if the folder cannot be listed."""
+        if not self.dir.is_dir() or self.dir.is_symlink():
+            return []
+        found: list[str] = []
+        try:
+            with os.scandir(self.dir) as entries:
+                for entry in entries:
+                    if not _own_entry(entry):
+                        found.append(entry.name)
+        except OSError as err:
+            raise Mismatch(f"{self.dir} cannot be read ({_why(err)}), so fsweep cannot tell whether it is "
+                           f"its checkpoint; remove it with: {self.clear_command}") from None
+        return sorted(found)
+
+    def refuse_strangers(self) -> str | None:
+        """Why fsweep must neither use nor remove the checkpoint folder (None: it is its own, or absent);
+        Mismatch where its manifest.json is not one fsweep wrote."""
+        found = self.strangers()
+        if not found:
+            if os.path.lexists(self.dir / "manifest.json"):
+                self._manifest()  # Mismatch, saying why, unless it is fsweep's
+            return None
+        shown = ", ".join(escape(name) for name in found[:_SHOWN])
+        more = f" and {len(found) - _SHOWN} more" if len(found) > _SHOWN else ""
+        return (f"{escape(self.dir)}, where fsweep keeps the checkpoint of {escape(self.out)}, holds {shown}{more}, "
+                f"which fsweep did not write; it removes only its own files: move yours out, or remove the "
+                f"folder with: {self.clear_command}")
+
     def _manifest(self) -> dict | None:
         """The manifest on disk (None if there is none; Mismatch if it cannot be read)."""
         if self.dir.is_symlink() or not self.dir.is_dir():
             raise Mismatch(f"{self.dir} is not a folder, so it holds no checkpoint; remove it with: "
                            f"{self.clear_command}")
         try:
-            manifest = json.loads((self.dir / "manifest.json").read_text(encoding="utf-8"))
-            if not isinstance(manifest, dict) or not isinstance(manifest["key"], str):
+            with open(self.dir / "manifest.json", "rb") as fh:
+                text = fh.read(_MANIFEST_BYTES + 1)
+            if len(text) > _MANIFEST_BYTES:
+                raise ValueError("larger than any manifest fsweep writes")
+            manifest = json.loads(text.decode("utf-8"))
+            if not _manifest_shape(manifest):
                 raise TypeError("not a manifest")
             return manifest
         except FileNotFoundError:
             return None  # killed before its manifest was written: it holds nothing of any sweep
-        except (OSError, ValueError, KeyError, TypeError) as err:
+        except (OSError, ValueError, KeyError, TypeError, RecursionError) as err:
             raise Mismatch(f"{self.dir}/manifest.json cannot be read ({_why(err)}), so its tiles cannot be "
                            f"trusted; clear them with: {self.clear_command}") from None
 
@@ -285,15 +334,54 @@ class Checkpoint:
                              f"written") from None
 
     def remove(self) -> None:
-        shutil.rmtree(self.dir, ignore_errors=True)
+        """Remove the checkpoint: fsweep's own entries one by one, then the folder if that left it empty
+        (anything else stays, and so does the folder: never a tree removed wholesale)."""
+        if not self.dir.is_dir() or self.dir.is_symlink():
+            return
+        try:
+            with os.scandir(self.dir) as entries:
+                own = [Path(entry.path) for entry in entries if _own_entry(entry)]
+        except OSError:
+            return
+        for path in own:
+            _discard(path)
+        try:
+            self.dir.rmdir()
+        except OSError:
+            pass  # not empty (a stranger's file appeared during the run), or gone: left as it is
+
+
+def _own_entry(entry: os.DirEntry) -> bool:
+    """Whether a checkpoint folder's entry is fsweep's by name and kind: a regular file (not a link) named
+    as fsweep names them, or an empty folder of such a name (it holds nothing to lose)."""
+    if not (_OWN_NAME.fullmatch(entry.name) or _OWN_TEMPORARY.fullmatch(entry.name)):
+        return False
+    try:
+        if entry.is_symlink():
+            return False
+        if entry.is_file(follow_symlinks=False):
+            return True
+        return entry.is_dir(follow_symlinks=False) and not any(os.scandir(entry.path))
+    except OSError:
+        return False
+
+
+def _manifest_shape(manifest) -> bool:
+    """Whether parsed JSON has the shape of the manifest fsweep writes (_write_manifest)."""
+    return (isinstance(manifest, dict) and isinstance(manifest.get("key"), str)
+            and type(manifest.get("tiles")) is int
+            and set(manifest) <= {"key", "tiles", "variables"})
 
 
 def _discard(path: Path) -> None:
-    """Remove a damaged entry of the checkpoint, whatever it is (a file, a link, a folder)."""
-    if path.is_dir() and not path.is_symlink():
-        shutil.rmtree(path, ignore_errors=True)
-    else:
-        path.unlink(missing_ok=True)
+    """Remove an entry of the checkpoint that is fsweep's (_own_entry): a file, or an empty folder."""
+    try:
+        if path.is_dir() and not path.is_symlink():
+            path.rmdir()  # only ever empty: a folder holding anything is a stranger's, never removed
+        else:
+            path.unlink(missing_ok=True)
+    except OSError:
+        pass
 
 
 def _why(err: BaseException) -> str:

@@ -8,7 +8,10 @@ effects):
     r_i    = r_data,i * f_ref / f_n                 natural_frequency f_n shifts every frequency ratio
     beta_i = beta_s(i)                              friction_ratio per series s, or friction_force_s / F_k
            = c * beta_data,i                        friction_scale c, one factor on the data's ratios
-    effects: viscous_damping, static_friction_ratio (event only; the state reached from rest)
+    effects: viscous_damping, static_friction_ratio (event only; the state reached from rest); a damping
+           ratio drawn between 0 and catalogue.VISCOUS_DAMPING_FLOOR, below what the numerics resolve, is 0:
+           no dashpot (its effect, ~14 zeta of the response, is below the rounding it would bring), so a prior
+           reaching down to 0 keeps its mass there instead of losing it to points refused as unbalanced
 
 Many parameter vectors are evaluated at once (the sampler's walkers): the points of all of them go to one
 kernel call where the effects are shared, else one call per vector; `jobs` threads share the points
@@ -22,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from friction_sweep.catalogue import VISCOUS_DAMPING_FLOOR
 from friction_sweep.spec import grid
 from friction_sweep.theory import den_hartog as dh
 
@@ -117,6 +121,9 @@ class ForwardModel:
         """The scene effects of each parameter vector."""
         theta = np.atleast_2d(theta)
         cols = {name: self.column(theta, name) for name in EFFECT_PARAMETERS}
+        zeta = cols["viscous_damping"]
+        if zeta is not None:  # below the floor: no dashpot (the module's docstring says why)
+            cols["viscous_damping"] = np.where((zeta > 0) & (zeta < VISCOUS_DAMPING_FLOOR), 0.0, zeta)
         return [{name: float(col[i]) for name, col in cols.items() if col is not None} for i in range(theta.shape[0])]
 
     def predict(self, theta: np.ndarray) -> dict[str, np.ndarray]:

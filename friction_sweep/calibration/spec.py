@@ -300,11 +300,62 @@ def parse_calibration_text(text: str, source: str = "<string>") -> CalibrationSp
     try:
         spec = CalibrationSpec.model_validate(doc.data)
     except _ValidationError as e:
-        raise SpecError(problems_of(e, doc, _MODELS)) from None
+        raise SpecError(_every_problem(e, doc)) from None
     spec._source_path = source
     spec._text = text
     spec._doc = doc
     return spec
+
+
+#: keys whose problem stops the checks across the spec (pydantic runs them only once every key validates),
+#: each with the keys of the problems those checks would find that still hold without it: all of them where
+#: none of the checks reads the key; where some do, the problems of the keys those read are left out (they
+#: would be judged against a default, not the spec: a natural_frequency prior read as a ratio without system)
+_HIDING: dict[KeyPath, tuple[str, ...]] = {
+    ("sampler",): (), ("output",): (), ("data", "file"): (), ("data", "holdout"): (), ("scene",): (),
+    ("system",): ("parameters.natural_frequency", "parameters.friction_force", "data.columns.drive_frequency",
+                  "data.columns.friction_force"),
+    ("method",): ("settings", "parameters.viscous_damping", "parameters.static_friction_ratio"),
+}
+
+
+def _every_problem(exc: _ValidationError, doc) -> list:
+    """Every problem of the spec at once: where a key of _HIDING failed, the spec is validated again without
+    it (its default applies) and what that finds is added, less what depends on that key."""
+    problems = problems_of(exc, doc, _MODELS)
+    failed = {tuple(err["loc"][:len(key)]) for err in exc.errors() for key in _HIDING}
+    dropped = [key for key in _HIDING if key in failed]
+    if not dropped:
+        return problems
+    unjudged = tuple(prefix for key in dropped for prefix in (".".join(map(str, key)), *_HIDING[key]))
+    try:
+        CalibrationSpec.model_validate(_without(doc.data, dropped))
+    except _ValidationError as again:
+        seen = {(p.key, p.reason) for p in problems}
+        problems += [p for p in problems_of(again, doc, _MODELS) if (p.key, p.reason) not in seen
+                     and not any(p.key == u or p.key.startswith((u + ".", u + "[")) for u in unjudged)]
+    return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
+
+
+#: what stands in for a required key that failed, in the second validation
+_PLACEHOLDERS: dict[KeyPath, Any] = {("data", "file"): "-", ("scene",): {"excitation": "base"}}
+
+
+def _without(data: dict, keys: list[KeyPath]) -> dict:
+    """A copy of the spec's mapping without `keys` (their defaults apply; a required one becomes a
+    placeholder, _PLACEHOLDERS)."""
+    out = dict(data)
+    for key in keys:
+        holder = out
+        for part in key[:-1]:
+            if not isinstance(holder.get(part), dict):
+                break
+            holder[part] = holder = dict(holder[part])
+        else:
+            holder.pop(key[-1], None)
+            if key in _PLACEHOLDERS:  # required: its own problem is reported already
+                holder[key[-1]] = _PLACEHOLDERS[key]
+    return out
 
 
 def data_path(spec: CalibrationSpec) -> Path:

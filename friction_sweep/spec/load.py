@@ -13,6 +13,7 @@ from ruamel.yaml.constructor import ConstructorError, DuplicateKeyError, RoundTr
 from ruamel.yaml.error import MarkedYAMLError, YAMLError
 from ruamel.yaml.nodes import MappingNode, ScalarNode, SequenceNode
 
+from .base import show
 from .errors import SpecError
 
 KeyPath = tuple[str | int, ...]
@@ -101,7 +102,7 @@ class _LocatedConstructor(RoundTripConstructor):
             raise
         except Exception:
             value = node.value if isinstance(node, ScalarNode) else "..."
-            raise ConstructorError(None, None, f"{short_tag(str(node.tag))} cannot hold {value!r}",
+            raise ConstructorError(None, None, f"{short_tag(str(node.tag))} cannot hold {show(value)}",
                                    node.start_mark) from None
 
 

@@ -34,6 +34,7 @@ from friction_sweep.catalogue import (
     able,
     number_text,
 )
+from friction_sweep.storage.outputs import name_problem
 
 from . import grid as g
 from .base import Model as _Model
@@ -454,8 +455,9 @@ class Spec(_Sourced):
     def _output_path(cls, v: Any) -> Any:
         if v is not None and (not isinstance(v, str) or not v.strip()):
             raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
-        if isinstance(v, str) and any(ord(ch) < 32 for ch in v):
-            raise _error("output_path", f"must not hold control characters such as NUL or newline (got {show(v)})")
+        problem = name_problem(v) if isinstance(v, str) else None
+        if problem is not None:  # the one rule for names (storage.outputs), said as the spec is read
+            raise _error("output_path", f"{show(v)} {problem}")
         if isinstance(v, str) and v.endswith("/"):
             raise _error("output_path", f"names a folder: name the file to write (got {show(v)})")
         return v

@@ -81,7 +81,7 @@ def _reason(err: ErrorDetails, path: KeyPath, models: dict[KeyPath, type[BaseMod
         return f"required key {show(path[-1])} is missing"
     if kind in ("float_type", "float_parsing"):
         if isinstance(value, int) and not isinstance(value, bool):  # beyond a double's range
-            return f"is too large: an integer of {len(str(abs(value)))} digits (a number holds at most about 1.8e308)"
+            return f"is too large: {show(value)} (a number holds at most about 1.8e308)"
         if isinstance(value, bool):
             return f"must be a number, not a boolean{got}"
         if isinstance(value, str):

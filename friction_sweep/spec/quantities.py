@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .base import show
 from .expression import ExpressionError, evaluate
 
 
@@ -86,15 +87,15 @@ def to_si(value: Any, kind: Kind) -> float:
     """`value` (a string such as "40 kN/m"; a bare number only for a dimensionless kind) as a float in the
     kind's SI unit. QuantityError says why it cannot be; zero and negative values are the caller's to judge."""
     if isinstance(value, bool) or not isinstance(value, (str, int, float)):
-        raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {value!r})")
+        raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {show(value)})")
     if not isinstance(value, str):
         if kind is RATIO or kind is ANGLE:
             try:
                 x = float(value)
             except OverflowError:  # an integer of hundreds of digits
-                raise QuantityError(f"must be finite (got an integer of {len(str(abs(value)))} digits)") from None
-            return _finite(x, str(value), kind)
-        raise QuantityError(f"must be {kind.name} with its unit, such as '{kind.example}' (got {value!r}: "
+                raise QuantityError(f"must be finite (got {show(value)})") from None
+            return _finite(x, show(value), kind)
+        raise QuantityError(f"must be {kind.name} with its unit, such as '{kind.example}' (got {show(value)}: "
                             "a number without a unit)")
     if len(value) > MAX_TEXT:
         raise QuantityError(f"must be {kind.name} such as '{kind.example}': a number and a unit in at most "
@@ -109,7 +110,7 @@ def to_si(value: Any, kind: Kind) -> float:
         quantity = quantity.magnitude * ureg.standard_gravity
     if kind is ANGLE:  # pint's angles are dimensionless: an angle is one whose units hold the radian
         if not quantity.dimensionless or "radian" not in dict(quantity.to_root_units().unit_items()):
-            raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {value!r})")
+            raise QuantityError(f"must be {kind.name} such as '{kind.example}' (got {show(value)})")
         return _finite(float(quantity.to("degree").magnitude), value, kind)
     if kind is RATIO:
         if not quantity.dimensionless:

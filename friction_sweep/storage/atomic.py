@@ -15,6 +15,7 @@ A kill -9 leaves the temporary file behind. Its name carries the writer's proces
 
 from __future__ import annotations
 
+import errno
 import os
 import re
 import tempfile
@@ -60,13 +61,44 @@ def write(path: str | os.PathLike[str], writer: Writer, *, overwrite: bool = Tru
         if overwrite:
             os.replace(tmp, path)
         else:
-            os.link(tmp, path)
-            tmp.unlink()
+            publish_new(tmp, path)
         fsync_folder(path.parent)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+#: what os.link raises where a file system has no hard links (FAT, exFAT, some CIFS and sshfs mounts)
+_NO_HARD_LINKS = frozenset({errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EMLINK, errno.EXDEV, errno.ENOSYS})
+
+
+def publish_new(tmp: Path, target: Path) -> None:
+    """Move the finished file `tmp` to `target`, never replacing a file there (FileExistsError, `tmp` kept
+    for the caller to remove). A hard link does it in one step; where the file system has none, the name
+    is claimed by an exclusive create (O_EXCL fails on any file there, even one that appeared a moment
+    ago) and `tmp` renamed over that empty claim, which is ours alone (a reader may see it empty first)."""
+    try:
+        os.link(tmp, target)
+    except OSError as err:
+        if err.errno not in _NO_HARD_LINKS:
+            raise
+    else:
+        tmp.unlink()
+        return
+    fd = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o600)
+    claim = os.fstat(fd)
+    os.close(fd)
+    try:
+        os.replace(tmp, target)
+    except BaseException:
+        try:  # our empty claim, unless something replaced it meanwhile
+            here = os.stat(target, follow_symlinks=False)
+            if (here.st_dev, here.st_ino) == (claim.st_dev, claim.st_ino):
+                os.unlink(target)
+        except OSError:
+            pass
+        raise
 
 
 def temporary_prefix(path: Path, tag: str = "") -> str:
@@ -78,6 +110,11 @@ def temporary_prefix(path: Path, tag: str = "") -> str:
 #: the temporaries of a target NAME: `.NAME.PID-XXXXXXXX.tmp` (mkstemp's 8 random characters) or a
 #: staged copy `.NAME.PID-staged.tmp`, and the temporary of a staged copy, `..NAME.PID-staged.tmp.PID-XXXXXXXX.tmp`
 _TEMPORARY = r"\.\.?{name}\.(\d+)-(?:staged|[a-z0-9_]{{8}})(?:\.tmp\.\d+-[a-z0-9_]{{8}})?\.tmp"
+
+
+def temporary_pattern(name: str) -> re.Pattern[str]:
+    """The names of the temporaries of targets whose names match the regular expression `name`."""
+    return re.compile(_TEMPORARY.format(name=f"(?:{name})"))
 
 
 def remove_stale(path: str | os.PathLike[str]) -> list[Path]:
@@ -93,7 +130,7 @@ def remove_stale_in(folder: str | os.PathLike[str]) -> list[Path]:
 
 
 def _remove_stale(folder: Path, name: str) -> list[Path]:
-    pattern = re.compile(_TEMPORARY.format(name=name))
+    pattern = temporary_pattern(name)
     removed: list[Path] = []
     try:
         names = os.listdir(folder)

@@ -44,24 +44,41 @@ MAX_NAME_BYTES = NAME_MAX - HIDDEN_NAME_EXTRA
 _CONTROL_CATEGORIES = ("Cc", "Cf", "Zl", "Zp")
 
 
-def refuse_name(text: str, what: str = "name") -> str | None:
-    """Why `text` cannot be a file name fsweep records and writes (None if it can): bytes that are not
-    UTF-8 (a surrogate, as Python decodes them) or a control or format character. Shared by every
-    command, and by `validate` and `run` for the spec's own path, before anything is computed."""
+def name_problem(text: str) -> str | None:
+    """What makes `text` no name fsweep writes or records (None: nothing), as the end of a sentence whose
+    subject is the name: bytes that are not UTF-8 (a surrogate, as Python decodes them), a control, format
+    or separator character, a private-use character (U+E000..U+F8FF, planes 15 and 16: it means what some
+    program chose), a noncharacter (U+FDD0..U+FDEF, U+xFFFE, U+xFFFF) or an unassigned code point: none is
+    text another program shows for sure as the same name. The one rule for every name fsweep checks."""
     try:
         text.encode("utf-8")
     except UnicodeEncodeError:
-        return (f"{what} {ascii(text)} is not valid UTF-8 (undecodable bytes, or a lone surrogate): "
-                "rename it")
-    bad = next((ch for ch in text if unicodedata.category(ch) in _CONTROL_CATEGORIES), None)
-    if bad is not None:
-        return (f"{what} {ascii(text)} holds a control character (U+{ord(bad):04X}, "
-                f"{unicodedata.name(bad, 'a control')}): name a file without one")
+        return "is not valid UTF-8 (undecodable bytes, or a lone surrogate)"
+    for ch in text:
+        category, n = unicodedata.category(ch), ord(ch)
+        if category in _CONTROL_CATEGORIES:
+            return f"holds a control character (U+{n:04X}, {unicodedata.name(ch, 'a control')})"
+        if category == "Co":
+            return f"holds a private-use character (U+{n:04X})"
+        if category == "Cn":
+            what = "a noncharacter" if 0xFDD0 <= n <= 0xFDEF or n & 0xFFFE == 0xFFFE else "an unassigned code point"
+            return f"holds {what} (U+{n:04X})"
     return None
 
 
+def refuse_name(text: str, what: str = "name") -> str | None:
+    """Why `text` cannot be a file name fsweep records and writes (None if it can): name_problem, said of
+    `what` (the spec, the data, the file name). Shared by every command, and by `validate` and `run` for the
+    spec's own path, before anything is computed."""
+    problem = name_problem(text)
+    if problem is None:
+        return None
+    return f"{what} {ascii(text)} {problem}: rename it"
+
+
 def refuse_special_output(path: str | os.PathLike[str]) -> str | None:
-    """Why `path` must not be written as an output file, or None when it may be.
+    """Why `path` must not be written as an output file, or None when it may be; said without a prefix
+    (the caller adds "output: ", or the option that named it).
 
     May be: a path that does not exist yet (its folders are created when written), or an existing
     regular file (replaced atomically). Refused: a symlink (even to a regular file: fsweep never
@@ -69,14 +86,14 @@ def refuse_special_output(path: str | os.PathLike[str]) -> str | None:
     one of whose parents exists as something other than a folder.
     """
     text = os.fspath(path)
-    reason = refuse_name(text, "output")
+    reason = refuse_name(text, "the file name")
     if reason is not None:
         return reason
     if text.endswith(os.sep) or not text or os.path.basename(text) in (".", ".."):
         return f"{text!r} names a folder: name the file to write"
     size = len(os.path.basename(text).encode("utf-8"))
     if size > MAX_NAME_BYTES:
-        return (f"output: the file name is {size} bytes long; fsweep takes at most {MAX_NAME_BYTES}, as it "
+        return (f"the file name is {size} bytes long; fsweep takes at most {MAX_NAME_BYTES}, as it "
                 f"writes hidden files beside it whose names are longer (a name has at most {NAME_MAX})")
     path = Path(path)
     try:
@@ -191,9 +208,10 @@ def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], o
     writing (a full disk, a read-only folder) thus changes none of the targets and leaves no staged
     file: the error is re-raised for the command to report. Renames need no space, so the second
     phase fails only in exotic cases (the folder removed meanwhile), which re-raise likewise.
-    Without `overwrite` no existing file is replaced: each staged file is linked to its target,
-    which fails where one appeared meanwhile (Appeared), and the targets already published by this
-    call are removed again, so none or all of them appear.
+    Without `overwrite` no existing file is replaced: each staged file is published with
+    atomic.publish_new (a hard link, or where there are none an exclusive create then a rename), which
+    fails where one appeared meanwhile (Appeared), and the targets already published by this call are
+    removed again, so none or all of them appear.
     """
     staged: list[tuple[Path, Path]] = []
     published: list[Path] = []
@@ -210,7 +228,7 @@ def write_all(writers: Iterable[tuple[str | os.PathLike[str], Callable[[Path], o
                 os.replace(tmp, target)
                 continue
             try:
-                os.link(tmp, target)
+                atomic.publish_new(tmp, target)
             except FileExistsError:
                 raise Appeared(f"{target} appeared while the command ran; nothing was replaced "
                                "(pass --overwrite)") from None
