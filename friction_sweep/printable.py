@@ -1,4 +1,5 @@
-"""Text read from a file (a cube's attributes and names, a path) made safe to print on a terminal.
+"""Text read from a file (a cube's attributes and names, a path) made safe to print on a terminal, and the
+one rule for the characters a file name fsweep writes or records may hold.
 
 A cube is data, and its attribute strings can hold anything: an escape sequence that retitles the
 terminal or hides what follows (OSC, CSI), a carriage return that overwrites the line before it, a
@@ -29,3 +30,30 @@ def _escaped(c: str) -> str:
     if n < 0x100:
         return f"\\x{n:02x}"
     return f"\\u{n:04x}" if n < 0x10000 else f"\\U{n:08x}"
+
+
+#: Unicode categories refused in names: controls (C0, DEL, C1 such as NEL), format characters
+#: (bidirectional overrides, zero-width ones), line and paragraph separators (U+2028, U+2029)
+_CONTROL_CATEGORIES = ("Cc", "Cf", "Zl", "Zp")
+
+
+def name_problem(text: str) -> str | None:
+    """What makes `text` no name fsweep writes or records (None: nothing), as the end of a sentence whose
+    subject is the name: bytes that are not UTF-8 (a surrogate, as Python decodes them), a control, format
+    or separator character, a private-use character (U+E000..U+F8FF, planes 15 and 16: it means what some
+    program chose), a noncharacter (U+FDD0..U+FDEF, U+xFFFE, U+xFFFF) or an unassigned code point: none is
+    text another program shows for sure as the same name. The one rule for every name fsweep checks."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return "is not valid UTF-8 (undecodable bytes, or a lone surrogate)"
+    for ch in text:
+        category, n = unicodedata.category(ch), ord(ch)
+        if category in _CONTROL_CATEGORIES:
+            return f"holds a control character (U+{n:04X}, {unicodedata.name(ch, 'a control')})"
+        if category == "Co":
+            return f"holds a private-use character (U+{n:04X})"
+        if category == "Cn":
+            what = "a noncharacter" if 0xFDD0 <= n <= 0xFDEF or n & 0xFFFE == 0xFFFE else "an unassigned code point"
+            return f"holds {what} (U+{n:04X})"
+    return None

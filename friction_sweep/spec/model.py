@@ -34,7 +34,7 @@ from friction_sweep.catalogue import (
     able,
     number_text,
 )
-from friction_sweep.storage.outputs import name_problem
+from friction_sweep.printable import name_problem
 
 from . import grid as g
 from .base import Model as _Model

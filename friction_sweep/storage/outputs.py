@@ -15,10 +15,10 @@ from __future__ import annotations
 import importlib
 import os
 import stat
-import unicodedata
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from friction_sweep.printable import name_problem
 from friction_sweep.storage import atomic
 
 #: what a non-regular file is, by its st_mode type, in refusals
@@ -38,33 +38,6 @@ FIGURES_EXTRA = "pip install 'friction_sweep[figures]'"
 NAME_MAX = 255
 HIDDEN_NAME_EXTRA = 40
 MAX_NAME_BYTES = NAME_MAX - HIDDEN_NAME_EXTRA
-
-#: Unicode categories refused in names: controls (C0, DEL, C1 such as NEL), format characters
-#: (bidirectional overrides, zero-width ones), line and paragraph separators (U+2028, U+2029)
-_CONTROL_CATEGORIES = ("Cc", "Cf", "Zl", "Zp")
-
-
-def name_problem(text: str) -> str | None:
-    """What makes `text` no name fsweep writes or records (None: nothing), as the end of a sentence whose
-    subject is the name: bytes that are not UTF-8 (a surrogate, as Python decodes them), a control, format
-    or separator character, a private-use character (U+E000..U+F8FF, planes 15 and 16: it means what some
-    program chose), a noncharacter (U+FDD0..U+FDEF, U+xFFFE, U+xFFFF) or an unassigned code point: none is
-    text another program shows for sure as the same name. The one rule for every name fsweep checks."""
-    try:
-        text.encode("utf-8")
-    except UnicodeEncodeError:
-        return "is not valid UTF-8 (undecodable bytes, or a lone surrogate)"
-    for ch in text:
-        category, n = unicodedata.category(ch), ord(ch)
-        if category in _CONTROL_CATEGORIES:
-            return f"holds a control character (U+{n:04X}, {unicodedata.name(ch, 'a control')})"
-        if category == "Co":
-            return f"holds a private-use character (U+{n:04X})"
-        if category == "Cn":
-            what = "a noncharacter" if 0xFDD0 <= n <= 0xFDEF or n & 0xFFFE == 0xFFFE else "an unassigned code point"
-            return f"holds {what} (U+{n:04X})"
-    return None
-
 
 def refuse_name(text: str, what: str = "name") -> str | None:
     """Why `text` cannot be a file name fsweep records and writes (None if it can): name_problem, said of
