@@ -21,7 +21,6 @@ b = beta (force/base) or beta / r^2 (joined) is the friction against the forcing
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import asdict, dataclass, field
 
@@ -31,7 +30,7 @@ import xarray as xr
 from friction_sweep import catalogue, codes, ties
 from friction_sweep.catalogue import EFFECTS, EXCITATIONS, PLACED_KEYS, effect_place, effect_value
 from friction_sweep.codes import Regime, SteadyState
-from friction_sweep.storage import schema
+from friction_sweep.storage import attributes, schema
 from friction_sweep.storage.schema import ACCELERATION_DIMS, cube_dims
 from friction_sweep.theory import den_hartog as dh
 from friction_sweep.theory import energy, scenes
@@ -128,18 +127,13 @@ def _read(ds: xr.Dataset) -> _Cube:
         if name not in ds.coords or tuple(ds[name].dims) not in (expected, (dims[0],)):
             raise CubeError(f"no coordinate {name}")
     excitation = ds.attrs.get("excitation")
-    if excitation not in EXCITATIONS:
+    if not isinstance(excitation, str) or excitation not in EXCITATIONS:
         raise CubeError(f"excitation {excitation!r} is not one of {', '.join(EXCITATIONS)}")
-    text = ds.attrs.get("method_settings")
-    try:
-        settings = json.loads(text) if text not in (None, "") else {}
-    except (TypeError, ValueError) as err:
-        raise CubeError(f"method_settings is not JSON: {err}") from None
-    if not isinstance(settings, dict):
-        raise CubeError("method_settings is not a JSON object")
-    effects = settings.get("effects") or {}
-    if not isinstance(effects, dict):
-        raise CubeError("method_settings: effects is not a JSON object")
+    try:  # the one reader of a cube's JSON (bounded; open_cube has audited it, a Dataset from elsewhere not)
+        settings = attributes.method_settings(ds.attrs)
+    except attributes.BadAttribute as err:
+        raise CubeError(str(err)) from None
+    effects = settings["effects"]
     for name, value in effects.items():
         if name in EFFECTS:
             _check_effect(excitation, name, value)

@@ -229,14 +229,27 @@ def test_the_rule_skips_methods_without_a_stated_accuracy():
 
 
 def test_check_reports_the_energy_rule_in_json(tmp_path):
-    ds = _as_main_wrote(_cube("base", [0.999999, 1.0, 1.000001], [0.0], ("transmissibility", "phase", "regime"),
-                              {"viscous_damping": 1e-18}))
+    ds = _cube("base", np.array([0.8]), np.array([0.3]), ("transmissibility", "phase", "regime"),
+               {"viscous_damping": 0.05})
+    ds["phase"].values[0, 0] = -ds["phase"].values[0, 0]  # the forcing's work now negative
     path = tmp_path / "wrong.h5"
     ds.to_netcdf(path, engine="h5netcdf")
     res = CliRunner().invoke(main, ["check", str(path), "--json"])
     assert res.exit_code == 1
     found = {f["rule"]: f for f in json.loads(res.output)}
     assert found["energy"]["status"] == "failed" and found["energy"]["violations"] == 1
+
+
+def test_a_cube_with_a_damping_below_the_floor_is_refused_by_every_reader(tmp_path):
+    """Main's cube of the issue (zeta = 1e-18) records a damping no run writes now (issue 28 round 2: the
+    reader audits the effects against the catalogue): refused, exit 2, before any rule."""
+    ds = _as_main_wrote(_cube("base", [0.999999, 1.0, 1.000001], [0.0], ("transmissibility", "phase", "regime"),
+                              {"viscous_damping": 1e-18}))
+    path = tmp_path / "wrong.h5"
+    ds.to_netcdf(path, engine="h5netcdf")
+    for command in ("check", "info"):
+        res = CliRunner().invoke(main, [command, str(path)])
+        assert res.exit_code == 2 and "effect viscous_damping is not a number in 0 or [1e-06, 1): 1e-18" in res.output
 
 
 @pytest.mark.parametrize("steady_tol", ['"abc"', "true", "-1", "1e300", "null"])

@@ -15,6 +15,9 @@ The valid values live in one place, friction_sweep.storage.schema (`Variable.val
 `Variable.integral`, the flag_values); this module only applies them. It is pure: it prints nothing
 and changes nothing, and returns a list of `Problem`s (empty for a sound cube).
 
+`provenance` checks the global attributes a reader relies on (storage.attributes: excitation, method,
+method_settings and the other JSON attributes) against the catalogue.
+
 These are checks on single values. Whether the values fit together and fit the physics is
 `fsweep check` (friction_sweep.consistency).
 """
@@ -27,7 +30,7 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep.printable import escape
-from friction_sweep.storage import schema
+from friction_sweep.storage import attributes, schema
 
 
 @dataclass(frozen=True)
@@ -62,6 +65,12 @@ class Problem:
 
 #: every coordinate a cube may have: the grid's, and the physical ones of a spec with a system
 _COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS}
+
+
+def provenance(ds: xr.Dataset) -> list[Problem]:
+    """Every problem of the cube's provenance attributes (storage.attributes): an excitation or method outside
+    the catalogue, a JSON attribute too large, too deep or not JSON, method settings not the method's."""
+    return [Problem("provenance", what) for what in attributes.problems(ds.attrs)]
 
 
 def audit(ds: xr.Dataset) -> list[Problem]:
@@ -179,4 +188,4 @@ def _location(p: Problem) -> str:
     return " at " + ", ".join(dims_text) if dims_text else ""
 
 
-__all__ = ["Problem", "audit"]
+__all__ = ["Problem", "provenance", "audit"]
