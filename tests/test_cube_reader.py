@@ -177,3 +177,29 @@ def test_method_settings_outside_the_catalogue_are_refused(folder, settings, wor
     hc.edited(edit)(folder)
     with pytest.raises(cube.UnsoundCube, match=re.escape(words)):
         cube.open_cube(folder / hc.CUBE)
+
+
+def test_a_compressed_bomb_is_refused_before_it_expands(folder):
+    """Finding 4: zlib-compressed constant variables (16 MB each in a file of under 100 kB) made info
+    load hundreds of times the file's size; compressed variables expanding beyond MAX_COMPRESSION times the
+    file's size are refused on its metadata."""
+    from friction_sweep.storage import bounds
+
+    hc.compressed(1000, 2000)(folder)
+    path = folder / hc.CUBE
+    assert path.stat().st_size < 100_000
+    with pytest.raises(fs.FsweepError, match=r"compressed variables expand to 48000000 bytes, \d+ times the file's "
+                       rf"\d+; fsweep reads compressed cubes up to {bounds.MAX_COMPRESSION} times their size"):
+        fs.open_cube(path)
+
+
+def test_an_ordinarily_compressed_cube_still_opens(tmp_path):
+    """What nccopy -d9 makes of a real cube's numbers (a grid's varied floats) stays well inside the bound."""
+    from test_audit import make_cube
+
+    ds = make_cube("theory", r=np.linspace(0.2, 3.0, 100), beta=np.linspace(0.0, 1.2, 30))
+    ds.attrs.update(provenance.attributes(spec_text="", spec_path="s.yaml", excitation="base", method="theory",
+                                          settings={"effects": {}}))
+    ds.to_netcdf(tmp_path / "zipped.h5", engine="h5netcdf",
+                 encoding={name: {"zlib": True, "complevel": 9} for name in ds.data_vars})
+    xr.testing.assert_identical(cube.open_cube(tmp_path / "zipped.h5"), ds)
