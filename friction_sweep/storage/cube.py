@@ -181,6 +181,8 @@ def open_cube(path) -> xr.Dataset:
     if "friction_sweep_version" not in ds.attrs:
         raise FsweepError(f"{shown} is not a friction_sweep result cube (no provenance attributes)")
     problems = audit.provenance(ds) + audit.audit(ds)
+    if not problems:  # pairs of values are compared once each value is sound
+        problems = audit.together(ds)
     if problems:
         raise UnsoundCube(name, problems)
     return ds
