@@ -546,7 +546,7 @@ def check(result: Path, as_json: bool):
     else:
         for f in findings:
             click.echo(_finding_line(f))
-        n = {s: sum(f.status == s for f in findings) for s in ("failed", "ok", "skipped", "info")}
+        n = {s: sum(f.status == s for f in findings) for s in ("failed", "ok", "partial", "skipped", "info")}
         verdict = "FAILED" if n["failed"] else "ok"
         click.echo(f"{escape(result)}: {verdict}: " + ", ".join(f"{v} {k}" for k, v in n.items() if v))
     sys.exit(EXIT_FINDINGS if consistency.failed(findings) else 0)
@@ -619,10 +619,13 @@ def _finding_line(f) -> str:
         return f"{head}{'info':<9}{f.note} ({f.checked} checked)"
     if f.status == "ok":
         return f"{head}{'ok':<9}{f.checked} checked"
+    if f.status == "partial":  # no violation, but not every point judged in full: the note says which and why
+        return f"{head}{'partial':<9}{f.checked} checked; {f.note}"
+    more_note = f" [{f.note}]" if f.note else ""
     shown = " ".join(f"(r={e['r']!r}, beta={e['beta']!r}: {_shown(e['found'])}, "
                      f"expected {_shown(e['expected'])})" for e in f.examples)
     more = " ..." if f.violations > len(f.examples) else ""
-    return f"{head}{'FAILED':<9}{f.violations} of {f.checked}: {shown}{more}"
+    return f"{head}{'FAILED':<9}{f.violations} of {f.checked}: {shown}{more}{more_note}"
 
 
 def _shown(v) -> str:

@@ -21,7 +21,6 @@ b = beta (force/base) or beta / r^2 (joined) is the friction against the forcing
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import asdict, dataclass, field
 
@@ -31,7 +30,7 @@ import xarray as xr
 from friction_sweep import catalogue, codes, ties
 from friction_sweep.catalogue import EFFECTS, EXCITATIONS, PLACED_KEYS, effect_place, effect_value
 from friction_sweep.codes import Regime, SteadyState
-from friction_sweep.storage import schema
+from friction_sweep.storage import attributes, schema
 from friction_sweep.storage.schema import ACCELERATION_DIMS, cube_dims
 from friction_sweep.theory import den_hartog as dh
 from friction_sweep.theory import energy, scenes
@@ -63,6 +62,8 @@ MAX_EXAMPLES = 5
 DIMS = ("force_ratio", "frequency_ratio")
 
 OK, FAILED, SKIPPED, INFO = "ok", "failed", "skipped", "info"
+#: no violation among the points checked, but points the rule could only partly judge (note says which, why)
+PARTIAL = "partial"
 
 
 class CubeError(ValueError):
@@ -73,7 +74,8 @@ class CubeError(ValueError):
 class Finding:
     """The outcome of one rule.
 
-    status: "ok", "failed" (violations > 0), "skipped" (note says why) or "info" (never a failure).
+    status: "ok", "failed" (violations > 0), "partial" (no violation, but `note` names points the rule could
+    not judge in full), "skipped" (note says why) or "info" (never a failure).
     examples: up to MAX_EXAMPLES dicts {r, beta, found, expected}, in order of r then beta.
     """
 
@@ -128,18 +130,13 @@ def _read(ds: xr.Dataset) -> _Cube:
         if name not in ds.coords or tuple(ds[name].dims) not in (expected, (dims[0],)):
             raise CubeError(f"no coordinate {name}")
     excitation = ds.attrs.get("excitation")
-    if excitation not in EXCITATIONS:
+    if not isinstance(excitation, str) or excitation not in EXCITATIONS:
         raise CubeError(f"excitation {excitation!r} is not one of {', '.join(EXCITATIONS)}")
-    text = ds.attrs.get("method_settings")
-    try:
-        settings = json.loads(text) if text not in (None, "") else {}
-    except (TypeError, ValueError) as err:
-        raise CubeError(f"method_settings is not JSON: {err}") from None
-    if not isinstance(settings, dict):
-        raise CubeError("method_settings is not a JSON object")
-    effects = settings.get("effects") or {}
-    if not isinstance(effects, dict):
-        raise CubeError("method_settings: effects is not a JSON object")
+    try:  # the one reader of a cube's JSON (bounded; open_cube has audited it, a Dataset from elsewhere not)
+        settings = attributes.method_settings(ds.attrs)
+    except attributes.BadAttribute as err:
+        raise CubeError(str(err)) from None
+    effects = settings["effects"]
     for name, value in effects.items():
         if name in EFFECTS:
             _check_effect(excitation, name, value)
@@ -457,8 +454,12 @@ def check_energy(cube: _Cube) -> Finding:
 
         W = F + V1      where it is an equality: no damping, or no friction (beta = 0: the motion is
                         linear, a pure harmonic)
-        W >= F + V1     elsewhere (with damping and friction); where the cube lacks friction_energy
-                        and beta > 0, F is taken as 0 (W >= V1: the orbit dissipates)
+        W >= F + V1     elsewhere (with damping and friction)
+
+Where the cube lacks friction_energy (not in the default outputs), F is known only at beta = 0 and at stuck
+points (F = 0): there the balance is checked in full; elsewhere only its necessary part W >= V1 (a violation is
+a failure, passing proves little: at zeta = 0 it is W >= 0), so the rule's status is `partial` and its
+note counts those points and says to add friction_energy to the outputs.
 
     to within theory.energy's slack, SAFETY x closure x Z^2 + RTOL x (|W| + F + V1) (10 and 1e-9). The
     first term is what the method's acceptance allows: a measured period that starts at x and ends within
@@ -485,7 +486,7 @@ def check_energy(cube: _Cube) -> Finding:
             sel &= why != SteadyState.APERIODIC
         W, V1, Q = energy_terms(cube, np.where(sel, T, 0.0), np.where(sel, phase, 0.0))
         stored = cube.get("friction_energy")
-        frictionless = cube.B == 0.0
+        frictionless = (cube.B == 0.0) | (reg == Regime.STUCK)  # no friction, or no sliding: F = 0
         F = np.where(frictionless, 0.0, stored if stored is not None else np.nan)
         known = np.isfinite(F)
         equality = known & (frictionless | (cube.zeta == 0.0))
@@ -502,7 +503,14 @@ def check_energy(cube: _Cube) -> Finding:
     tally.add(bad, lambda j, i: f"W - F - V1 = {residual[j, i]:.6g} (W {W[j, i]:.6g}, F {F[j, i]:.6g}, "
               f"V1 {V1[j, i]:.6g})",
               lambda j, i: f"{'|W - F - V1|' if equality[j, i] else '-(W - F - V1)'} <= {tol[j, i]:.3g}")
-    return tally.finding(cube, rule, np.count_nonzero(sel))
+    finding = tally.finding(cube, rule, np.count_nonzero(sel))
+    partly = int(np.count_nonzero(sel & ~known))
+    if partly:
+        finding.note = (f"{partly} of {finding.checked} points (beta > 0, moving) checked only for W >= V1: without "
+                        "friction_energy the friction's share is unknown (add friction_energy to outputs)")
+        if finding.status == OK:
+            finding.status = PARTIAL
+    return finding
 
 
 def check_family(cube: _Cube) -> Finding:

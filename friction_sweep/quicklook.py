@@ -24,7 +24,6 @@ pyplot state, no display); `save` writes one as PNG atomically.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from collections.abc import Sequence
@@ -262,11 +261,16 @@ def _wrapped(label: str, width: int = 42) -> str:
 
 
 def _effects(ds: xr.Dataset) -> dict[str, float]:
-    """The scene effects the cube records (its method_settings' `effects`; none if unreadable)."""
+    """The scene effects the cube records, as ratios (its method_settings' `effects`, read by the one bounded
+    reader, storage.attributes; none if unreadable: open_cube refuses such a cube, a Dataset from elsewhere
+    is drawn without them)."""
+    from friction_sweep.catalogue import EFFECTS, effect_value
+    from friction_sweep.storage import attributes
+
     try:
-        effects = json.loads(str(ds.attrs.get("method_settings", "{}"))).get("effects", {})
-        return {str(k): float(v) for k, v in effects.items()}
-    except (TypeError, ValueError, AttributeError):
+        effects = attributes.method_settings(ds.attrs)["effects"]
+        return {name: effect_value(effects, name) for name in effects if name in EFFECTS}
+    except (attributes.BadAttribute, TypeError, ValueError, KeyError):
         return {}
 
 

@@ -286,3 +286,36 @@ def test_info_refuses_a_corrupted_cube(tmp_path, static):
     res = CliRunner().invoke(main, ["info", str(path)])
     assert res.exit_code == 2
     assert "regime: 1 of 9 values are not valid regime codes (e.g. 93 at frequency_ratio=0.5" in res.output
+
+
+# ---- issue 28, round 2: cube readers and check ------------------------------------------------------------
+
+@pytest.mark.parametrize("method, excitation, effects", [
+    ("theory", "force", None), ("theory", "base", None), ("theory", "joined", None),
+    ("event", "base", None), ("event", "joined", {"static_friction_ratio": 1.5}),
+    ("event", "force", {"viscous_damping": 0.05, "contact_stiffness": 100.0}),
+    ("rk4", "base", {"static_friction_ratio": 1.5}), ("auto", "joined", None),
+])
+def test_pairs_of_values_every_method_writes_pass(method, excitation, effects):
+    """The pair rules hold for every method's cube (a transmissibility reaches 1.07 x the peak: a first
+    harmonic may exceed the peak, never 4/pi of it)."""
+    r = np.round(np.linspace(0.3, 2.5, 12), 12)
+    ds = make_cube(method, excitation, effects=effects, r=np.union1d(r, [1.0]), beta=np.array([0.0, 0.2, 0.7, 1.3]))
+    ds.attrs["method"] = method
+    assert audit.audit(ds) == [] and audit.together(ds) == []
+
+
+@pytest.mark.parametrize("method, name, index, x, words", [
+    ("event", "transmissibility", (1, 0), np.nan, "transmissibility: 1 of 9 values are NaN at a settled regime"),
+    ("theory", "transmissibility", (0, 0), 50.0, "transmissibility: 1 of 9 values exceed 4/pi times "
+                                                  "peak_transmissibility"),
+    ("event", "peak_transmissibility", (1, 2), 0.01, "exceed 4/pi times peak_transmissibility"),
+], ids=["settled NaN", "T above the peak", "peak below T"])
+def test_impossible_pairs_are_reported(method, name, index, x, words):
+    ds = make_cube(method)
+    ds.attrs["method"] = method
+    assert audit.together(ds) == []
+    ds[name].values[index] = x
+    assert audit.audit(ds) == []  # each value alone is in range
+    problems = [str(p) for p in audit.together(ds)]
+    assert len(problems) == 1 and words in problems[0], problems

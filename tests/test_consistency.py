@@ -115,7 +115,9 @@ def test_json_parses_and_lists_every_rule(theory_cubes):
 ])
 def test_resonance_fault_is_caught(theory_cubes, tmp_path, beta, regime, expected):
     ds = cube.open_cube(theory_cubes["base"])
-    path = planted(ds, tmp_path, regime=[(1.0, beta, regime)], transmissibility=[(1.0, beta, 1e15)])
+    # the peak planted with the amplitude: a transmissibility above 4/pi x the peak is refused by the reader
+    path = planted(ds, tmp_path, regime=[(1.0, beta, regime)], transmissibility=[(1.0, beta, 1e15)],
+                   peak_transmissibility=[(1.0, beta, 1e15)])
     code, found = findings(path)
     assert code == 1
     res = found["resonance"]
@@ -140,7 +142,8 @@ def test_bound_fault_is_caught(theory_cubes, tmp_path):
     ds = cube.open_cube(theory_cubes["base"])
     # bound at r = 2, beta = 0.3: (1 + 1.2/pi) / 3 = 0.46066...
     bound = (1 + 4 / np.pi * 0.3) / 3
-    path = planted(ds, tmp_path, transmissibility=[(2.0, 0.3, 1.01 * bound)])
+    path = planted(ds, tmp_path, transmissibility=[(2.0, 0.3, 1.01 * bound)],
+                   peak_transmissibility=[(2.0, 0.3, 1.01 * bound)])
     code, found = findings(path)
     assert code == 1
     f = found["bound"]

@@ -216,7 +216,7 @@ def test_negative_dissipation_fails_where_friction_energy_is_not_stored():
     energy out of the forcing it is driven by is no steady state."""
     ds = _cube("base", np.array([0.8]), np.array([0.3]), ("transmissibility", "phase", "regime"),
                {"viscous_damping": 0.05})
-    assert _energy(ds).status == consistency.OK
+    assert _energy(ds).status == consistency.PARTIAL  # beta > 0: only W >= V1 is known
     ds["phase"].values[0, 0] = -ds["phase"].values[0, 0]
     assert _energy(ds).status == consistency.FAILED
 
@@ -229,14 +229,27 @@ def test_the_rule_skips_methods_without_a_stated_accuracy():
 
 
 def test_check_reports_the_energy_rule_in_json(tmp_path):
-    ds = _as_main_wrote(_cube("base", [0.999999, 1.0, 1.000001], [0.0], ("transmissibility", "phase", "regime"),
-                              {"viscous_damping": 1e-18}))
+    ds = _cube("base", np.array([0.8]), np.array([0.3]), ("transmissibility", "phase", "regime"),
+               {"viscous_damping": 0.05})
+    ds["phase"].values[0, 0] = -ds["phase"].values[0, 0]  # the forcing's work now negative
     path = tmp_path / "wrong.h5"
     ds.to_netcdf(path, engine="h5netcdf")
     res = CliRunner().invoke(main, ["check", str(path), "--json"])
     assert res.exit_code == 1
     found = {f["rule"]: f for f in json.loads(res.output)}
     assert found["energy"]["status"] == "failed" and found["energy"]["violations"] == 1
+
+
+def test_a_cube_with_a_damping_below_the_floor_is_refused_by_every_reader(tmp_path):
+    """Main's cube of the issue (zeta = 1e-18) records a damping no run writes now (issue 28 round 2: the
+    reader audits the effects against the catalogue): refused, exit 2, before any rule."""
+    ds = _as_main_wrote(_cube("base", [0.999999, 1.0, 1.000001], [0.0], ("transmissibility", "phase", "regime"),
+                              {"viscous_damping": 1e-18}))
+    path = tmp_path / "wrong.h5"
+    ds.to_netcdf(path, engine="h5netcdf")
+    for command in ("check", "info"):
+        res = CliRunner().invoke(main, [command, str(path)])
+        assert res.exit_code == 2 and "effect viscous_damping is not a number in 0 or [1e-06, 1): 1e-18" in res.output
 
 
 @pytest.mark.parametrize("steady_tol", ['"abc"', "true", "-1", "1e300", "null"])
@@ -250,3 +263,37 @@ def test_a_cube_whose_settings_are_not_numbers_is_refused_not_a_traceback(steady
     res = CliRunner().invoke(main, ["check", str(path)])
     assert res.exception is None or isinstance(res.exception, SystemExit), res.output
     assert res.exit_code == 2 and "method_settings: steady_tol is not a number in [1e-13, 1e-06]" in res.output
+
+
+# ---- issue 28, round 2: cube readers and check ------------------------------------------------------------
+
+@pytest.mark.parametrize("zeta", [0.0, 0.05])
+def test_without_friction_energy_the_rule_says_partial_not_ok(zeta):
+    """Finding 3: on a default cube (no friction_energy) a transmissibility 1.5 times too large at beta > 0
+    passed `energy` as "ok" (only W >= V1 was checked there, W >= 0 at zeta = 0). The rule now judges in
+    full only where F is known (beta = 0, stuck) and says `partial` with the count and the cure; with
+    friction_energy the same corruption fails (at zeta = 0, where the balance is an equality)."""
+    effects = {"viscous_damping": zeta} if zeta else {}
+    r, beta = np.array([0.5, 0.8, 1.5]), np.array([0.0, 0.3])
+    plain = _cube("base", r, beta, ("transmissibility", "phase", "regime"), effects)
+    plain["transmissibility"].values[1, 1] *= 1.5
+    finding = _energy(plain)
+    assert finding.status == consistency.PARTIAL and finding.violations == 0
+    assert finding.note.startswith("3 of 6 points") and "add friction_energy to outputs" in finding.note
+    full = _cube("base", r, beta, ("transmissibility", "phase", "regime", "friction_energy"), effects)
+    assert _energy(full).status == consistency.OK
+    full["transmissibility"].values[1, 1] *= 1.5
+    finding = _energy(full)
+    if zeta == 0.0:  # the balance is an equality: the corruption fails (with damping W >= F + V1 may still hold)
+        assert finding.status == consistency.FAILED and finding.violations == 1 and finding.examples[0]["r"] == 0.8
+
+
+def test_check_prints_the_partial_rule_with_its_reason(tmp_path):
+    ds = _cube("base", np.array([0.8]), np.array([0.0, 0.3]), ("transmissibility", "phase", "regime"), {})
+    path = tmp_path / "c.h5"
+    ds.to_netcdf(path, engine="h5netcdf")
+    res = CliRunner().invoke(main, ["check", str(path)])
+    assert res.exit_code == 0, res.output
+    line = next(x for x in res.output.splitlines() if x.startswith("energy"))
+    assert line.split()[1] == "partial" and "1 of 2 points" in line and "add friction_energy to outputs" in line
+    assert "1 partial" in res.output.splitlines()[-1]

@@ -15,7 +15,13 @@ The valid values live in one place, friction_sweep.storage.schema (`Variable.val
 `Variable.integral`, the flag_values); this module only applies them. It is pure: it prints nothing
 and changes nothing, and returns a list of `Problem`s (empty for a sound cube).
 
-These are checks on single values. Whether the values fit together and fit the physics is
+`provenance` checks the global attributes a reader relies on (storage.attributes: excitation, method,
+method_settings and the other JSON attributes) against the catalogue.
+
+`together` checks pairs of a point's variables that every cube fsweep writes keeps: a simulation's settled
+point has a transmissibility, and a transmissibility (a first harmonic) is at most 4/pi times the peak.
+
+These are checks on single values and pairs. Whether the values fit together and fit the physics is
 `fsweep check` (friction_sweep.consistency).
 """
 
@@ -27,7 +33,7 @@ import numpy as np
 import xarray as xr
 
 from friction_sweep.printable import escape
-from friction_sweep.storage import schema
+from friction_sweep.storage import attributes, schema
 
 
 @dataclass(frozen=True)
@@ -62,6 +68,50 @@ class Problem:
 
 #: every coordinate a cube may have: the grid's, and the physical ones of a spec with a system
 _COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS}
+
+
+def provenance(ds: xr.Dataset) -> list[Problem]:
+    """Every problem of the cube's provenance attributes (storage.attributes): an excitation or method outside
+    the catalogue, a JSON attribute too large, too deep or not JSON, method settings not the method's."""
+    return [Problem("provenance", what) for what in attributes.problems(ds.attrs)]
+
+
+#: methods that simulate an orbit: a settled point (stuck, stick_slip, continuous) always has its amplitude
+SIMULATIONS = ("event", "rk4", "auto")
+#: the first harmonic of a signal bounded by M is at most 4M/pi (the square wave's); relative slack for
+#: sampled peaks (paper: the peak of 64 samples a period)
+HARMONIC_SLACK = 1e-3
+
+
+def together(ds: xr.Dataset) -> list[Problem]:
+    """What no run writes between variables of a point, checked where the cube holds them (a cube whose
+    values each lie in range can still pair them impossibly): a simulation's settled point without a
+    transmissibility, and a transmissibility (x's first harmonic) above 4/pi times the peak |x|."""
+    from friction_sweep.codes import Regime
+
+    found: list[Problem] = []
+    simulated = ds.attrs.get("method") in SIMULATIONS
+    for suffix in ("", schema.MOVING_SUFFIX):
+        T, regime, peak = (ds.get(name + suffix) for name in ("transmissibility", "regime", "peak_transmissibility"))
+        if T is None or T.dtype.kind != "f":
+            continue
+        t = np.asarray(T.values, dtype=np.float64)
+        if simulated and regime is not None and regime.shape == T.shape and regime.dtype.kind in "iu":
+            settled = np.isin(regime.values, (Regime.STUCK, Regime.STICK_SLIP, Regime.CONTINUOUS))
+            bad = settled & np.isnan(t)
+            if bad.any():
+                found.append(_problem(ds, T.name, T, t, np.unravel_index(int(np.argmax(bad)), t.shape),
+                                      int(bad.sum()), "are NaN at a settled regime (a simulated orbit has its "
+                                      "amplitude)", False))
+        if peak is not None and peak.shape == T.shape and peak.dtype.kind == "f":
+            p = np.asarray(peak.values, dtype=np.float64)
+            with np.errstate(invalid="ignore"):
+                bad = t > (4.0 / np.pi) * (1.0 + HARMONIC_SLACK) * p
+            if bad.any():
+                found.append(_problem(ds, T.name, T, t, np.unravel_index(int(np.argmax(bad)), t.shape),
+                                      int(bad.sum()), f"exceed 4/pi times {peak.name} (a first harmonic never "
+                                      "does)", False))
+    return found
 
 
 def audit(ds: xr.Dataset) -> list[Problem]:
@@ -179,4 +229,4 @@ def _location(p: Problem) -> str:
     return " at " + ", ".join(dims_text) if dims_text else ""
 
 
-__all__ = ["Problem", "audit"]
+__all__ = ["Problem", "provenance", "together", "audit"]

@@ -15,6 +15,9 @@ variable's values in an external file (a FIFO there blocks the reader forever), 
 * a dataset that declares values it does not store: every variable a run writes is written whole, so
   its allocated storage holds all its bytes (compressed: some bytes); only the netCDF dimension scales
   of dims without a coordinate (history, sample) are left unwritten, as netCDF itself does;
+* compressed (filtered) datasets that would expand to more than MAX_COMPRESSION times the file's size
+  (plus COMPRESSION_SLACK; a 982 kB file expanded to 555 MB): what a reader loads stays a small multiple
+  of the file's size;
 * a dataset or the root with more than MAX_ATTRIBUTES attributes.
 
 Each refusal is a `Refused` with the reason; `check` reads no value, so its cost is the metadata's.
@@ -38,6 +41,14 @@ MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + 8
 #: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
 MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if "history" in v.dims else MAX_POINTS)
                      for v in (*VARIABLES.values(), *COORDS.values(), *PHYSICAL_COORDS.values()))
+#: the most bytes a file's compressed (filtered) variables may expand to per byte of the file. fsweep writes
+#: its cubes uncompressed; one compressed afterwards (nccopy -d9, xarray's zlib) is a few times smaller (a
+#: grid's varied floats barely compress, its flags and constant variables do), so a reader loads at most
+#: this multiple of the file's size (plus COMPRESSION_SLACK); beyond it a file is a decompression bomb
+MAX_COMPRESSION = 64
+#: what compressed variables may hold beyond MAX_COMPRESSION x the file's size (a small cube's chunk headers
+#: and constant variables weigh more than their data)
+COMPRESSION_SLACK = 16 << 20
 #: a variable has a dozen CF attributes, the root a few dozen
 MAX_ATTRIBUTES = 256
 #: how netCDF (and h5netcdf) marks a dimension scale that is not a variable: never written, never loaded
@@ -56,7 +67,7 @@ def check(f) -> None:
     names = list(f)
     if len(names) > MAX_DATASETS:
         raise Refused(f"{len(names)} objects at its root; a cube has at most {MAX_DATASETS}")
-    total = 0
+    total = expanded = 0
     for name in names:
         link = f.get(name, getlink=True)
         if not isinstance(link, h5py.HardLink):
@@ -64,14 +75,22 @@ def check(f) -> None:
         obj = f[name]
         if not isinstance(obj, h5py.Dataset):
             raise Refused(f"{name!r} is a {type(obj).__name__.lower()}; a cube holds variables only")
-        total += _dataset(name, obj)
+        nbytes, filtered = _dataset(name, obj)
+        total += nbytes
+        expanded += filtered
         if total > MAX_CUBE_BYTES:
             raise Refused(f"its variables declare more than {_bytes(MAX_CUBE_BYTES)}, more than the largest "
                           "cube fsweep writes")
+    size = f.id.get_filesize()
+    if expanded > MAX_COMPRESSION * size + COMPRESSION_SLACK:
+        raise Refused(f"its compressed variables expand to {expanded} bytes, {expanded / size:.0f} times the file's "
+                      f"{size}; fsweep reads compressed cubes up to {MAX_COMPRESSION} times their size (decompress "
+                      "it: nccopy -d0)")
 
 
-def _dataset(name: str, ds) -> int:
-    """The bytes the dataset `ds` makes a reader load (Refused where it must not be read)."""
+def _dataset(name: str, ds) -> tuple[int, int]:
+    """The bytes the dataset `ds` makes a reader load, all and those it decompresses (Refused where it must
+    not be read)."""
     if ds.is_virtual:
         raise Refused(f"variable {name!r} is a virtual dataset (its values live in other files)")
     if ds.external:
@@ -92,12 +111,12 @@ def _dataset(name: str, ds) -> int:
     nbytes = values * dtype.itemsize
     stored = ds.id.get_storage_size()
     if _dimension_only(ds):
-        return 0  # h5netcdf reads its shape as a dimension's size, never its values
+        return 0, 0  # h5netcdf reads its shape as a dimension's size, never its values
     filtered = bool(ds.id.get_create_plist().get_nfilters())  # compressed: fewer bytes stored than held
     if nbytes and (stored == 0 or (not filtered and stored < nbytes)):
         raise Refused(f"variable {name!r} declares {values} values but stores {stored} of their {nbytes} bytes; "
                       "a cube stores every value it holds")
-    return nbytes
+    return nbytes, (nbytes if filtered else 0)
 
 
 def _dimension_only(ds) -> bool:
@@ -123,4 +142,5 @@ def _bytes(n: int) -> str:
     return f"{n / 2**30:.1f} GiB"
 
 
-__all__ = ["MAX_VALUES", "MAX_DATASETS", "MAX_CUBE_BYTES", "MAX_ATTRIBUTES", "Refused", "check"]
+__all__ = ["MAX_VALUES", "MAX_DATASETS", "MAX_CUBE_BYTES", "MAX_COMPRESSION", "COMPRESSION_SLACK",
+           "MAX_ATTRIBUTES", "Refused", "check"]

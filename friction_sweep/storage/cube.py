@@ -145,8 +145,8 @@ def open_cube(path) -> xr.Dataset:
     """The result cube at `path`, loaded into memory (the file closed), audited: the one reader of
     `fsweep info`, `check`, `plot` and the Python API. FsweepError where `path` is not a regular file or
     cannot be read, the file is one no reader may load (storage.bounds: checked on its metadata before a
-    value is read), it is not a friction_sweep cube, and UnsoundCube where it holds values no run writes
-    (storage.audit)."""
+    value is read), it is not a friction_sweep cube, and UnsoundCube where it holds values or provenance
+    attributes no run writes (storage.audit, storage.attributes)."""
     import h5py
     import xarray as xr
 
@@ -180,7 +180,9 @@ def open_cube(path) -> xr.Dataset:
             raise FsweepError(f"{shown} is not a readable result cube: {escape(' '.join(str(err).split()))}") from None
     if "friction_sweep_version" not in ds.attrs:
         raise FsweepError(f"{shown} is not a friction_sweep result cube (no provenance attributes)")
-    problems = audit.audit(ds)
+    problems = audit.provenance(ds) + audit.audit(ds)
+    if not problems:  # pairs of values are compared once each value is sound
+        problems = audit.together(ds)
     if problems:
         raise UnsoundCube(name, problems)
     return ds

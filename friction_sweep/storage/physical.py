@@ -66,10 +66,11 @@ def variables(physical: PhysicalMap, arrays: dict[str, np.ndarray]) -> dict[str,
 
 
 def from_attribute(text: str) -> PhysicalMap:
-    """The map a cube recorded (its coordinates left out); ValueError where the text is not one."""
-    record = json.loads(text)
-    if not isinstance(record, dict):
-        raise ValueError(f"{ATTRIBUTE} is not a JSON object")
+    """The map a cube recorded (its coordinates left out); ValueError where the text is not one (read by the
+    one bounded reader of a cube's JSON, storage.attributes)."""
+    from friction_sweep.storage import attributes
+
+    record = attributes.read_json({ATTRIBUTE: text}, ATTRIBUTE)
 
     def value(key: str) -> float | None:
         x = record.get(key)
