@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from friction_sweep.batch.executors import EXECUTORS, MAX_JOBS
+from friction_sweep.batch.executors import DEFAULT_EXECUTOR, EXECUTORS, MAX_JOBS
 from friction_sweep.errors import FsweepError
 from friction_sweep.spec import Spec, SpecError, grid, load_spec, parse_spec_text
 from friction_sweep.spec.base import show
@@ -46,7 +46,7 @@ ARRAY_AXES: tuple[KeyPath, ...] = (("grid", "frequency_ratio"), ("grid", "force_
 
 
 def sweep(spec: str | bytes | os.PathLike | Mapping[str, Any], *, jobs: int = 1,
-          executor: str = "threads") -> xr.Dataset:
+          executor: str = DEFAULT_EXECUTOR) -> xr.Dataset:
     """Run the spec (a file path, or a dict as the YAML would hold it: numpy arrays and numbers are fine)
     and return its cube. `jobs` and `executor` as `fsweep run -j N --executor E`."""
     jobs, executor = run_options(jobs, executor)
@@ -56,7 +56,7 @@ def sweep(spec: str | bytes | os.PathLike | Mapping[str, Any], *, jobs: int = 1,
     return run(load_spec(path), jobs=jobs, executor=executor)
 
 
-def sweep_yaml(text: str, *, jobs: int = 1, executor: str = "threads") -> xr.Dataset:
+def sweep_yaml(text: str, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR) -> xr.Dataset:
     """Run the spec given as YAML text and return its cube."""
     jobs, executor = run_options(jobs, executor)
     if not isinstance(text, str):
@@ -65,7 +65,7 @@ def sweep_yaml(text: str, *, jobs: int = 1, executor: str = "threads") -> xr.Dat
     return run(parse_spec_text(text), jobs=jobs, executor=executor)
 
 
-def run(spec: Spec, *, jobs: int = 1, executor: str = "threads") -> xr.Dataset:
+def run(spec: Spec, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR) -> xr.Dataset:
     """Run a validated spec and return its cube (FsweepError where `accuracy:` finds no setting)."""
     from friction_sweep.batch import pipeline
 

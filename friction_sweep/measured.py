@@ -31,7 +31,7 @@ MAX_ROWS = 2000
 #: writer produces: a file holding them was edited by hand or by another tool, and is refused, not guessed
 PLAIN_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 #: a measured phase lag in degrees, in any of the conventions rigs use (lag or lead, wrapped or not)
-PHASE_RANGE_DEG = (-180.0, 360.0)
+MEASURED_PHASE_RANGE_DEG = (-180.0, 360.0)
 
 #: a value check: the reason a required column's value is refused, or None
 Check = Callable[[str, float, str], "str | None"]

@@ -32,7 +32,7 @@ import pandas as pd
 from friction_sweep import codes
 from friction_sweep.codes import Regime
 from friction_sweep.exits import EXIT_RUNTIME, fail
-from friction_sweep.measured import PHASE_RANGE_DEG, DataError, read_table
+from friction_sweep.measured import MEASURED_PHASE_RANGE_DEG, DataError, read_table
 from friction_sweep.spec import grid
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
@@ -63,13 +63,14 @@ def read_measurements(path: str | os.PathLike[str] | None = None) -> pd.DataFram
 
 
 def _in_range(column: str, x: float, value: str) -> str | None:
-    """Why a required value is outside the spec's ranges (a phase: outside PHASE_RANGE_DEG), or None."""
+    """Why a required value is outside the spec's ranges (a phase: outside MEASURED_PHASE_RANGE_DEG), or None."""
     if column == "frequency_ratio" and not grid.frequency_ratio_ok(x):
         return f"must be {grid.FREQUENCY_RATIO_SPAN} (got {value}): {grid.FREQUENCY_RATIO_NOTE}"
     if column == "force_ratio" and not grid.force_ratio_ok(x):
         return f"must be {grid.FORCE_RATIO_SPAN} (got {value})"
-    if column == "phase_deg" and not PHASE_RANGE_DEG[0] <= x <= PHASE_RANGE_DEG[1]:
-        return f"must be a phase lag in degrees within [{PHASE_RANGE_DEG[0]:g}, {PHASE_RANGE_DEG[1]:g}] (got {value})"
+    low, high = MEASURED_PHASE_RANGE_DEG
+    if column == "phase_deg" and not low <= x <= high:
+        return f"must be a phase lag in degrees within [{low:g}, {high:g}] (got {value})"
     return None
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from friction_sweep import ties
-from friction_sweep.measured import PHASE_RANGE_DEG, DataError, read_table
+from friction_sweep.measured import MEASURED_PHASE_RANGE_DEG, DataError, read_table
 from friction_sweep.spec import grid
 from friction_sweep.spec.quantities import FORCE, FREQUENCY, to_si
 from friction_sweep.theory import scenes
@@ -67,8 +67,8 @@ def read_observations(spec: CalibrationSpec) -> Observations:
             return f"must not be negative (got {text})"
         if role == "frequency" and x == 0:
             return f"must be positive (got {text})"
-        if role == "phase" and not PHASE_RANGE_DEG[0] <= x <= PHASE_RANGE_DEG[1]:
-            low, high = PHASE_RANGE_DEG
+        if role == "phase" and not MEASURED_PHASE_RANGE_DEG[0] <= x <= MEASURED_PHASE_RANGE_DEG[1]:
+            low, high = MEASURED_PHASE_RANGE_DEG
             return f"must be a phase lag in degrees within [{low:g}, {high:g}] (got {text})"
         if role == "transmissibility" and x <= 0:
             return f"must be positive: a measured amplitude ratio (got {text})"
