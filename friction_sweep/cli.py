@@ -296,7 +296,7 @@ def _checkpoint_state(store, out: Path, resume: bool) -> str | None:
     strangers = store.refuse_strangers()  # a folder holding anything not fsweep's is neither used nor removed
     if strangers is not None:
         return strangers
-    if not store.exists() or (store.finished() == 0 and not store.dir.is_symlink() and store.dir.is_dir()):
+    if not store.exists() or store.empty():
         if resume and out.exists():
             return (f"{out} is complete: there is nothing to resume (to compute it again, pass --overwrite "
                     f"instead of --resume)")
@@ -366,7 +366,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     reason = _checkpoint_refusal(store, out, resume)  # first: it refuses a folder that is not provably fsweep's
     if reason is not None:
         fail(reason)
-    if store.exists() and store.finished() == 0:
+    if store.empty():
         store.remove()  # a run that failed before finishing a tile: nothing to keep, nothing to block
     try:
         done, dropped = store.start(resume)

@@ -70,9 +70,10 @@ def test_a_live_writers_temporary_is_never_removed(tmp_path):
         child.wait()
 
 
-def test_without_overwrite_a_result_appears_whole_or_not_at_all(tmp_path):
-    """The second file appears while the first is staged: neither is published, the stranger's kept."""
-    first, second = tmp_path / "a.csv", tmp_path / "b.md"
+def _second_file_appears_meanwhile(folder: Path) -> Path:
+    """write_all of two files without --overwrite, the second appearing while the first is staged: neither
+    is published, the stranger's is kept. Returns the stranger's file."""
+    first, second = folder / "a.csv", folder / "b.md"
 
     def appear_meanwhile(tmp: Path) -> None:
         atomic.write_text(tmp, "ours")
@@ -81,7 +82,12 @@ def test_without_overwrite_a_result_appears_whole_or_not_at_all(tmp_path):
     with pytest.raises(outputs.Appeared):
         outputs.write_all([(first, lambda tmp: atomic.write_text(tmp, "ours")), (second, appear_meanwhile)],
                           overwrite=False)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.md"] and second.read_text() == "theirs"
+    assert sorted(p.name for p in folder.iterdir()) == ["b.md"] and second.read_text() == "theirs"
+    return second
+
+
+def test_without_overwrite_a_result_appears_whole_or_not_at_all(tmp_path):
+    _second_file_appears_meanwhile(tmp_path)
 
 
 def _key(text: str = SPEC, settings: dict | None = None, extra: dict | None = None) -> str:
@@ -179,16 +185,7 @@ def test_without_hard_links_outputs_are_still_published_whole(tmp_path, monkeypa
 @pytest.mark.parametrize("code", NO_HARD_LINKS, ids=errno.errorcode.get)
 def test_without_hard_links_a_file_that_appeared_is_never_replaced(tmp_path, monkeypatch, code):
     _without_hard_links(monkeypatch, code)
-    first, second = tmp_path / "a.csv", tmp_path / "b.md"
-
-    def appear_meanwhile(tmp: Path) -> None:
-        atomic.write_text(tmp, "ours")
-        second.write_text("theirs")
-
-    with pytest.raises(outputs.Appeared):
-        outputs.write_all([(first, lambda tmp: atomic.write_text(tmp, "ours")), (second, appear_meanwhile)],
-                          overwrite=False)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["b.md"] and second.read_text() == "theirs"
+    second = _second_file_appears_meanwhile(tmp_path)
     with pytest.raises(FileExistsError):
         atomic.write_bytes(second, b"cube", overwrite=False)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b.md"] and second.read_text() == "theirs"

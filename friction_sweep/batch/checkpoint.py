@@ -195,6 +195,11 @@ class Checkpoint:
     def finished(self) -> int:
         return len(list(self.dir.glob("tile-*.npz"))) if self.dir.is_dir() else 0
 
+    def empty(self) -> bool:
+        """A checkpoint folder without a finished tile (a run that failed before finishing one): nothing
+        to keep or resume, and nothing that should block the next run."""
+        return self.dir.is_dir() and not self.dir.is_symlink() and self.finished() == 0
+
     def strangers(self) -> list[str]:
         """The entries of the checkpoint folder fsweep did not write (empty: the folder is provably its
         own, or there is none): a name fsweep never gives, a link, a folder that is not empty, anything not
