@@ -30,7 +30,7 @@ from friction_sweep.exits import (
 )
 from friction_sweep.printable import escape
 from friction_sweep.progress import ProgressBar
-from friction_sweep.quicklook import KINDS
+from friction_sweep.quicklook import KINDS, WIDE_RANGE, YSCALES
 from friction_sweep.spec import SpecError, load_spec
 
 
@@ -560,8 +560,12 @@ def check(result: Path, as_json: bool):
 @click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
               help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
                    "history=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those dims.")
+@click.option("--yscale", type=click.Choice(YSCALES), default="auto", show_default=True,
+              help="The curves' y axis: log, linear, or auto (log where the values span more than "
+                   f"{WIDE_RANGE:g} times their median, e.g. a frictionless peak beside damped curves).")
 @click.option("--overwrite", is_flag=True, help="Replace an existing PNG (atomically).")
-def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...], overwrite: bool):
+def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...], yscale: str,
+         overwrite: bool):
     """Draw a quick look at a result cube as PNG: the regime map, transmissibility or phase curves, or
     a stored orbit."""
     from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output, write_all
@@ -582,7 +586,7 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
         fail(reason)
     ds = _open_result(result)
     try:
-        fig = quicklook.draw(ds, kind, selections)
+        fig = quicklook.draw(ds, kind, selections, yscale)
     except quicklook.PlotError as err:
         fail(f"{escape(result)}: {escape(err)}")
     try:

@@ -1,20 +1,25 @@
 """Quick looks at a result cube (`fsweep plot`): the regime map, transmissibility or phase curves, and a
 stored orbit, each drawn from the cube alone into a matplotlib Figure.
 
-    map      `regime` over (r, beta), coloured by its CF flags, with the theory's boundaries over it:
-             Den Hartog's continuous-motion limit (the cube's `continuous_limit`, else computed for the
-             cube's excitation), the no-motion limit A = beta_s (stuck above) and the resonance r = 1
-             (unbounded below pi/4 without damping)
+    map      `regime` over (r, beta), coloured by its CF flags, with the theory's boundaries over it, each
+             only where its theory holds for the cube's scene and effects (Boundary, BOUNDARIES):
+             Den Hartog's continuous-motion limit (plain model only), the no-motion limit A(r) = beta_s
+             (stuck above; rigid contact) and the undamped resonance r = 1 (unbounded for b <= pi/4)
     curves   `transmissibility` against r, one curve per force ratio (at most MAX_CURVES unless chosen),
              and under it a strip per curve: its stick-slip and stuck spans shaded, its unbounded and
-             unsettled points marked
+             unsettled points marked; the y axis logarithmic where asked, or (auto) where the values span
+             more than WIDE_RANGE (a frictionless peak beside damped curves)
     phase    the same for `phase`
-    orbit    one stored steady orbit (`history_*`): response and excitation over time, and the phase plane
+    orbit    one stored steady orbit (`history_*`): response and excitation over time, and the phase plane,
+             in seconds and metres where the cube holds them (`system:`)
 
-Axes follow the cube: where it holds a non-dimension coordinate with physical units along a grid
-dimension (`frequency` in Hz on frequency_ratio, `friction_force` in N on force_ratio), the plot is drawn
-against it; an axis label is the coordinate's or variable's long_name (up to a definition after " = " or
-a remark in parentheses) or name, plus its CF units where they are not "1".
+Every figure's title says what is drawn, the scene (excitation, method) and its effects, wrapped to fit
+the figure's width (fit_title). Axes follow the cube: where it holds a non-dimension coordinate with
+physical units along a grid dimension (`frequency` in Hz on frequency_ratio, `friction_force` in N on
+force_ratio), the plot is drawn against it. Labels are mathtext with the scene's quantity (LABELS: a
+force scene's amplitude is X/(F0/k), a base scene's X/Y); a variable or coordinate the table does not know
+is labelled by its long_name (up to a definition after " = " or a remark in parentheses) or name, plus its
+CF units where they are not "1" (axis_label).
 
 matplotlib (the `figures` extra) is imported only inside the drawing functions, so that importing this
 module, and the command line that does, costs nothing: the caller checks for it first
@@ -88,6 +93,56 @@ def axis_label(da) -> str:
     return text if units in ("", "1") else f"{text} [{units}]"
 
 
+#: the scene's length unit L in mathtext: F0/k under a force, the base amplitude Y otherwise
+LENGTH = {"force": "F_0/k", "base": "Y", "joined": "Y"}
+#: what moves the system, in words and as a symbol over its amplitude
+DRIVE = {"force": ("the force", r"$F/F_0$"), "base": ("the base", r"$y/Y$"), "joined": ("the base", r"$y/Y$")}
+#: mathtext axis labels of what the quick looks draw ({L}: the scene's LENGTH, {drive}: DRIVE's words); a
+#: name not here is labelled by axis_label
+LABELS: dict[str, str | dict[str, str]] = {
+    "frequency_ratio": r"frequency ratio $r = \omega/\omega_n$",
+    "force_ratio": {"force": r"force ratio $\beta = F_\mu/F_0$", "base": r"force ratio $\beta = F_\mu/(kY)$",
+                    "joined": r"force ratio $\beta = F_\mu/(kY)$"},
+    "frequency": r"frequency $f$ [Hz]",
+    "friction_force": r"friction force $F_\mu$ [N]",
+    "transmissibility": {"force": r"amplitude $|X|/(F_0/k)$ (first harmonic)",
+                         "base": r"transmissibility $|X|/|Y|$ (first harmonic)",
+                         "joined": r"transmissibility $|X|/|Y|$ (first harmonic)"},
+    "phase": r"phase lag $\varphi$ of $x$ behind {drive} [°] (first harmonic)",
+    "history_time": r"time $t/T$ [forcing periods]",
+    "history_physical_time": r"time $t$ [s]",
+    "history_displacement": r"displacement $x/{L}$",
+    "history_physical_displacement": r"displacement $x$ [m]",
+    "history_relative_displacement": {"force": r"displacement $x/(F_0/k)$", "base": r"displacement $x/Y$",
+                                      "joined": r"relative displacement $z/Y$, $z = x - y$"},
+    "history_relative_velocity": {"force": r"velocity $\dot{{x}}/(\omega_n F_0/k)$",
+                                  "base": r"velocity $\dot{{x}}/(\omega_n Y)$",
+                                  "joined": r"relative velocity $\dot{{z}}/(\omega_n Y)$"},
+}
+#: the short symbol of a force axis, for the curves' legend and the strip (units added where physical)
+SYMBOLS = {"force_ratio": r"$\beta$", "friction_force": r"$F_\mu$", "frequency_ratio": "$r$", "frequency": "$f$"}
+
+
+def label(ds: xr.Dataset, name: str) -> str:
+    """The axis label of variable or coordinate `name` in the cube's scene: LABELS, else axis_label."""
+    excitation = str(ds.attrs.get("excitation", "base"))
+    given = LABELS.get(name)
+    entry = given.get(excitation) if isinstance(given, dict) else given
+    if entry is None:
+        return axis_label(ds[name])
+    length = LENGTH.get(excitation, "Y")
+    return entry.format(L=length if "/" not in length else f"({length})", drive=DRIVE.get(excitation, DRIVE["base"])[0])
+
+
+def symbol(ds: xr.Dataset, name: str) -> tuple[str, str]:
+    """(symbol, units) of a grid axis: ("$F_\\mu$", "N"), ("$\\beta$", ""); a name without a symbol: its
+    label, and no units (the label has them)."""
+    if name not in SYMBOLS:
+        return label(ds, name), ""
+    units = str(ds[name].attrs.get("units", "1")).strip()
+    return SYMBOLS[name], "" if units == "1" else units
+
+
 def grid_dims(ds: xr.Dataset) -> tuple[str, str]:
     """The cube's (force, frequency) dims: the ratios, or the physical ones of a constant-acceleration cube."""
     for dims in (GRID, PHYSICAL_GRID):
@@ -103,7 +158,7 @@ def grid_axis(ds: xr.Dataset, dim: str) -> Axis:
     if dim in PHYSICAL_GRID:
         values = ds[dim].values.astype(float)
         ratios = [c for n, c in ds.coords.items() if n in GRID and c.dims == (dim,)]
-        return Axis(dim, dim, values, ratios[0].values.astype(float) if ratios else values, axis_label(ds[dim]))
+        return Axis(dim, dim, values, ratios[0].values.astype(float) if ratios else values, label(ds, dim))
     ratio = ds[dim].values.astype(float)
     for name, coord in ds.coords.items():
         if name == dim or coord.dims != (dim,) or str(coord.attrs.get("units", "1")).strip() in ("", "1"):
@@ -114,8 +169,8 @@ def grid_axis(ds: xr.Dataset, dim: str) -> Axis:
             continue
         steps = np.diff(values)
         if np.isfinite(values).all() and (np.all(steps > 0) or np.all(steps < 0)):
-            return Axis(dim, str(name), values, ratio, axis_label(coord))
-    return Axis(dim, dim, ratio, ratio, axis_label(ds[dim]))
+            return Axis(dim, str(name), values, ratio, label(ds, str(name)))
+    return Axis(dim, dim, ratio, ratio, label(ds, dim))
 
 
 def _interp(x: np.ndarray, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
@@ -208,9 +263,9 @@ def _nearest(values: np.ndarray, target: float) -> int:
 # --- drawing -------------------------------------------------------------------------------------------
 
 
-def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = ()) -> Figure:
-    """The quick look of `kind` (default: default_kind) with the --sel items `sel`; PlotError where
-    the cube cannot be drawn so."""
+def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = (), yscale: str = "auto") -> Figure:
+    """The quick look of `kind` (default: default_kind) with the --sel items `sel` and the curves' y scale
+    `yscale` (YSCALES); PlotError where the cube cannot be drawn so."""
     kind = kind or default_kind(ds, sel)
     if kind not in KINDS:
         raise PlotError(f"unknown kind {kind!r} (kinds: {', '.join(KINDS)})")
@@ -222,12 +277,18 @@ def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = ()) -> Fi
     if lacking:
         raise PlotError(f"--kind {kind} needs the variable {', '.join(lacking)}, which the cube lacks "
                         f"(it has {', '.join(map(str, ds.data_vars))}); add it to the spec's outputs")
+    if yscale not in YSCALES:
+        raise PlotError(f"unknown y scale {yscale!r} (scales: {', '.join(YSCALES)})")
+    if yscale == "log" and kind != "curves":
+        raise PlotError(f"--yscale log applies to --kind curves (amplitudes); --kind {kind} draws "
+                        + {"map": "force ratios from 0", "phase": "phase lags, which change sign",
+                           "orbit": "displacements, which change sign"}[kind])
     chosen = _selection(ds, kind, sel)
     if kind == "map":
         return draw_map(ds)
     if kind == "orbit":
         return draw_orbit(ds, history_index(ds, chosen))
-    return draw_curves(ds, CURVE_VARIABLE[kind], curve_indices(ds, chosen))
+    return draw_curves(ds, CURVE_VARIABLE[kind], curve_indices(ds, chosen), yscale)
 
 
 def save(fig: Figure, path: str | os.PathLike[str]) -> Path:
@@ -249,29 +310,104 @@ def _figure(nrows: int = 1, ncols: int = 1, size=(7.0, 4.6), **gridspec) -> tupl
     return fig, axes
 
 
-def _title(ds: xr.Dataset, what: str) -> str:
-    return f"{what} ({ds.attrs.get('excitation', '?')} excitation, method {ds.attrs.get('method', '?')})"
+class Scene(NamedTuple):
+    """The cube's scene as the drawings need it: its excitation and effects (their plain values where off)."""
+
+    excitation: str
+    damping: float  # zeta
+    damper: str | None  # where the dashpot sits (catalogue.EFFECTS places), None without one
+    static_ratio: float  # mu_s / mu_k
+    contact_stiffness: float  # kappa = k_t / k; 0: a rigid contact
+
+    @property
+    def plain(self) -> bool:
+        """Den Hartog's model: no dashpot, static = kinetic friction, a rigid contact."""
+        return self.damping == 0.0 and self.static_ratio == 1.0 and self.contact_stiffness == 0.0
+
+
+def scene(ds: xr.Dataset) -> Scene:
+    """The cube's excitation and the effects its method_settings record (read by the one bounded reader,
+    storage.attributes; the plain model where unreadable: open_cube refuses such a cube, a Dataset from
+    elsewhere is drawn without them)."""
+    from friction_sweep.catalogue import EFFECTS, effect_place, effect_value
+    from friction_sweep.storage import attributes
+
+    excitation = str(ds.attrs.get("excitation", "base"))
+    try:
+        given = attributes.method_settings(ds.attrs)["effects"]
+        values = {name: effect_value(given, name) for name in EFFECTS}
+        damper = effect_place(excitation, given, "viscous_damping") if values["viscous_damping"] > 0 else None
+    except (attributes.BadAttribute, TypeError, ValueError, KeyError, StopIteration):
+        values, damper = {name: effect.off for name, effect in EFFECTS.items()}, None
+    return Scene(excitation, values["viscous_damping"], damper, values["static_friction_ratio"],
+                 values["contact_stiffness"])
+
+
+def effect_phrases(sc: Scene) -> list[str]:
+    """What the title says of the scene's effects: each effect the cube has, or that it has none."""
+    phrases = []
+    if sc.damping > 0.0:
+        phrases.append(rf"viscous damping $\zeta$ = {sc.damping:g} (dashpot to {sc.damper})")
+    if sc.static_ratio != 1.0:
+        phrases.append(rf"static friction $\mu_s/\mu_k$ = {sc.static_ratio:g}")
+    if sc.contact_stiffness > 0.0:
+        phrases.append(rf"contact stiffness $\kappa = k_t/k$ = {sc.contact_stiffness:g}")
+    return phrases or ["no effects (undamped, rigid contact, static = kinetic friction)"]
+
+
+def title_phrases(ds: xr.Dataset, what: str) -> list[str]:
+    """The title's phrases: what is drawn, the scene and method, then the effects."""
+    sc = scene(ds)
+    return [f"{what};", f"{sc.excitation} excitation, method {ds.attrs.get('method', '?')};",
+            *[p + ("," if i < len(effect_phrases(sc)) - 1 else "") for i, p in enumerate(effect_phrases(sc))]]
+
+
+#: the title's width at most, as a share of the figure's (room for the layout's margins)
+TITLE_WIDTH = 0.96
+
+
+def fit_title(fig: Figure, phrases: Sequence[str], fontsize: float = 10.0):
+    """The figure's title (suptitle) from `phrases`, joined by spaces and broken between phrases so that
+    every line fits inside TITLE_WIDTH of the figure's width (a phrase wider than that alone gets a line
+    of its own). Returns the Text."""
+    title = fig.suptitle("", fontsize=fontsize)
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]  # the Agg canvas (_figure)
+    room = TITLE_WIDTH * fig.bbox.width
+
+    def width(text: str) -> float:
+        title.set_text(text)
+        return float(title.get_window_extent(renderer).width)
+
+    lines: list[str] = []
+    for phrase in phrases:
+        if lines and width(f"{lines[-1]} {phrase}") <= room:
+            lines[-1] = f"{lines[-1]} {phrase}"
+        else:
+            lines.append(phrase)
+    title.set_text("\n".join(lines))
+    return title
 
 
 def _wrapped(label: str, width: int = 42) -> str:
-    """A long axis label on two or more lines (the label's text is unchanged otherwise)."""
-    import textwrap
-
-    return "\n".join(textwrap.wrap(label, width)) or label
-
-
-def _effects(ds: xr.Dataset) -> dict[str, float]:
-    """The scene effects the cube records, as ratios (its method_settings' `effects`, read by the one bounded
-    reader, storage.attributes; none if unreadable: open_cube refuses such a cube, a Dataset from elsewhere
-    is drawn without them)."""
-    from friction_sweep.catalogue import EFFECTS, effect_value
-    from friction_sweep.storage import attributes
-
-    try:
-        effects = attributes.method_settings(ds.attrs)["effects"]
-        return {name: effect_value(effects, name) for name in effects if name in EFFECTS}
-    except (attributes.BadAttribute, TypeError, ValueError, KeyError):
-        return {}
+    """A long axis label on two or more lines, broken at spaces outside mathtext ($...$)."""
+    words: list[str] = []
+    for i, part in enumerate(label.split("$")):
+        if i % 2:  # inside $...$: one unbreakable word, glued to its neighbours
+            words[-1:] = [(words[-1] if words else "") + f"${part}$"]
+        else:
+            pieces = part.split(" ")
+            if words:
+                words[-1] += pieces[0]
+                pieces = pieces[1:]
+            words += pieces
+    lines: list[str] = []
+    for word in (w for w in words if w):
+        length = len(lines[-1].replace("$", "")) if lines else 0
+        if lines and length + 1 + len(word.replace("$", "")) <= width:
+            lines[-1] += " " + word
+        else:
+            lines.append(word)
+    return "\n".join(lines) or label
 
 
 def _edges(centres: np.ndarray) -> np.ndarray:
@@ -321,8 +457,13 @@ def draw_map(ds: xr.Dataset) -> Figure:
     patches = [Patch(facecolor=colours[i], edgecolor="0.5", label=f"{m.replace('_', '-')} ({int((codes == v).sum())})")
                for i, (v, m) in enumerate(zip(values, meanings, strict=True)) if (codes == v).any()]
     lines, _ = ax.get_legend_handles_labels()
+    if not lines:  # say so, rather than leave the reader looking for them
+        from matplotlib.lines import Line2D
+
+        lines = [Line2D([], [], ls="none", label="no closed-form boundary\nholds for these effects")]
     ax.legend(handles=lines + patches, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.95)
-    ax.set(xlabel=x.label, ylabel=y.label, title=_title(ds, "regime"))
+    ax.set(xlabel=_wrapped(x.label, 60), ylabel=_wrapped(y.label))
+    fit_title(fig, title_phrases(ds, "regime map"))
     return fig
 
 
@@ -338,44 +479,63 @@ def _force_axis_of(ds: xr.Dataset, x: Axis, y: Axis):
     return lambda r, b: np.asarray(b, dtype=float) * c / np.asarray(r, dtype=float) ** 2
 
 
+def boundaries(sc: Scene) -> tuple[str, ...]:
+    """The theory's boundaries that hold for the scene (docs/equations.md §2, §6, §7), by gid:
+
+        continuous_limit  Den Hartog's beta*(r) (r^2 beta* joined): the plain model only; a dashpot, static
+                          above kinetic friction (a reversal may stick) or a contact spring each move it
+        stuck_limit       no motion from rest while A(r) <= beta_s (A the forcing amplitude: 1, r^2 joined,
+                          sqrt(1 + (2 zeta r)^2) for the base scene's dashpot to the base): a rigid contact
+                          only (on a contact spring the mass moves while the slider holds)
+        resonance         r = 1 unbounded for b <= pi/4 (and beta_s < A(1) = 1: else it never moves): without
+                          damping only, rigid or Jenkins contact (§7: only r = 1 grows without bound)
+    """
+    holds = {"continuous_limit": sc.plain, "stuck_limit": sc.contact_stiffness == 0.0,
+             "resonance": sc.damping == 0.0}
+    return tuple(name for name, ok in holds.items() if ok)
+
+
 def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, to_y) -> None:
-    """The theory's boundaries in the scene's force-ratio convention, drawn in the axes' units (`to_y`:
-    (r, beta) -> the force axis): the continuous-motion limit, the no-motion limit and the resonance."""
+    """The theory's boundaries that hold for the cube's scene (boundaries), in the scene's force-ratio
+    convention, drawn in the axes' units (`to_y`: (r, beta) -> the force axis)."""
     from friction_sweep.theory import scenes
 
-    excitation = str(ds.attrs.get("excitation", "base"))
-    effects = _effects(ds)
-    damped = effects.get("viscous_damping", 0.0) > 0.0
+    sc = scene(ds)
+    drawn = boundaries(sc)
     r = x.ratio
-    if "continuous_limit" in ds:
-        limit = ds["continuous_limit"].values.astype(float)
-        source = ""
-    else:  # a cube without it: the same closed form, for the cube's excitation
-        from friction_sweep.methods.theory import continuous_limit
+    if "continuous_limit" in drawn:
+        if "continuous_limit" in ds:
+            limit = ds["continuous_limit"].values.astype(float)
+            source = ""
+        else:  # a cube without it: the same closed form, for the cube's excitation
+            from friction_sweep.methods.theory import continuous_limit
 
-        limit = continuous_limit(excitation, r)
-        source = ", computed"
-    # plain Unicode, not mathtext: parsing the first mathtext costs a quarter of a second
-    symbol = "r²β*(r)" if excitation == "joined" else "β*(r)"
-    ax.plot(x.values, to_y(r, limit), "--", color="k", lw=1.4, gid="continuous_limit",
-            label=f"continuous below: {symbol} (Den Hartog{', no damping' if damped else ''}{source})")
-    # no motion from rest where the force's swing A stays inside the static band: beta >= A / (mu_s/mu_k)
-    ratio = effects.get("static_friction_ratio", 1.0)
-    fine = np.linspace(r.min(), r.max(), 400) if r.size > 1 else r
-    stuck = np.asarray(scenes.forcing_amplitude(excitation, fine), dtype=float) * np.ones_like(fine) / ratio
-    where = "β = r²" if excitation == "joined" else "β = 1"
-    if ratio != 1.0:
-        where += rf" / {ratio:g}"
-    if np.nanmin(to_y(fine, stuck)) <= ax.get_ylim()[1]:  # else above the plot: not in its legend
-        ax.plot(x.from_ratio(fine), to_y(fine, stuck), "-", color="k", lw=1.4, gid="stuck_limit",
-                label=f"stuck above: {where} (no motion from rest)")
-    # the undamped resonance: unbounded at r = 1 for friction ratios b <= pi/4 (b = beta/A, A(1) = 1)
-    if not damped and r.min() <= 1.0 <= r.max():
-        top = min(ties.RESONANCE_FRICTION_LIMIT, 1.0 / ratio)
+            limit = continuous_limit(sc.excitation, r)
+            source = ", computed"
+        symbol = r"r^2\beta^*(r)" if sc.excitation == "joined" else r"\beta^*(r)"
+        ax.plot(x.values, to_y(r, limit), "--", color="k", lw=1.4, gid="continuous_limit",
+                label=rf"continuous below: ${symbol}$ (Den Hartog{source})")
+    if "stuck_limit" in drawn:  # no motion from rest where the force's swing A stays inside the static band
+        fine = np.linspace(r.min(), r.max(), 400) if r.size > 1 else r
+        amplitude, _ = scenes.kernel_forcing(sc.excitation, fine, sc.damping, sc.damper)
+        stuck = amplitude / sc.static_ratio
+        if scenes.spring_parallel(sc.excitation, sc.damper):
+            where = r"\sqrt{1 + (2\zeta r)^2}"
+        else:
+            where = "r^2" if sc.excitation == "joined" else "1"
+        if sc.static_ratio != 1.0:
+            where += rf"\,/\,{sc.static_ratio:g}"
+        if np.nanmin(to_y(fine, stuck)) <= ax.get_ylim()[1]:  # else above the plot: not in its legend
+            ax.plot(x.from_ratio(fine), to_y(fine, stuck), "-", color="k", lw=1.4, gid="stuck_limit",
+                    label=rf"stuck above: $\beta = {where}$ (no motion from rest)")
+    # the undamped resonance: unbounded at r = 1 for friction ratios b <= pi/4 (b = beta/A, A(1) = 1) that
+    # move from rest (beta_s < 1)
+    if "resonance" in drawn and r.min() <= 1.0 <= r.max():
+        top = min(ties.RESONANCE_FRICTION_LIMIT, 1.0 / sc.static_ratio)
+        bound = r"\pi/4" if top == ties.RESONANCE_FRICTION_LIMIT else f"{top:.3g}"
         x1 = float(x.from_ratio(np.array([1.0]))[0])
         ax.plot([x1, x1], to_y(np.array([1.0, 1.0]), np.array([0.0, top])), "-", color="tab:red", lw=2.0,
-                gid="resonance",
-                label="unbounded: r = 1, β ≤ π/4")
+                gid="resonance", label=rf"unbounded: $r = 1$, $\beta \leq {bound}$")
 
 
 # --- curves --------------------------------------------------------------------------------------------
@@ -408,25 +568,32 @@ def regime_runs(codes: np.ndarray) -> list[tuple[int, int, int]]:
     return runs
 
 
-def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int]) -> Figure:
-    """`var` against r, one curve per force-ratio index; under it, where the cube has regimes, a strip
-    with a row per curve (_regime_strip)."""
+def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int], yscale: str = "auto") -> Figure:
+    """`var` against r, one curve per force-ratio index, on a y axis `yscale` (choose_yscale); under it,
+    where the cube has regimes, a strip with a row per curve (_regime_strip)."""
     force, frequency = grid_dims(ds)
     x, f = grid_axis(ds, frequency), grid_axis(ds, force)
     data = ds[var].transpose(force, frequency)
     n = len(indices)
     if "regime" in ds:
-        fig, axes = _figure(2, 1, size=(7.6, 5.0 + 0.18 * n), height_ratios=[4.0, 0.8 + 0.25 * n], hspace=0.02)
+        fig, axes = _figure(2, 1, size=(7.6, 5.2 + 0.18 * n), height_ratios=[4.0, 0.8 + 0.25 * n], hspace=0.02)
         ax = axes[0, 0]
     else:
-        fig, axes = _figure(size=(7.6, 4.8))
+        fig, axes = _figure(size=(7.6, 5.0))
         ax = axes[0, 0]
     colours = [_viridis(k, n) for k in range(n)]
+    sym, units = symbol(ds, f.name)
     for row, (i, colour) in enumerate(zip(indices, colours, strict=True)):
-        label = f"{_short(f.label)} = {f.values[i]:g}{_units(f.label)}"
-        ax.plot(x.values, data.values[i], "-", color=colour, marker=".", ms=3, label=label, gid=f"curve {row}")
-    shown = "" if n == ds.sizes[force] else f" ({n} of {ds.sizes[force]} force ratios; choose with --sel {force}=...)"
-    ax.set(ylabel=_wrapped(axis_label(data)), title=_title(ds, var) + shown)
+        ax.plot(x.values, data.values[i], "-", color=colour, marker=".", ms=3, gid=f"curve {row}",
+                label=f"{sym} = {f.values[i]:g}" + (f" {units}" if units else ""))
+    ax.set_yscale(choose_yscale(data.values[list(indices)], yscale) if var in LOG_VARIABLES else "linear")
+    ax.set_ylabel(_wrapped(label(ds, var)))
+    what = {"transmissibility": "amplitude" if scene(ds).excitation == "force" else "transmissibility",
+            "phase": "phase lag"}.get(var, var)
+    phrases = title_phrases(ds, f"{what} curves")
+    if n != ds.sizes[force]:
+        phrases.append(f"({n} of {ds.sizes[force]} force ratios; choose with --sel {force}=...)")
+    fit_title(fig, phrases)
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     ax.set_xlim(*_edges(x.values)[[0, -1]])
     if "regime" not in ds:
@@ -438,8 +605,29 @@ def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int]) -> Figure:
     regime = ds["regime"].transpose(force, frequency).values.astype(int)[list(indices)]
     _regime_strip(strip, x, regime, colours)
     strip.set(xlabel=x.label, ylim=(n - 0.5, -0.5), yticks=range(n), yticklabels=[f"{f.values[i]:g}" for i in indices])
-    strip.set_ylabel(_short(f.label), fontsize=8)
+    strip.set_ylabel(f"{sym} [{units}]" if units else sym, fontsize=8)
     return fig
+
+
+#: the curves' variables a log axis suits (amplitudes: positive; a phase lag changes sign)
+LOG_VARIABLES = ("transmissibility",)
+#: YSCALES: what --yscale takes; auto draws a log axis where the curves' values span more than WIDE_RANGE
+YSCALES = ("auto", "linear", "log")
+#: the spread (largest finite value over the median positive one) beyond which auto draws a log axis: a
+#: frictionless peak of 1000 beside damped curves near 1 would flatten them on a linear one
+WIDE_RANGE = 30.0
+
+
+def choose_yscale(values: np.ndarray, yscale: str = "auto") -> str:
+    """The y scale of curves through `values`: `yscale` where "linear" or "log", else (auto) "log" where the
+    largest finite value exceeds WIDE_RANGE times the median positive one, "linear" otherwise."""
+    if yscale != "auto":
+        return yscale
+    v = np.asarray(values, dtype=float)
+    positive = v[np.isfinite(v) & (v > 0.0)]
+    if positive.size == 0 or (v[np.isfinite(v)] < 0.0).any():
+        return "linear"
+    return "log" if positive.max() > WIDE_RANGE * float(np.median(positive)) else "linear"
 
 
 def _regime_strip(strip: Axes, x: Axis, regime: np.ndarray, colours: Sequence) -> None:
@@ -481,14 +669,6 @@ def _viridis(k: int, n: int):
     return colormaps["viridis"](0.85 * k / max(n - 1, 1))
 
 
-def _short(label: str) -> str:
-    return label.split(" [")[0]
-
-
-def _units(label: str) -> str:
-    return f" {label.split(' [')[1].rstrip(']')}" if " [" in label else ""
-
-
 # --- orbit ---------------------------------------------------------------------------------------------
 
 
@@ -525,41 +705,112 @@ def history_index(ds: xr.Dataset, chosen: dict[str, list[float]]) -> int:
     return int(np.nanargmin(distance)) if np.isfinite(distance).any() else 0
 
 
+class OrbitUnits(NamedTuple):
+    """How a stored orbit is drawn: dimensionless (scales 1), or in seconds and metres where the cube holds
+    its physical time and displacement (`system:`), the rest scaled alike (storage.physical)."""
+
+    physical: bool
+    length: float  # m per the scene's length unit L (Y, or F0/k for force)
+    velocity: float  # m/s per L omega_n
+    force: float  # N per F0 (force excitation)
+    frequency: float  # the orbit's forcing frequency [Hz] (NaN where unknown)
+    friction_force: float  # its friction force [N] (NaN where unknown)
+
+
+def orbit_units(ds: xr.Dataset, k: int) -> OrbitUnits:
+    """The units history `k` is drawn in (OrbitUnits): physical where the cube holds history_physical_time
+    and history_physical_displacement and records its physical system, else dimensionless."""
+    dimensionless = OrbitUnits(False, 1.0, 1.0, 1.0, math.nan, math.nan)
+    if not all(n in ds for n in ("history_physical_time", "history_physical_displacement", "history_frequency_ratio")):
+        return dimensionless
+    from friction_sweep.storage import physical
+
+    try:
+        system = physical.from_attribute(ds.attrs[physical.ATTRIBUTE])
+    except (KeyError, ValueError, TypeError):
+        return dimensionless
+    if system.natural_frequency is None:
+        return dimensionless
+    frequency = float(ds["history_frequency_ratio"].values[k]) * system.natural_frequency
+    force, length = system.scales_at(frequency)
+    if length is None:
+        return dimensionless
+    beta = float(ds["history_force_ratio"].values[k]) if "history_force_ratio" in ds else math.nan
+    force = math.nan if force is None else float(force)
+    return OrbitUnits(True, float(length), float(length) * 2.0 * math.pi * system.natural_frequency, force,
+                      frequency, beta * force)
+
+
 def draw_orbit(ds: xr.Dataset, k: int) -> Figure:
-    """History `k`: response and excitation against time, and its phase plane (relative displacement
-    against relative velocity) where the cube has them."""
+    """History `k`: response and excitation against time (a force on an axis of its own), and its phase
+    plane (relative displacement against relative velocity) where the cube has them; in seconds and metres
+    where the cube holds them (orbit_units)."""
     t = ds["history_time"].values[k].astype(float)
     ok = np.isfinite(t)
-    where = _history_point(ds, k)
     if not ok.any():
-        raise PlotError(f"history {k} ({where}) holds no steady orbit")
+        raise PlotError(f"history {k} ({_history_point(ds, k)}) holds no steady orbit")
+    sc = scene(ds)
+    units = orbit_units(ds, k)
     has_plane = all(n in ds for n in ("history_relative_displacement", "history_relative_velocity"))
-    fig, axes = _figure(1, 2 if has_plane else 1, size=(10.0 if has_plane else 7.0, 4.2))
+    fig, axes = _figure(1, 2 if has_plane else 1, size=(10.0 if has_plane else 7.0, 4.6))
     ax = axes[0, 0]
-    for name, style in (("history_displacement", "-"), ("history_excitation", "--")):
-        if name in ds:
-            ax.plot(t[ok], ds[name].values[k][ok], style, label=_short(axis_label(ds[name])), gid=name)
-    ax.set(xlabel=_wrapped(axis_label(ds["history_time"]), 60), ylabel=_wrapped(axis_label(ds["history_displacement"])))
-    ax.legend(fontsize=8)
+    time, x = ("history_physical_time", "history_physical_displacement") if units.physical else \
+        ("history_time", "history_displacement")
+    ax.plot(ds[time].values[k][ok], ds[x].values[k][ok], "-", label="response $x$", gid="history_displacement")
+    handles = []
+    if "history_excitation" in ds:
+        drive = ds["history_excitation"].values[k][ok]
+        if sc.excitation == "force":  # a force, not a displacement: its own axis
+            twin = ax.twinx()
+            scale, what = (units.force, "force $F$ [N]") if units.physical and math.isfinite(units.force) else \
+                (1.0, "force $F/F_0$")
+            twin.plot(ds[time].values[k][ok], drive * scale, "--", color="C1", label="force $F$",
+                      gid="history_excitation")
+            twin.set_ylabel(what)
+            handles = twin.get_lines()
+        else:
+            ax.plot(ds[time].values[k][ok], drive * units.length, "--", color="C1", label="base $y$",
+                    gid="history_excitation")
+    ax.set(xlabel=label(ds, time), ylabel=_wrapped(label(ds, x)))
+    ax.legend(handles=[*ax.get_lines(), *handles], fontsize=8, ncols=2, loc="lower center",
+              bbox_to_anchor=(0.5, 1.0))  # above the axes: over none of the curves
     if has_plane:
-        q, v = ds["history_relative_displacement"], ds["history_relative_velocity"]
+        q, v = ds["history_relative_displacement"].values[k], ds["history_relative_velocity"].values[k]
         plane = axes[0, 1]
         closed = np.r_[np.flatnonzero(ok), np.flatnonzero(ok)[:1]]  # the orbit repeats: back to its start
-        plane.plot(q.values[k][closed], v.values[k][closed], "-", color="C2", gid="phase_plane")
-        plane.set(xlabel=_wrapped(axis_label(q)), ylabel=_wrapped(axis_label(v)), title="phase plane")
-    fig.suptitle(_title(ds, f"orbit {k} of {ds.sizes['history']}: {where}"), fontsize=10)
+        plane.plot(q[closed] * units.length, v[closed] * units.velocity, "-", color="C2", gid="phase_plane")
+        start = closed[0]  # the section: shows where the orbit starts, and a point where it never moves
+        plane.plot(q[start] * units.length, v[start] * units.velocity, "o", color="C2", ms=5, gid="section",
+                   label="section ($t$ = 0)")
+        plane.legend(fontsize=8, loc="upper right")
+        if units.physical:
+            z = "z" if sc.excitation == "joined" else "x"
+            relative = "relative " if sc.excitation == "joined" else ""
+            xlabel, ylabel = rf"{relative}displacement ${z}$ [m]", rf"{relative}velocity $\dot{{{z}}}$ [m/s]"
+        else:
+            xlabel = label(ds, "history_relative_displacement")
+            ylabel = label(ds, "history_relative_velocity")
+        plane.set(xlabel=_wrapped(xlabel), ylabel=_wrapped(ylabel), title="phase plane")
+    fit_title(fig, title_phrases(ds, f"orbit {k} of {ds.sizes['history']} at {_history_point(ds, k, units)}"))
     return fig
 
 
-def _history_point(ds: xr.Dataset, k: int) -> str:
+def _history_point(ds: xr.Dataset, k: int, units: OrbitUnits | None = None) -> str:
+    """Where history `k` lies and what it is, in words: plain for a message, mathtext (with the physical
+    frequency and friction force where known) for a title when `units` are given."""
+    math_text = units is not None
     parts = []
-    for name, symbol in (("history_frequency_ratio", "r"), ("history_force_ratio", "beta")):
+    for name, plain, symbol_ in (("history_frequency_ratio", "r", "$r$"), ("history_force_ratio", "beta", r"$\beta$")):
         if name in ds:
-            parts.append(f"{symbol} = {float(ds[name].values[k]):g}")
+            parts.append(f"{symbol_ if math_text else plain} = {float(ds[name].values[k]):g}")
+    if units is not None and units.physical:
+        physical_values = ((units.frequency, "$f$", "Hz"), (units.friction_force, r"$F_\mu$", "N"))
+        parts += [f"{sym} = {value:.3g} {unit}" for value, sym, unit in physical_values if math.isfinite(value)]
     if "history_regime" in ds:
         from friction_sweep.codes import name_of
 
-        parts.append(name_of(Regime, int(ds["history_regime"].values[k])))
+        name = name_of(Regime, int(ds["history_regime"].values[k]))
+        parts.append(name.replace("_", "-") if math_text else name)
     if "history_orbit_period" in ds and ds["history_orbit_period"].values[k] > 0:  # 0: no steady state
         parts.append(f"period {float(ds['history_orbit_period'].values[k]):g}")
     return ", ".join(parts)

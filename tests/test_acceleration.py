@@ -92,7 +92,7 @@ def test_check_info_and_plot_understand_a_physical_grid(runner, tmp_path):
 
     fig = quicklook.draw(one, "map")
     ax = fig.axes[0]
-    assert ax.get_xlabel() == "forcing frequency f [Hz]" and ax.get_ylabel().endswith("[N]")
+    assert ax.get_xlabel() == "frequency $f$ [Hz]" and ax.get_ylabel().endswith("[N]")
     curves = quicklook.draw(one, "curves")
     assert curves.axes[0].get_legend() is not None and len(curves.axes[0].lines) == FRICTION.size
 

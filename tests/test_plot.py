@@ -2,6 +2,8 @@
 histories, and copies given physical coordinates), checked on the matplotlib Figure the drawing
 returns (labels, units, curves, shaded spans against the cube's regimes), and the command's refusals."""
 
+import json
+import math
 import os
 import shutil
 import subprocess
@@ -38,6 +40,21 @@ method: theory
 """
 ONLY_TRANSMISSIBILITY = WIDE.replace("method: theory\n", "method: theory\noutputs: [transmissibility]\n")
 ONE_FORCE = small_spec("base").replace("[0.0, 0.3, 0.9]", "[0.3]")
+#: a rig (f_n = sqrt(k/m) / 2 pi, Y = 1 mm) whose cube holds its orbits in seconds and metres
+MASS, STIFFNESS, AMPLITUDE = 2.0, 40e3, 1e-3
+RIG = EVENT.replace("grid:", "system: {mass: 2 kg, stiffness: 40 kN/m, base_amplitude: 1 mm}\ngrid:")
+#: a damped simulation (the issue's example: it got the undamped, rigid boundaries)
+DAMPED = """\
+scene: {excitation: base, effects: {viscous_damping: 0.05}}
+grid: {frequency_ratio: [0.5, 1.0, 1.5], force_ratio: [0.2, 0.6, 1.2]}
+method: event
+"""
+#: the frictionless peak next to r = 1 (1/|1 - r^2| = 1667) beside curves with friction near 1
+PEAK = """\
+scene: {excitation: base}
+grid: {frequency_ratio: [0.3, 0.6, 0.8, 0.9997, 1.2, 1.5, 2.0, 3.0], force_ratio: [0.0, 0.3, 0.6, 0.9]}
+method: theory
+"""
 
 
 def physical(ds: xr.Dataset) -> xr.Dataset:
@@ -57,8 +74,9 @@ def cubes(tmp_path_factory):
     from click.testing import CliRunner
 
     folder = tmp_path_factory.mktemp("plot_cubes")
-    specs = {"base": small_spec("base"), "joined": small_spec("joined"), "event": EVENT, "wide": WIDE,
-             "no_regime": ONLY_TRANSMISSIBILITY, "one_force": ONE_FORCE}
+    specs = {"base": small_spec("base"), "joined": small_spec("joined"), "force": small_spec("force"), "event": EVENT,
+             "wide": WIDE, "no_regime": ONLY_TRANSMISSIBILITY, "one_force": ONE_FORCE, "rig": RIG, "peak": PEAK,
+             "damped": DAMPED, "force_event": EVENT.replace("excitation: base", "excitation: force")}
     paths = {}
     for name, text in specs.items():
         spec = folder / f"{name}.yaml"
@@ -104,6 +122,24 @@ def text(label: str) -> str:
     return label.replace("\n", " ")
 
 
+def title(fig) -> str:
+    """The figure's title on one line."""
+    return text(fig.get_suptitle())
+
+
+R_LABEL = r"frequency ratio $r = \omega/\omega_n$"
+#: the y label of the curves by (excitation, variable): the scene's quantity (a force scene has no base
+#: motion Y: its amplitude is X over the static deflection F0/k)
+Y_LABELS = {
+    ("force", "transmissibility"): r"amplitude $|X|/(F_0/k)$ (first harmonic)",
+    ("base", "transmissibility"): r"transmissibility $|X|/|Y|$ (first harmonic)",
+    ("joined", "transmissibility"): r"transmissibility $|X|/|Y|$ (first harmonic)",
+    ("force", "phase"): r"phase lag $\varphi$ of $x$ behind the force [°] (first harmonic)",
+    ("base", "phase"): r"phase lag $\varphi$ of $x$ behind the base [°] (first harmonic)",
+    ("joined", "phase"): r"phase lag $\varphi$ of $x$ behind the base [°] (first harmonic)",
+}
+
+
 # --- labels --------------------------------------------------------------------------------------------
 
 
@@ -138,7 +174,7 @@ def test_map_draws_each_regime_with_its_flag_and_the_theory_boundaries(ds):
     d = ds["joined"]
     fig = quicklook.draw(d)  # the default kind on a plane
     ax = fig.axes[0]
-    assert (ax.get_xlabel(), ax.get_ylabel()) == ("frequency ratio r", "force ratio beta")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == (R_LABEL, r"force ratio $\beta = F_\mu/(kY)$")
     (mesh,) = by_gid(ax, "regime")
     # flag_values are 0..4, so each cell's colour index is its code
     np.testing.assert_array_equal(np.asarray(mesh.get_array()).reshape(d["regime"].shape), d["regime"].values)
@@ -177,7 +213,7 @@ def test_map_computes_the_continuous_limit_where_the_cube_lacks_it(ds):
 def test_map_on_physical_axes(ds):
     d = ds["base_physical"]
     ax = quicklook.draw(d, "map").axes[0]
-    assert (ax.get_xlabel(), ax.get_ylabel()) == ("frequency [Hz]", "friction force [N]")
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("frequency $f$ [Hz]", r"friction force $F_\mu$ [N]")
     (mesh,) = by_gid(ax, "regime")
     corners = mesh.get_coordinates()
     f, force = d["frequency"].values, d["friction_force"].values
@@ -193,7 +229,7 @@ def test_map_on_physical_axes(ds):
 # --- curves and phase -------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", ["base", "joined", "event"])
+@pytest.mark.parametrize("name", ["base", "joined", "force", "event"])
 @pytest.mark.parametrize("kind", ["curves", "phase"])
 def test_curves_one_per_force_ratio_with_regime_spans_per_curve(ds, name, kind):
     d = ds[name]
@@ -203,9 +239,9 @@ def test_curves_one_per_force_ratio_with_regime_spans_per_curve(ds, name, kind):
     r, beta = d["frequency_ratio"].values, d["force_ratio"].values
     curves = [ln for ln in ax.lines if str(ln.get_gid()).startswith("curve ")]
     assert len(curves) == beta.size
-    assert text(ax.get_ylabel()) == axis_label(d[var])
-    assert strip.get_xlabel() == "frequency ratio r"
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == [f"force ratio beta = {b:g}" for b in beta]
+    assert text(ax.get_ylabel()) == Y_LABELS[d.attrs["excitation"], var]
+    assert strip.get_xlabel() == R_LABEL
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [rf"$\beta$ = {b:g}" for b in beta]
     regime = d["regime"].values
     for row, ln in enumerate(curves):
         np.testing.assert_array_equal(ln.get_xdata(), r)
@@ -234,8 +270,9 @@ def test_curves_on_physical_axes(ds):
     d = ds["base_physical"]
     fig = quicklook.draw(d, "curves")
     ax, strip = fig.axes[0], fig.axes[1]
-    assert strip.get_xlabel() == "frequency [Hz]"
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == [f"friction force = {b * F_K:g} N"
+    assert strip.get_xlabel() == "frequency $f$ [Hz]"
+    assert strip.get_ylabel() == r"$F_\mu$ [N]"  # the strip's rows are friction forces: in newtons
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [rf"$F_\mu$ = {b * F_K:g} N"
                                                                    for b in d["force_ratio"].values]
     for ln in (ln for ln in ax.lines if str(ln.get_gid()).startswith("curve ")):
         np.testing.assert_allclose(ln.get_xdata(), d["frequency"].values)
@@ -255,18 +292,18 @@ def test_curves_are_limited_to_a_readable_number_or_chosen_by_nearest_value(ds):
     fig = quicklook.draw(d, "curves")
     labels = drawn(fig)
     assert len(labels) == quicklook.MAX_CURVES
-    assert labels[0] == "force ratio beta = 0.05" and labels[-1] == "force ratio beta = 1"
-    assert f"{quicklook.MAX_CURVES} of 20 force ratios" in fig.axes[0].get_title()
+    assert labels[0] == r"$\beta$ = 0.05" and labels[-1] == r"$\beta$ = 1"
+    assert f"{quicklook.MAX_CURVES} of 20 force ratios" in title(fig)
     chosen = quicklook.draw(d, "curves", ["force_ratio=0.31", "force_ratio=0.87", "force_ratio=0.3"])
-    assert drawn(chosen) == ["force ratio beta = 0.3", "force ratio beta = 0.85"]  # nearest, each once
-    assert "of 20" in chosen.axes[0].get_title()
+    assert drawn(chosen) == [r"$\beta$ = 0.3", r"$\beta$ = 0.85"]  # nearest, each once
+    assert "of 20" in title(chosen)
     phys = quicklook.draw(ds["base_physical"], "phase", ["friction_force=13"])  # 0.3 * 40 = 12 N is nearest
-    assert drawn(phys) == ["friction force = 12 N"]
+    assert drawn(phys) == [r"$F_\mu$ = 12 N"]
 
 
 def test_curves_without_regimes_draw_no_strip(ds):
     fig = quicklook.draw(ds["no_regime"])
-    assert len(fig.axes) == 1 and fig.axes[0].get_xlabel() == "frequency ratio r"
+    assert len(fig.axes) == 1 and fig.axes[0].get_xlabel() == R_LABEL
 
 
 # --- orbit ---------------------------------------------------------------------------------------------
@@ -287,13 +324,172 @@ def test_orbit_draws_the_chosen_history(ds):
         q = line(plane, "phase_plane").get_xdata()
         np.testing.assert_array_equal(q[:-1], d["history_relative_displacement"].values[k][ok])
         assert q[-1] == q[0]  # closed: the orbit repeats
-        assert text(ax.get_xlabel()) == "time in forcing periods from a steady-state section"
-        assert ax.get_ylabel() == "response displacement x / Y"
+        assert ax.get_xlabel() == "time $t/T$ [forcing periods]"
+        assert ax.get_ylabel() == "displacement $x/Y$"
         r, b = d["history_frequency_ratio"].values[k], d["history_force_ratio"].values[k]
-        assert f"orbit {k} of 3: r = {r:g}, beta = {b:g}" in fig.texts[0].get_text()
+        assert rf"orbit {k} of 3 at $r$ = {r:g}, $\beta$ = {b:g}" in title(fig)
     # physical coordinates pick by their own units: 18 Hz is r = 1.44, nearest to the history at 1.5
     fig = quicklook.draw(ds["event_physical"], "orbit", ["frequency=18"])
-    assert "orbit 1 of 3: r = 1.5" in fig.texts[0].get_text()
+    assert "orbit 1 of 3 at $r$ = 1.5" in title(fig)
+
+
+# --- what an engineer reads (issue 29): titles, labels, boundaries per scene and effects, scales ----------
+
+BOUNDARY_GIDS = {"continuous_limit", "stuck_limit", "resonance"}
+DASHPOT = {"ratio": 0.05, "to": "ground"}
+#: effects as a simulation records them (method_settings), and the boundaries whose theory holds with them
+#: (docs/equations.md): Den Hartog's beta*(r) for the plain model only; no motion from rest while the force
+#: amplitude stays inside the static band, for a rigid contact (on a contact spring the mass moves while the
+#: slider holds); the resonance at r = 1 without damping (rigid or Jenkins contact, §7)
+EFFECT_CASES = {
+    "plain": ({}, BOUNDARY_GIDS),
+    "damped": ({"viscous_damping": DASHPOT}, {"stuck_limit"}),
+    "static": ({"static_friction_ratio": 1.5}, {"stuck_limit", "resonance"}),
+    "jenkins": ({"contact_stiffness": 10.0}, {"resonance"}),
+    "all": ({"viscous_damping": DASHPOT, "static_friction_ratio": 1.5, "contact_stiffness": 10.0}, set()),
+}
+
+
+def with_effects(d: xr.Dataset, effects: dict) -> xr.Dataset:
+    """The cube as a simulation with these effects records its scene (what the boundaries and title read)."""
+    out = d.copy()
+    out.attrs = {**d.attrs, "method": "event", "method_settings": json.dumps({"effects": effects})}
+    return out
+
+
+def words(fig) -> list:
+    """The figure's texts a reader reads: its title, the axes' titles and labels, the legends' entries."""
+    texts = [fig._suptitle] if fig._suptitle is not None else []
+    for ax in fig.axes:
+        texts += [ax.title, ax.xaxis.label, ax.yaxis.label]
+        if ax.get_legend() is not None:
+            texts += ax.get_legend().get_texts()
+    return [t for t in texts if t.get_visible() and t.get_text().strip()]
+
+
+DRAWN = [(name, kind) for name in ("base", "joined", "force", "event", "rig", "force_event", "wide", "base_physical")
+         for kind in KINDS if kind != "orbit" or name in ("event", "rig", "force_event")]
+
+
+@pytest.mark.parametrize("effects", ["plain", "all"])
+@pytest.mark.parametrize(("name", "kind"), DRAWN)
+def test_every_title_and_label_fits_inside_the_figure(ds, name, kind, effects):
+    d = with_effects(ds[name], EFFECT_CASES[effects][0]) if effects != "plain" else ds[name]
+    fig = quicklook.draw(d, kind)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    frame = fig.bbox
+    assert fig.get_suptitle(), "the figure has a title"
+    for t in words(fig):
+        box = t.get_window_extent(renderer)
+        assert (box.x0 >= frame.x0 - 0.5 and box.x1 <= frame.x1 + 0.5 and box.y0 >= frame.y0 - 0.5
+                and box.y1 <= frame.y1 + 0.5), f"{t.get_text()!r} leaves the figure: {box} outside {frame}"
+
+
+@pytest.mark.parametrize(("name", "kind"), DRAWN)
+def test_symbols_are_mathtext_everywhere(ds, name, kind):
+    d = with_effects(ds[name], EFFECT_CASES["all"][0])
+    for t in words(quicklook.draw(d, kind)):
+        content = t.get_text()
+        assert content.count("$") % 2 == 0, content
+        prose = "".join(content.split("$")[::2])  # outside $...$
+        for plain in ("beta", "F_mu", "omega", "zeta", "kappa", "mu_s", "F0", "_n", "|Y(r)|"):
+            assert plain not in prose, (plain, content)
+
+
+@pytest.mark.parametrize("case", EFFECT_CASES)
+def test_the_title_says_which_effects_the_cube_has(ds, case):
+    effects, _ = EFFECT_CASES[case]
+    for kind in ("map", "curves"):
+        said = title(quicklook.draw(with_effects(ds["base"], effects), kind))
+        assert "base excitation, method event" in said
+        assert (r"viscous damping $\zeta$ = 0.05 (dashpot to ground)" in said) == ("viscous_damping" in effects)
+        assert (r"static friction $\mu_s/\mu_k$ = 1.5" in said) == ("static_friction_ratio" in effects)
+        assert (r"contact stiffness $\kappa = k_t/k$ = 10" in said) == ("contact_stiffness" in effects)
+        assert ("no effects" in said) == (not effects)
+
+
+@pytest.mark.parametrize("excitation", ["force", "base", "joined"])
+@pytest.mark.parametrize("case", EFFECT_CASES)
+def test_map_draws_only_the_boundaries_whose_theory_holds(ds, excitation, case):
+    effects, expected = EFFECT_CASES[case]
+    ax = quicklook.draw(with_effects(ds[excitation], effects), "map").axes[0]
+    assert {ln.get_gid() for ln in ax.lines} & BOUNDARY_GIDS == expected
+    static = effects.get("static_friction_ratio", 1.0)
+    if "stuck_limit" in expected:  # no motion from rest while the force amplitude (1; r^2 joined) <= beta_s
+        r, beta = line(ax, "stuck_limit").get_data()
+        np.testing.assert_allclose(beta, (np.asarray(r) ** 2 if excitation == "joined" else 1.0) / static)
+    if "resonance" in expected:  # unbounded for b <= pi/4, among the force ratios that move from rest
+        np.testing.assert_allclose(line(ax, "resonance").get_ydata(), [0.0, min(np.pi / 4, 1.0 / static)])
+    legend = [text(t.get_text()) for t in ax.get_legend().get_texts()]
+    assert any("no closed-form boundary" in t for t in legend) == (not expected)
+
+
+def test_a_damped_simulation_gets_no_undamped_boundaries(ds):
+    d = ds["damped"]
+    ax = quicklook.draw(d, "map").axes[0]
+    assert {ln.get_gid() for ln in ax.lines} & BOUNDARY_GIDS == {"stuck_limit"}
+    assert r"viscous damping $\zeta$ = 0.05" in title(ax.figure)
+    # the simulation agrees: bounded at r = 1 (the undamped line said unbounded), and stuck above beta = 1
+    assert not (d["regime"].values == Regime.UNBOUNDED).any()
+    np.testing.assert_array_equal(d["regime"].sel(force_ratio=1.2).values, Regime.STUCK)
+
+
+def test_a_dashpot_to_the_base_raises_the_no_motion_limit(ds):
+    zeta = 0.2
+    ax = quicklook.draw(with_effects(ds["base"], {"viscous_damping": {"ratio": zeta, "to": "base"}}), "map").axes[0]
+    r, beta = line(ax, "stuck_limit").get_data()
+    # x'' + 2 zeta x' + x + beta sgn(x') = cos(r t) - 2 zeta r sin(r t): the force's amplitude |1 + 2i zeta r|
+    np.testing.assert_allclose(beta, np.abs(1.0 + 2j * zeta * np.asarray(r)), rtol=1e-12)
+
+
+def test_curves_choose_a_log_axis_where_the_range_is_wide(ds):
+    peak = ds["peak"]
+    assert np.nanmax(peak["transmissibility"].values) > 1000  # the frictionless peak next to r = 1
+    assert quicklook.draw(peak, "curves").axes[0].get_yscale() == "log"
+    assert quicklook.draw(ds["base"], "curves").axes[0].get_yscale() == "linear"  # peaks of 3 beside 1: readable
+    assert quicklook.draw(peak, "curves", yscale="linear").axes[0].get_yscale() == "linear"
+    assert quicklook.draw(ds["base"], "curves", yscale="log").axes[0].get_yscale() == "log"
+    assert quicklook.draw(peak, "phase").axes[0].get_yscale() == "linear"  # lags change sign
+    for kind in ("phase", "map"):
+        with pytest.raises(PlotError, match=f"--yscale log applies to --kind curves .*--kind {kind} draws"):
+            quicklook.draw(peak, kind, yscale="log")
+
+
+def test_orbit_in_seconds_and_metres_where_the_cube_holds_them(ds):
+    d = ds["rig"]
+    natural = math.sqrt(STIFFNESS / MASS) / (2.0 * math.pi)  # f_n [Hz]
+    for k in (0, 1):
+        fig = quicklook.draw(d, "orbit", [f"history={k}"])
+        ax, plane = fig.axes
+        t = d["history_time"].values[k]
+        ok = np.isfinite(t)
+        r = float(d["history_frequency_ratio"].values[k])
+        x = line(ax, "history_displacement")
+        np.testing.assert_allclose(x.get_xdata(), t[ok] / (r * natural), rtol=1e-9)  # forcing periods / f
+        np.testing.assert_allclose(x.get_ydata(), d["history_displacement"].values[k][ok] * AMPLITUDE, rtol=1e-12)
+        np.testing.assert_allclose(line(ax, "history_excitation").get_ydata(),
+                                   d["history_excitation"].values[k][ok] * AMPLITUDE, rtol=1e-12)  # the base, y
+        q, v = line(plane, "phase_plane").get_data()
+        np.testing.assert_allclose(q[:-1], d["history_relative_displacement"].values[k][ok] * AMPLITUDE, rtol=1e-12)
+        omega_n = 2.0 * math.pi * natural  # velocities in Y per 1/omega_n
+        np.testing.assert_allclose(v[:-1], d["history_relative_velocity"].values[k][ok] * AMPLITUDE * omega_n,
+                                   rtol=1e-9)
+        np.testing.assert_allclose(line(plane, "section").get_data(), [[q[0]], [v[0]]])
+        assert (ax.get_xlabel(), ax.get_ylabel()) == ("time $t$ [s]", "displacement $x$ [m]")
+        assert (plane.get_xlabel(), plane.get_ylabel()) == ("displacement $x$ [m]", r"velocity $\dot{x}$ [m/s]")
+        assert f"$f$ = {r * natural:.3g} Hz" in title(fig)
+
+
+def test_orbit_of_a_force_draws_the_force_on_its_own_axis(ds):
+    d = ds["force_event"]
+    fig = quicklook.draw(d, "orbit", ["history=0"])
+    ax, plane, twin = fig.axes
+    assert ax.get_ylabel() == "displacement $x/(F_0/k)$" and twin.get_ylabel() == "force $F/F_0$"
+    np.testing.assert_array_equal(line(twin, "history_excitation").get_ydata(),
+                                  d["history_excitation"].values[0][np.isfinite(d["history_time"].values[0])])
+    assert not by_gid(ax, "history_excitation")
+    assert (plane.get_xlabel(), plane.get_ylabel()) == ("displacement $x/(F_0/k)$", r"velocity $\dot{x}/(\omega_n F_0/k)$")
 
 
 # --- refusals (library) --------------------------------------------------------------------------------
@@ -374,6 +570,7 @@ def test_plot_refusals(runner, cubes, tmp_path):
     _refused(runner, [str(tmp_path / "absent.h5")], tmp_path, "No such file or directory")
     _refused(runner, [str(good), "--sel", "beta=0.3"], tmp_path, "no dimension or coordinate 'beta'")
     _refused(runner, [str(good), "--kind", "curves", "--sel", "force_ratio=x"], tmp_path, "'x' is not a number")
+    _refused(runner, [str(good), "--kind", "phase", "--yscale", "log"], tmp_path, "--yscale log applies to --kind curves")
     theory_cube = tmp_path / "t.h5"
     shutil.copy(cubes["base"], theory_cube)
     _refused(runner, [str(theory_cube), "--kind", "orbit"], tmp_path, "holds no time history")
@@ -408,3 +605,11 @@ def test_the_command_line_imports_no_matplotlib():
     code = "import sys, friction_sweep.cli\nassert 'matplotlib' not in sys.modules, 'matplotlib was imported'\n"
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
+
+
+def test_the_readme_states_the_wide_range_the_code_uses():
+    from conftest import ROOT
+
+    readme = " ".join((ROOT / "README.md").read_text().split())
+    assert f"more than {quicklook.WIDE_RANGE:g} times their median" in readme
+    assert "[--yscale auto|linear|log]" in readme
