@@ -131,12 +131,12 @@ R_LABEL = r"frequency ratio $r = \omega/\omega_n$"
 #: the y label of the curves by (excitation, variable): the scene's quantity (a force scene has no base
 #: motion Y: its amplitude is X over the static deflection F0/k)
 Y_LABELS = {
-    ("force", "transmissibility"): r"amplitude $|X|/(F_0/k)$ (first harmonic)",
-    ("base", "transmissibility"): r"transmissibility $|X|/|Y|$ (first harmonic)",
-    ("joined", "transmissibility"): r"transmissibility $|X|/|Y|$ (first harmonic)",
-    ("force", "phase"): r"phase lag $\varphi$ of $x$ behind the force [°] (first harmonic)",
-    ("base", "phase"): r"phase lag $\varphi$ of $x$ behind the base [°] (first harmonic)",
-    ("joined", "phase"): r"phase lag $\varphi$ of $x$ behind the base [°] (first harmonic)",
+    ("force", "transmissibility"): r"first-harmonic amplitude $|X|/(F_0/k)$",
+    ("base", "transmissibility"): r"first-harmonic transmissibility $|X|/|Y|$",
+    ("joined", "transmissibility"): r"first-harmonic transmissibility $|X|/|Y|$",
+    ("force", "phase"): r"first-harmonic phase lag $\varphi$ of $x$ behind the force [°]",
+    ("base", "phase"): r"first-harmonic phase lag $\varphi$ of $x$ behind the base [°]",
+    ("joined", "phase"): r"first-harmonic phase lag $\varphi$ of $x$ behind the base [°]",
 }
 
 
