@@ -586,6 +586,16 @@ def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int], yscale: str = 
     for row, (i, colour) in enumerate(zip(indices, colours, strict=True)):
         ax.plot(x.values, data.values[i], "-", color=colour, marker=".", ms=3, gid=f"curve {row}",
                 label=f"{sym} = {f.values[i]:g}" + (f" {units}" if units else ""))
+    moving = _second_states(ds, var, indices)
+    for row, (values, colour) in enumerate(zip(moving, colours, strict=True)):
+        if np.isfinite(values).any():
+            ax.plot(x.values, values, "--", color=colour, marker="o", ms=3, mfc="none", gid=f"moving {row}")
+    handles, _ = ax.get_legend_handles_labels()
+    if np.isfinite(moving).any():
+        from matplotlib.lines import Line2D
+
+        handles.append(Line2D([], [], ls="--", marker="o", mfc="none", ms=3, color="0.3", gid="moving key",
+                              label="dashed: a second state\n(from a moving start)"))
     ax.set_yscale(choose_yscale(data.values[list(indices)], yscale) if var in LOG_VARIABLES else "linear")
     ax.set_ylabel(_wrapped(label(ds, var)))
     what = {"transmissibility": "amplitude" if scene(ds).excitation == "force" else "transmissibility",
@@ -594,7 +604,7 @@ def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int], yscale: str = 
     if n != ds.sizes[force]:
         phrases.append(f"({n} of {ds.sizes[force]} force ratios; choose with --sel {force}=...)")
     fit_title(fig, phrases)
-    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8)
     ax.set_xlim(*_edges(x.values)[[0, -1]])
     if "regime" not in ds:
         ax.set_xlabel(x.label)
@@ -607,6 +617,22 @@ def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int], yscale: str = 
     strip.set(xlabel=x.label, ylim=(n - 0.5, -0.5), yticks=range(n), yticklabels=[f"{f.values[i]:g}" for i in indices])
     strip.set_ylabel(f"{sym} [{units}]" if units else sym, fontsize=8)
     return fig
+
+
+def _second_states(ds: xr.Dataset, var: str, indices: Sequence[int]) -> np.ndarray:
+    """Rows of `var` from the moving start (`var` + MOVING_SUFFIX, where static exceeds kinetic friction) at
+    the points the cube counts two steady states (`steady_states` 2), NaN elsewhere and everywhere without
+    them: a second state that the curve from rest hides."""
+    from friction_sweep.storage.schema import MOVING_SUFFIX
+
+    force, frequency = grid_dims(ds)
+    shape = (len(indices), ds.sizes[frequency])
+    if var + MOVING_SUFFIX not in ds or "steady_states" not in ds:
+        return np.full(shape, np.nan)
+    rows = list(indices)
+    moving = ds[var + MOVING_SUFFIX].transpose(force, frequency).values[rows].astype(float)
+    two = ds["steady_states"].transpose(force, frequency).values[rows] == 2
+    return np.where(two, moving, np.nan)
 
 
 #: the curves' variables a log axis suits (amplitudes: positive; a phase lag changes sign)

@@ -49,6 +49,12 @@ scene: {excitation: base, effects: {viscous_damping: 0.05}}
 grid: {frequency_ratio: [0.5, 1.0, 1.5], force_ratio: [0.2, 0.6, 1.2]}
 method: event
 """
+#: static above kinetic friction: at beta = 0.9 (beta_s = 1.35 > 1) stuck from rest, moving from a moving start
+STATIC_EVENT = """\
+scene: {excitation: base, effects: {static_friction_ratio: 1.5}}
+grid: {frequency_ratio: [0.4, 0.6, 1.5], force_ratio: [0.3, 0.9]}
+method: event
+"""
 #: the frictionless peak next to r = 1 (1/|1 - r^2| = 1667) beside curves with friction near 1
 PEAK = """\
 scene: {excitation: base}
@@ -76,7 +82,7 @@ def cubes(tmp_path_factory):
     folder = tmp_path_factory.mktemp("plot_cubes")
     specs = {"base": small_spec("base"), "joined": small_spec("joined"), "force": small_spec("force"), "event": EVENT,
              "wide": WIDE, "no_regime": ONLY_TRANSMISSIBILITY, "one_force": ONE_FORCE, "rig": RIG, "peak": PEAK,
-             "damped": DAMPED, "force_event": EVENT.replace("excitation: base", "excitation: force")}
+             "damped": DAMPED, "static": STATIC_EVENT, "force_event": EVENT.replace("excitation: base", "excitation: force")}
     paths = {}
     for name, text in specs.items():
         spec = folder / f"{name}.yaml"
@@ -367,7 +373,8 @@ def words(fig) -> list:
     return [t for t in texts if t.get_visible() and t.get_text().strip()]
 
 
-DRAWN = [(name, kind) for name in ("base", "joined", "force", "event", "rig", "force_event", "wide", "base_physical")
+DRAWN = [(name, kind) for name in ("base", "joined", "force", "event", "rig", "force_event", "wide", "base_physical",
+                                   "static")
          for kind in KINDS if kind != "orbit" or name in ("event", "rig", "force_event")]
 
 
@@ -454,6 +461,22 @@ def test_curves_choose_a_log_axis_where_the_range_is_wide(ds):
     for kind in ("phase", "map"):
         with pytest.raises(PlotError, match=f"--yscale log applies to --kind curves .*--kind {kind} draws"):
             quicklook.draw(peak, kind, yscale="log")
+
+
+@pytest.mark.parametrize("kind", ["curves", "phase"])
+def test_curves_show_the_second_state_where_the_cube_has_two(ds, kind):
+    d = ds["static"]
+    var = quicklook.CURVE_VARIABLE[kind]
+    two = d["steady_states"].values == 2
+    assert two[1, :2].all() and not two[0].any()  # beta = 0.9 below resonance: stuck from rest, or moving
+    ax = quicklook.draw(d, kind).axes[0]
+    assert not by_gid(ax, "moving 0")  # beta = 0.3: one state, nothing dashed
+    (dashed,) = by_gid(ax, "moving 1")
+    np.testing.assert_array_equal(dashed.get_ydata(), np.where(two[1], d[var + "_moving"].values[1], np.nan))
+    assert d["regime"].values[1, 0] == Regime.STUCK and d["regime_moving"].values[1, 0] != Regime.STUCK
+    assert any("second state" in t.get_text() for t in ax.get_legend().get_texts())
+    assert "second state" not in " ".join(t.get_text() for t in quicklook.draw(ds["event"], kind).axes[0]
+                                          .get_legend().get_texts())
 
 
 def test_orbit_in_seconds_and_metres_where_the_cube_holds_them(ds):
