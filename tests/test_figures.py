@@ -158,12 +158,33 @@ def test_every_script_is_covered_here():
 
 @pytest.mark.parametrize("name", sorted(CALLS))
 @pytest.mark.slow
-def test_script_writes_a_png(cubes, tmp_path, name):
+def test_script_writes_a_png(cubes, tmp_path, name, monkeypatch):
     out = tmp_path / "out" / f"{name}.png"
-    load_script(name).main([str(cubes[c]) for c in CALLS[name]] + [str(out)])
+    script = load_script(name)
+    drawn = []
+    write = script.C.save_figure
+    monkeypatch.setattr(script.C, "save_figure", lambda fig, path: (drawn.append(fig), write(fig, path))[1])
+    script.main([str(cubes[c]) for c in CALLS[name]] + [str(out)])
     data = out.read_bytes()
     assert data.startswith(PNG_SIGNATURE) and len(data) > 10_000
     assert not [p for p in out.parent.iterdir() if p.name != out.name]  # no temporary file left behind
+    (fig,) = drawn
+    assert_texts_inside(fig)
+
+
+def assert_texts_inside(fig):
+    """Every title, axis label and legend entry of `fig` lies inside it as saved (none clipped)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig).draw()
+    renderer, frame = fig.canvas.get_renderer(), fig.bbox
+    texts = [fig._suptitle] if fig._suptitle is not None else []
+    for ax in fig.axes:
+        texts += [ax.title, ax.xaxis.label, ax.yaxis.label, *(ax.get_legend().get_texts() if ax.get_legend() else [])]
+    for t in (t for t in texts if t.get_visible() and t.get_text().strip()):
+        box = t.get_window_extent(renderer)
+        assert (box.x0 >= frame.x0 - 0.5 and box.x1 <= frame.x1 + 0.5 and box.y0 >= frame.y0 - 0.5
+                and box.y1 <= frame.y1 + 0.5), f"{t.get_text()!r} leaves the figure"
 
 
 @pytest.mark.slow
