@@ -569,6 +569,14 @@ def test_plot_every_kind(runner, cubes, tmp_path, kind):
     assert out.read_bytes().startswith(PNG_SIGNATURE) and out.stat().st_size > 10_000
 
 
+@pytest.mark.parametrize("yscale", ["log", "linear", "auto"])
+def test_plot_takes_the_curves_y_scale(runner, cubes, tmp_path, yscale):
+    out = tmp_path / "curves.png"
+    res = runner.invoke(main, ["plot", str(cubes["peak"]), "--kind", "curves", "--yscale", yscale, "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert out.read_bytes().startswith(PNG_SIGNATURE)
+
+
 def test_plot_without_matplotlib_refuses_before_reading(runner, tmp_path, no_matplotlib):
     # the cube does not even exist: the extra is checked first
     res = runner.invoke(main, ["plot", str(tmp_path / "absent.h5")])
