@@ -2,7 +2,7 @@
 stored orbit, each drawn from the cube alone into a matplotlib Figure.
 
     map      `regime` over (r, beta), coloured by its CF flags, with the theory's boundaries over it, each
-             only where its theory holds for the cube's scene and effects (Boundary, BOUNDARIES):
+             only where its theory holds for the cube's scene and effects (boundaries):
              Den Hartog's continuous-motion limit (plain model only), the no-motion limit A(r) = beta_s
              (stuck above; rigid contact) and the undamped resonance r = 1 (unbounded for b <= pi/4)
     curves   `transmissibility` against r, one curve per force ratio (at most MAX_CURVES unless chosen),
@@ -93,10 +93,11 @@ def axis_label(da) -> str:
     return text if units in ("", "1") else f"{text} [{units}]"
 
 
-#: the scene's length unit L in mathtext: F0/k under a force, the base amplitude Y otherwise
-LENGTH = {"force": "F_0/k", "base": "Y", "joined": "Y"}
-#: what moves the system, in words and as a symbol over its amplitude
-DRIVE = {"force": ("the force", r"$F/F_0$"), "base": ("the base", r"$y/Y$"), "joined": ("the base", r"$y/Y$")}
+#: the scene's length unit L in mathtext, as a divisor: the static deflection F0/k under a force, the base
+#: amplitude Y otherwise
+LENGTH = {"force": "(F_0/k)", "base": "Y", "joined": "Y"}
+#: what drives the system, in words
+DRIVE = {"force": "the force", "base": "the base", "joined": "the base"}
 #: mathtext axis labels of what the quick looks draw ({L}: the scene's LENGTH, {drive}: DRIVE's words); a
 #: name not here is labelled by axis_label
 LABELS: dict[str, str | dict[str, str]] = {
@@ -130,8 +131,7 @@ def label(ds: xr.Dataset, name: str) -> str:
     entry = given.get(excitation) if isinstance(given, dict) else given
     if entry is None:
         return axis_label(ds[name])
-    length = LENGTH.get(excitation, "Y")
-    return entry.format(L=length if "/" not in length else f"({length})", drive=DRIVE.get(excitation, DRIVE["base"])[0])
+    return entry.format(L=LENGTH.get(excitation, "Y"), drive=DRIVE.get(excitation, DRIVE["base"]))
 
 
 def symbol(ds: xr.Dataset, name: str) -> tuple[str, str]:
@@ -358,8 +358,9 @@ def effect_phrases(sc: Scene) -> list[str]:
 def title_phrases(ds: xr.Dataset, what: str) -> list[str]:
     """The title's phrases: what is drawn, the scene and method, then the effects."""
     sc = scene(ds)
+    effects = effect_phrases(sc)
     return [f"{what};", f"{sc.excitation} excitation, method {ds.attrs.get('method', '?')};",
-            *[p + ("," if i < len(effect_phrases(sc)) - 1 else "") for i, p in enumerate(effect_phrases(sc))]]
+            *[f"{p}," for p in effects[:-1]], effects[-1]]
 
 
 #: the title's width at most, as a share of the figure's (room for the layout's margins)
