@@ -598,8 +598,11 @@ def draw_curves(ds: xr.Dataset, var: str, indices: Sequence[int], yscale: str = 
         handles.append(Line2D([], [], ls="--", marker="o", mfc="none", ms=3, color="0.3", gid="moving key",
                               label="dashed: a second state\n(from a moving start)"))
     ax.set_yscale(choose_yscale(data.values[list(indices)], yscale) if var in LOG_VARIABLES else "linear")
-    ax.set_ylabel(_wrapped(label(ds, var)))
-    what = {"transmissibility": "amplitude" if scene(ds).excitation == "force" else "transmissibility",
+    excitation = scene(ds).excitation
+    scale = length_scale(ds) if var == "transmissibility" else None  # what the ratio is of, in mm
+    unit = "" if scale is None else f" (${LENGTH[excitation].strip('()')}$ = {scale * 1e3:.4g} mm)"
+    ax.set_ylabel(_wrapped(label(ds, var) + unit))
+    what = {"transmissibility": "amplitude" if excitation == "force" else "transmissibility",
             "phase": "phase lag"}.get(var, var)
     phrases = title_phrases(ds, f"{what} curves")
     if n != ds.sizes[force]:
@@ -732,6 +735,26 @@ def history_index(ds: xr.Dataset, chosen: dict[str, list[float]]) -> int:
     return int(np.nanargmin(distance)) if np.isfinite(distance).any() else 0
 
 
+def physical_system(ds: xr.Dataset):
+    """The physical system the cube records (storage.physical.PhysicalMap), None where it records none or
+    not readably."""
+    from friction_sweep.storage import physical
+
+    try:
+        return physical.from_attribute(ds.attrs[physical.ATTRIBUTE])
+    except (KeyError, ValueError, TypeError):
+        return None
+
+
+def length_scale(ds: xr.Dataset) -> float | None:
+    """The cube's length unit L in metres (Y, or F0/k for force) where one holds for the whole cube (not at
+    constant acceleration, where Y = a / omega^2 changes along the sweep), else None."""
+    system = physical_system(ds)
+    if system is None or system.acceleration is not None or system.length_scale is None:
+        return None
+    return float(system.length_scale)
+
+
 class OrbitUnits(NamedTuple):
     """How a stored orbit is drawn: dimensionless (scales 1), or in seconds and metres where the cube holds
     its physical time and displacement (`system:`), the rest scaled alike (storage.physical)."""
@@ -750,13 +773,8 @@ def orbit_units(ds: xr.Dataset, k: int) -> OrbitUnits:
     dimensionless = OrbitUnits(False, 1.0, 1.0, 1.0, math.nan, math.nan)
     if not all(n in ds for n in ("history_physical_time", "history_physical_displacement", "history_frequency_ratio")):
         return dimensionless
-    from friction_sweep.storage import physical
-
-    try:
-        system = physical.from_attribute(ds.attrs[physical.ATTRIBUTE])
-    except (KeyError, ValueError, TypeError):
-        return dimensionless
-    if system.natural_frequency is None:
+    system = physical_system(ds)
+    if system is None or system.natural_frequency is None:
         return dimensionless
     frequency = float(ds["history_frequency_ratio"].values[k]) * system.natural_frequency
     force, length = system.scales_at(frequency)

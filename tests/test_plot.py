@@ -479,6 +479,12 @@ def test_curves_show_the_second_state_where_the_cube_has_two(ds, kind):
                                           .get_legend().get_texts())
 
 
+def test_curves_of_a_rig_say_what_their_ratio_is_of(ds):
+    ax = quicklook.draw(ds["rig"], "curves").axes[0]
+    assert text(ax.get_ylabel()) == Y_LABELS["base", "transmissibility"] + f" ($Y$ = {AMPLITUDE * 1e3:g} mm)"
+    assert text(quicklook.draw(ds["rig"], "phase").axes[0].get_ylabel()) == Y_LABELS["base", "phase"]
+
+
 def test_orbit_in_seconds_and_metres_where_the_cube_holds_them(ds):
     d = ds["rig"]
     natural = math.sqrt(STIFFNESS / MASS) / (2.0 * math.pi)  # f_n [Hz]
