@@ -4,7 +4,8 @@ stored orbit, each drawn from the cube alone into a matplotlib Figure.
     map      `regime` over (r, beta), coloured by its CF flags, with the theory's boundaries over it, each
              only where its theory holds for the cube's scene and effects (boundaries):
              Den Hartog's continuous-motion limit (plain model only), the no-motion limit A(r) = beta_s
-             (stuck above; rigid contact) and the undamped resonance r = 1 (unbounded for b <= pi/4)
+             (stuck above; rigid contact) or the Jenkins slider's, and the undamped resonance r = 1
+             (unbounded for b <= pi/4)
     curves   `transmissibility` against r, one curve per force ratio (at most MAX_CURVES unless chosen),
              and under it a strip per curve: its stick-slip and stuck spans shaded, its unbounded and
              unsettled points marked; the y axis logarithmic where asked, or (auto) where the values span
@@ -452,9 +453,9 @@ def draw_map(ds: xr.Dataset) -> Figure:
     ax.pcolormesh(_edges(x.values), _edges(y.values), np.ma.masked_invalid(position),
                   cmap=ListedColormap(colours), norm=BoundaryNorm(np.arange(len(values) + 1) - 0.5, len(values)),
                   shading="flat", rasterized=True, gid="regime")
-    _draw_boundaries(ax, ds, x, _force_axis_of(ds, x, y))
     ax.set_xlim(_edges(x.values)[[0, -1]])
-    ax.set_ylim(_edges(y.values)[[0, -1]])
+    ax.set_ylim(_edges(y.values)[[0, -1]])  # first: a boundary outside these is left out of the legend
+    _draw_boundaries(ax, ds, x, _force_axis_of(ds, x, y))
     patches = [Patch(facecolor=colours[i], edgecolor="0.5", label=f"{m.replace('_', '-')} ({int((codes == v).sum())})")
                for i, (v, m) in enumerate(zip(values, meanings, strict=True)) if (codes == v).any()]
     lines, _ = ax.get_legend_handles_labels()
@@ -488,10 +489,16 @@ def boundaries(sc: Scene) -> tuple[str, ...]:
         stuck_limit       no motion from rest while A(r) <= beta_s (A the forcing amplitude: 1, r^2 joined,
                           sqrt(1 + (2 zeta r)^2) for the base scene's dashpot to the base): a rigid contact
                           only (on a contact spring the mass moves while the slider holds)
+        slider_stuck_limit  the Jenkins contact's slider never slips where the forced motion on the held
+                          slider, an oscillator of stiffness 1 + kappa, loads the contact spring less than
+                          the friction: beta >= kappa A / |1 + kappa - r^2| (§7, "a slider that never slips":
+                          undamped, static = kinetic friction, where the state does not depend on the start)
         resonance         r = 1 unbounded for b <= pi/4 (and beta_s < A(1) = 1: else it never moves): without
                           damping only, rigid or Jenkins contact (§7: only r = 1 grows without bound)
     """
-    holds = {"continuous_limit": sc.plain, "stuck_limit": sc.contact_stiffness == 0.0,
+    jenkins = sc.contact_stiffness > 0.0
+    holds = {"continuous_limit": sc.plain, "stuck_limit": not jenkins,
+             "slider_stuck_limit": jenkins and sc.damping == 0.0 and sc.static_ratio == 1.0,
              "resonance": sc.damping == 0.0}
     return tuple(name for name, ok in holds.items() if ok)
 
@@ -529,10 +536,19 @@ def _draw_boundaries(ax: Axes, ds: xr.Dataset, x: Axis, to_y) -> None:
         if np.nanmin(to_y(fine, stuck)) <= ax.get_ylim()[1]:  # else above the plot: not in its legend
             ax.plot(x.from_ratio(fine), to_y(fine, stuck), "-", color="k", lw=1.4, gid="stuck_limit",
                     label=rf"stuck above: $\beta = {where}$ (no motion from rest)")
+    if "slider_stuck_limit" in drawn:
+        fine = np.linspace(r.min(), r.max(), 400) if r.size > 1 else r
+        kappa = sc.contact_stiffness
+        with np.errstate(divide="ignore"):  # r = sqrt(1 + kappa): the held oscillator's resonance, never held
+            held = kappa * scenes.forcing_amplitude(sc.excitation, fine) / np.abs(1.0 + kappa - fine**2)
+        held[~np.isfinite(held)] = np.nan
+        force = r"\kappa r^2" if sc.excitation == "joined" else r"\kappa"
+        ax.plot(x.from_ratio(fine), to_y(fine, held), "-.", color="k", lw=1.4, gid="slider_stuck_limit",
+                label=rf"slider stuck above: $\beta = {force}/|1 + \kappa - r^2|$")
     # the undamped resonance: unbounded at r = 1 for friction ratios b <= pi/4 (b = beta/A, A(1) = 1) that
     # move from rest (beta_s < 1)
-    if "resonance" in drawn and r.min() <= 1.0 <= r.max():
-        top = min(ties.RESONANCE_FRICTION_LIMIT, 1.0 / sc.static_ratio)
+    top = min(ties.RESONANCE_FRICTION_LIMIT, 1.0 / sc.static_ratio)
+    if "resonance" in drawn and r.min() <= 1.0 <= r.max() and to_y(np.ones(1), np.full(1, top))[0] >= ax.get_ylim()[0]:
         bound = r"\pi/4" if top == ties.RESONANCE_FRICTION_LIMIT else f"{top:.3g}"
         x1 = float(x.from_ratio(np.array([1.0]))[0])
         ax.plot([x1, x1], to_y(np.array([1.0, 1.0]), np.array([0.0, top])), "-", color="tab:red", lw=2.0,

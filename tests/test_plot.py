@@ -12,6 +12,7 @@ import sys
 import numpy as np
 import pytest
 import xarray as xr
+from click.testing import CliRunner
 from conftest import one_error_line, small_spec
 
 from friction_sweep import quicklook
@@ -77,8 +78,6 @@ def physical(ds: xr.Dataset) -> xr.Dataset:
 @pytest.fixture(scope="session")
 def cubes(tmp_path_factory):
     """name -> path of every cube the tests draw (the event cube: numba's cached kernels, a second)."""
-    from click.testing import CliRunner
-
     folder = tmp_path_factory.mktemp("plot_cubes")
     specs = {"base": small_spec("base"), "joined": small_spec("joined"), "force": small_spec("force"), "event": EVENT,
              "wide": WIDE, "no_regime": ONLY_TRANSMISSIBILITY, "one_force": ONE_FORCE, "rig": RIG, "peak": PEAK,
@@ -341,17 +340,20 @@ def test_orbit_draws_the_chosen_history(ds):
 
 # --- what an engineer reads (issue 29): titles, labels, boundaries per scene and effects, scales ----------
 
-BOUNDARY_GIDS = {"continuous_limit", "stuck_limit", "resonance"}
+BOUNDARY_GIDS = {"continuous_limit", "stuck_limit", "slider_stuck_limit", "resonance"}
 DASHPOT = {"ratio": 0.05, "to": "ground"}
 #: effects as a simulation records them (method_settings), and the boundaries whose theory holds with them
 #: (docs/equations.md): Den Hartog's beta*(r) for the plain model only; no motion from rest while the force
 #: amplitude stays inside the static band, for a rigid contact (on a contact spring the mass moves while the
-#: slider holds); the resonance at r = 1 without damping (rigid or Jenkins contact, §7)
+#: slider holds); the Jenkins slider held while the forced motion on it loads the contact spring less than the
+#: friction (§7: undamped, static = kinetic friction); the resonance at r = 1 without damping (rigid or
+#: Jenkins contact, §7)
 EFFECT_CASES = {
-    "plain": ({}, BOUNDARY_GIDS),
+    "plain": ({}, {"continuous_limit", "stuck_limit", "resonance"}),
     "damped": ({"viscous_damping": DASHPOT}, {"stuck_limit"}),
     "static": ({"static_friction_ratio": 1.5}, {"stuck_limit", "resonance"}),
-    "jenkins": ({"contact_stiffness": 10.0}, {"resonance"}),
+    "jenkins": ({"contact_stiffness": 10.0}, {"slider_stuck_limit", "resonance"}),
+    "jenkins_static": ({"contact_stiffness": 10.0, "static_friction_ratio": 1.5}, {"resonance"}),
     "all": ({"viscous_damping": DASHPOT, "static_friction_ratio": 1.5, "contact_stiffness": 10.0}, set()),
 }
 
@@ -426,6 +428,11 @@ def test_map_draws_only_the_boundaries_whose_theory_holds(ds, excitation, case):
     if "stuck_limit" in expected:  # no motion from rest while the force amplitude (1; r^2 joined) <= beta_s
         r, beta = line(ax, "stuck_limit").get_data()
         np.testing.assert_allclose(beta, (np.asarray(r) ** 2 if excitation == "joined" else 1.0) / static)
+    if "slider_stuck_limit" in expected:  # kappa |F|, F the forced amplitude of the held oscillator 1 + kappa
+        r, beta = line(ax, "slider_stuck_limit").get_data()
+        r = np.asarray(r)
+        force = r**2 if excitation == "joined" else 1.0
+        np.testing.assert_allclose(beta, 10.0 * force / np.abs(11.0 - r**2), rtol=1e-12)
     if "resonance" in expected:  # unbounded for b <= pi/4, among the force ratios that move from rest
         np.testing.assert_allclose(line(ax, "resonance").get_ydata(), [0.0, min(np.pi / 4, 1.0 / static)])
     legend = [text(t.get_text()) for t in ax.get_legend().get_texts()]
@@ -440,6 +447,27 @@ def test_a_damped_simulation_gets_no_undamped_boundaries(ds):
     # the simulation agrees: bounded at r = 1 (the undamped line said unbounded), and stuck above beta = 1
     assert not (d["regime"].values == Regime.UNBOUNDED).any()
     np.testing.assert_array_equal(d["regime"].sel(force_ratio=1.2).values, Regime.STUCK)
+
+
+@pytest.mark.slow
+def test_the_jenkins_slider_limit_parts_the_simulated_stuck_points(tmp_path):
+    """An event run of the Jenkins contact (kappa = 10) is stuck exactly above the drawn limit."""
+    spec = tmp_path / "jenkins.yaml"
+    spec.write_text("""\
+scene: {excitation: base, effects: {contact_stiffness: 10}}
+grid: {frequency_ratio: [0.5, 1.5, 2.0, 2.5, 3.0], force_ratio: [1.2, 2.0]}
+method: event
+outputs: [transmissibility, regime]
+""")
+    out = tmp_path / "jenkins.h5"
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(out), "-q"])
+    assert res.exit_code == 0, res.output
+    d = cube.open_cube(out)
+    fine_r, limit = line(quicklook.draw(d, "map").axes[0], "slider_stuck_limit").get_data()
+    r, beta = d["frequency_ratio"].values, d["force_ratio"].values
+    above = beta[:, None] > np.interp(r, fine_r, limit)[None, :]
+    np.testing.assert_array_equal(d["regime"].values == Regime.STUCK, above)
+    assert above.any() and not above.all()
 
 
 def test_a_dashpot_to_the_base_raises_the_no_motion_limit(ds):
