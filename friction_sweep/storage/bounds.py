@@ -42,9 +42,9 @@ MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + 8
 MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if "history" in v.dims else MAX_POINTS)
                      for v in (*VARIABLES.values(), *COORDS.values(), *PHYSICAL_COORDS.values()))
 #: the most bytes a file's compressed (filtered) variables may expand to per byte of the file. fsweep writes
-#: its cubes uncompressed; one compressed afterwards (nccopy -d9, xarray's zlib) is a few times smaller (a
-#: grid's varied floats barely compress, its flags and constant variables do), so a reader loads at most
-#: this multiple of the file's size (plus COMPRESSION_SLACK); beyond it a file is a decompression bomb
+#: its cubes compressed (storage.encoding), a few times smaller than their values (the paper's planes 3-4
+#: times: a grid's varied floats barely compress, its flags and constant variables do), so a reader loads at
+#: most this multiple of the file's size (plus COMPRESSION_SLACK); beyond it a file is a decompression bomb
 MAX_COMPRESSION = 64
 #: what compressed variables may hold beyond MAX_COMPRESSION x the file's size (a small cube's chunk headers
 #: and constant variables weigh more than their data)

@@ -5,7 +5,10 @@ schema table, and the global attributes). `fsweep run` writes the parts straight
 (netcdf_bytes): building an xarray Dataset makes xarray import dask to ask whether any array is a
 dask array, and writing one imports dask.distributed to pick a lock, ~0.5 s of a one-point run (issue
 16's import floor). The Python API gets a Dataset of the same parts (build_dataset), and a Dataset is
-written by the same writer; a test holds the file read back by xarray identical to the Dataset.
+written by the same writer; a test holds the file read back by xarray identical to the Dataset. How each
+variable is stored (fill value, compression) is storage.encoding's one answer: the writer applies it and
+every Dataset handed out (as_dataset, open_cube) carries it as `.encoding`, so a user's own to_netcdf
+writes what `fsweep run` writes.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ import numpy as np
 from friction_sweep.errors import FsweepError
 from friction_sweep.printable import escape
 from friction_sweep.storage import atomic, provenance
+from friction_sweep.storage.encoding import encoding, h5netcdf_options
 from friction_sweep.storage.outputs import file_kind
 from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES, cube_dims
 
@@ -68,7 +72,14 @@ def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str
 def as_dataset(parts: CubeParts) -> xr.Dataset:
     import xarray as xr
 
-    return xr.Dataset(parts.data_vars, coords=parts.coords, attrs=parts.attrs)
+    return with_encoding(xr.Dataset(parts.data_vars, coords=parts.coords, attrs=parts.attrs))
+
+
+def with_encoding(ds: xr.Dataset) -> xr.Dataset:
+    """`ds` with each variable's `.encoding` the one the cube writer applies (storage.encoding), in place."""
+    for name, var in ds.variables.items():
+        var.encoding = encoding(var.values, coordinate=name in ds.coords)
+    return ds
 
 
 def _parts_of(ds: xr.Dataset) -> CubeParts:
@@ -79,12 +90,12 @@ def _parts_of(ds: xr.Dataset) -> CubeParts:
 
 
 def netcdf_bytes(parts: CubeParts) -> bytes:
-    """The cube as netCDF4 bytes, as xarray would write it: floats get _FillValue NaN (none on
-    dimension coordinates), integers none (every flag code is meaningful); strings as variable-length;
-    non-dimension coordinates (a cube's physical ones, or its ratios where the dims are physical) named
-    in the `coordinates` attribute of each variable whose dims hold theirs, else in the global one, as
-    xarray's CF encoding does. What a cube never holds (bytes, dimensions of two sizes) is refused, not
-    written differently from xarray; a Dataset's own .encoding is not read."""
+    """The cube as netCDF4 bytes, as xarray writes a Dataset carrying storage.encoding's encodings (fill
+    values, compression); strings as variable-length; non-dimension coordinates (a cube's physical ones,
+    or its ratios where the dims are physical) named in the `coordinates` attribute of each variable whose
+    dims hold theirs, else in the global one, as xarray's CF encoding does. What a cube never holds
+    (bytes, dimensions of two sizes) is refused, not written differently from xarray; a Dataset's own
+    .encoding is not read (the parts' encoding is the one answer)."""
     import h5netcdf
     import h5py
 
@@ -103,11 +114,10 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
         for is_coord, entries in ((True, parts.coords), (False, parts.data_vars)):
             for name, (dims, values, attrs) in entries.items():
                 dtype: Any = values.dtype
+                options = h5netcdf_options(encoding(values, coordinate=is_coord))
                 if values.dtype.kind in "UO":
                     dtype, values = h5py.string_dtype(), values.astype(object)
-                float_ = np.issubdtype(values.dtype, np.floating)
-                dimension = is_coord and name not in auxiliary
-                var = f.create_variable(name, dims, dtype, fillvalue=np.nan if float_ and not dimension else None)
+                var = f.create_variable(name, dims, dtype, **options)
                 var[...] = values
                 for key, value in attrs.items():
                     var.attrs[key] = value
@@ -173,7 +183,7 @@ def open_cube(path) -> xr.Dataset:
             fh.seek(0)
             # phony_dims: a dataset without dimension scales gets named dims (the audit refuses them) quietly
             with xr.open_dataset(fh, engine=ENGINE, phony_dims="access") as ds:
-                ds = ds.load()
+                ds = with_encoding(ds.load())  # the file's own (an older cube's: uncompressed) is not handed on
         except bounds.Refused as err:
             raise FsweepError(f"{shown} is not a cube fsweep reads: {escape(err)}") from None
         except Exception as err:  # any reader failure means: not a cube we can read
@@ -188,5 +198,6 @@ def open_cube(path) -> xr.Dataset:
     return ds
 
 
-__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "netcdf_bytes",
+__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "with_encoding",
+           "netcdf_bytes",
            "write_atomic", "open_cube", "provenance"]
