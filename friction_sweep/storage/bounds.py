@@ -31,12 +31,12 @@ import numpy as np
 
 from friction_sweep.spec.grid import MAX_POINTS
 from friction_sweep.spec.model import MAX_HISTORY_SAMPLES
-from friction_sweep.storage.schema import COORDS, PHYSICAL_COORDS, VARIABLES
+from friction_sweep.storage.schema import COORDS, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES
 
 #: the most values one array of a cube holds: its grid's points, or a time history's samples
 MAX_VALUES = max(MAX_POINTS, MAX_HISTORY_SAMPLES)
 #: every variable and coordinate the schema knows, and a dimension scale for each dim it names
-MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + 8
+MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + 8
 #: the largest cube a run can write: every schema variable at its largest (grid variables at MAX_POINTS
 #: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
 MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if "history" in v.dims else MAX_POINTS)

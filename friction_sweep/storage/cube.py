@@ -26,7 +26,7 @@ from friction_sweep.printable import escape
 from friction_sweep.storage import atomic, provenance
 from friction_sweep.storage.encoding import encoding, h5netcdf_options
 from friction_sweep.storage.outputs import file_kind
-from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES, cube_dims
+from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES, cube_dims
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -44,14 +44,16 @@ class CubeParts(NamedTuple):
 
 
 def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
-               history: str, physical: dict | None = None, physical_dims: bool = False) -> CubeParts:
+               history: str, physical: dict | None = None, physical_dims: bool = False,
+               scalars: dict | None = None) -> CubeParts:
     """The given arrays, each labelled and given CF attributes from the schema table; `physical`: the
     physical coordinates (storage.physical) beside the grid's; `physical_dims`: a cube at constant base
-    acceleration, whose dims are the physical coordinates (schema.cube_dims)."""
+    acceleration, whose dims are the physical coordinates (schema.cube_dims); `scalars`: the scalar
+    coordinates (schema.SCALAR_COORDS: the scene's effects, the system's constants) by name."""
     coords: Entries = {}
     for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio),
-                         *(physical or {}).items()):
-        var = {**COORDS, **PHYSICAL_COORDS}[name]
+                         *(physical or {}).items(), *(scalars or {}).items()):
+        var = {**COORDS, **PHYSICAL_COORDS, **SCALAR_COORDS}[name]
         dims = cube_dims(name, var.dims, physical_dims)
         coords[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     data_vars: Entries = {}
