@@ -122,3 +122,25 @@ def test_an_uncompressed_cube_still_reads_and_is_handed_on_with_the_encoding(tmp
     again = tmp_path / "again.nc"
     back.to_netcdf(again, engine="h5netcdf")
     assert storage(again) == storage(tmp_path / "cli.nc")
+
+
+def test_a_cube_too_uniform_to_compress_within_the_readers_bound_is_written_plainly(tmp_path):
+    """A grid where every point is stuck compresses ~600 times: compressed, its variables would expand
+    beyond what the reader loads per byte of file (storage.bounds), so the writer stores it uncompressed
+    and fsweep reads every cube it writes."""
+    from friction_sweep.storage import bounds, cube, provenance
+
+    r, beta = np.linspace(0.05, 5.0, 2000), np.linspace(1.0, 2.0, 1000)
+    zeros = np.zeros((beta.size, r.size))
+    parts = cube.cube_parts({"transmissibility": zeros, "peak_transmissibility": zeros, "stops_per_period": zeros},
+                            frequency_ratio=r, force_ratio=beta, excitation="base", title="t", history="test",
+                            attrs=provenance.attributes(spec_text="", spec_path="s.yaml", excitation="base",
+                                                        method="theory", settings={}))
+    squeezed = tmp_path / "squeezed.nc"  # compressed as the encoding says: the reader refuses it
+    cube.as_dataset(parts).to_netcdf(squeezed, engine="h5netcdf")
+    with pytest.raises(fs.FsweepError, match=f"up to {bounds.MAX_COMPRESSION} times their size"):
+        fs.open_cube(squeezed)
+    path = tmp_path / "stuck.nc"
+    cube.write_atomic(parts, path, overwrite=False)
+    assert storage(path)["transmissibility"][1] is None
+    np.testing.assert_array_equal(fs.open_cube(path)["transmissibility"].values, zeros)

@@ -82,10 +82,17 @@ def check(f) -> None:
             raise Refused(f"its variables declare more than {_bytes(MAX_CUBE_BYTES)}, more than the largest "
                           "cube fsweep writes")
     size = f.id.get_filesize()
-    if expanded > MAX_COMPRESSION * size + COMPRESSION_SLACK:
+    if expands_too_far(expanded, size):
         raise Refused(f"its compressed variables expand to {expanded} bytes, {expanded / size:.0f} times the file's "
                       f"{size}; fsweep reads compressed cubes up to {MAX_COMPRESSION} times their size (decompress "
                       "it: nccopy -d0)")
+
+
+def expands_too_far(expanded: int, size: int) -> bool:
+    """Whether compressed variables of `expanded` bytes in all, in a file of `size` bytes, expand beyond
+    what a reader loads (MAX_COMPRESSION times the file, plus COMPRESSION_SLACK): the reader refuses such a
+    file, and the cube writer stores such a cube uncompressed instead (storage.cube.netcdf_bytes)."""
+    return expanded > MAX_COMPRESSION * size + COMPRESSION_SLACK
 
 
 def _dataset(name: str, ds) -> tuple[int, int]:
@@ -143,4 +150,4 @@ def _bytes(n: int) -> str:
 
 
 __all__ = ["MAX_VALUES", "MAX_DATASETS", "MAX_CUBE_BYTES", "MAX_COMPRESSION", "COMPRESSION_SLACK",
-           "MAX_ATTRIBUTES", "Refused", "check"]
+           "MAX_ATTRIBUTES", "Refused", "check", "expands_too_far"]

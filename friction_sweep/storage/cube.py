@@ -24,7 +24,7 @@ import numpy as np
 from friction_sweep.errors import FsweepError
 from friction_sweep.printable import escape
 from friction_sweep.storage import atomic, provenance
-from friction_sweep.storage.encoding import encoding, h5netcdf_options
+from friction_sweep.storage.encoding import COMPRESSION, encoding, h5netcdf_options
 from friction_sweep.storage.outputs import file_kind
 from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES, cube_dims
 
@@ -91,15 +91,20 @@ def _parts_of(ds: xr.Dataset) -> CubeParts:
     return CubeParts(entries(ds.coords), entries(ds.data_vars), dict(ds.attrs))
 
 
-def netcdf_bytes(parts: CubeParts) -> bytes:
+def netcdf_bytes(parts: CubeParts, *, compress: bool = True) -> bytes:
     """The cube as netCDF4 bytes, as xarray writes a Dataset carrying storage.encoding's encodings (fill
     values, compression); strings as variable-length; non-dimension coordinates (a cube's physical ones,
     or its ratios where the dims are physical) named in the `coordinates` attribute of each variable whose
     dims hold theirs, else in the global one, as xarray's CF encoding does. What a cube never holds
     (bytes, dimensions of two sizes) is refused, not written differently from xarray; a Dataset's own
-    .encoding is not read (the parts' encoding is the one answer)."""
+    .encoding is not read (the parts' encoding is the one answer). A cube so uniform that its compressed
+    variables would expand beyond what the reader loads per byte of file (storage.bounds.expands_too_far:
+    a grid of millions of points, every one stuck, compresses ~600 times) is written uncompressed
+    (`compress` False), as every cube was before issue 33, so that fsweep reads every cube it writes."""
     import h5netcdf
     import h5py
+
+    from friction_sweep.storage import bounds
 
     sizes: dict[str, int] = {}
     for name, (dims, values, _) in (*parts.coords.items(), *parts.data_vars.items()):
@@ -110,13 +115,18 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
             raise ValueError(f"{name}: only numbers and str are written")
     auxiliary = {name: set(dims) for name, (dims, _, _) in parts.coords.items() if dims != (name,)}
     referenced: set[str] = set()
+    expanded = 0  # bytes of the compressed variables
     buffer = io.BytesIO()
     with h5netcdf.File(buffer, "w") as f:
         f.dimensions = sizes
         for is_coord, entries in ((True, parts.coords), (False, parts.data_vars)):
             for name, (dims, values, attrs) in entries.items():
                 dtype: Any = values.dtype
-                options = h5netcdf_options(encoding(values, coordinate=is_coord))
+                enc = encoding(values, coordinate=is_coord)
+                if not compress:
+                    enc = {key: value for key, value in enc.items() if key not in COMPRESSION}
+                expanded += values.nbytes if enc.get("zlib") else 0
+                options = h5netcdf_options(enc)
                 if values.dtype.kind in "UO":
                     dtype, values = h5py.string_dtype(), values.astype(object)
                 var = f.create_variable(name, dims, dtype, **options)
@@ -132,7 +142,10 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
         unreferenced = sorted(set(auxiliary) - referenced)
         if unreferenced:
             f.attrs["coordinates"] = " ".join(unreferenced)
-    return buffer.getvalue()
+    data = buffer.getvalue()
+    if compress and bounds.expands_too_far(expanded, len(data)):
+        return netcdf_bytes(parts, compress=False)
+    return data
 
 
 def write_atomic(cube: CubeParts | xr.Dataset, path: Path, *, overwrite: bool) -> None:
