@@ -91,9 +91,11 @@ class Posterior:
     def pointwise(self, theta: np.ndarray, predicted: dict[str, np.ndarray]) -> np.ndarray:
         """log p of every row (summed over the measured quantities): (n_vectors, n_rows); -inf where the
         model gives no value."""
-        theta = np.atleast_2d(theta)
-        total = np.zeros((theta.shape[0], self.model.obs.size))
-        for term in self.pointwise_terms(theta, predicted).values():
+        return self._summed(self.pointwise_terms(theta, predicted), np.atleast_2d(theta).shape[0])
+
+    def _summed(self, terms: dict[str, np.ndarray], n: int) -> np.ndarray:
+        total = np.zeros((n, self.model.obs.size))
+        for term in terms.values():
             total += term
         return total
 
@@ -114,8 +116,8 @@ class Posterior:
             predicted = self.model.predict(theta[inside])
             pointwise = self.pointwise_terms(theta[inside], predicted)
             terms[inside] = np.stack([pointwise[name][:, self.rows] for name in self.model.obs.measured], axis=1)
-            # quantities first, then rows: the order the sum had before the terms were kept (same bits)
-            out[inside] = lp[inside] + terms[inside].sum(axis=1).sum(axis=1)
+            # summed as pointwise() sums (the reduction's order decides the last bits, and the sampler's path)
+            out[inside] = lp[inside] + self._summed(pointwise, int(inside.sum()))[:, self.rows].sum(axis=1)
         return out, terms
 
     def residuals(self, theta: np.ndarray, predicted: dict[str, np.ndarray]) -> np.ndarray:
