@@ -32,7 +32,7 @@ from friction_sweep.spec.quantities import (
     QuantityError,
     to_si,
 )
-from friction_sweep.storage import cube
+from friction_sweep.storage import cube, schema
 
 G0 = 9.80665
 TWO_PI = 2.0 * math.pi
@@ -280,8 +280,10 @@ def test_physical_and_dimensionless_specs_give_the_same_cube(f_n, f_unit, axis_u
     dimensionless = (f"scene: {{excitation: {excitation}}}\ngrid:\n  frequency_ratio: {r.tolist()!r}\n"
                      f"  force_ratio: {beta.tolist()!r}\n")
     a, b = _cube(physical), _cube(dimensionless)
-    for name in b.data_vars:
-        xr.testing.assert_identical(a[name].drop_vars(["frequency", "friction_force"], errors="ignore"), b[name])
+    for name in b.data_vars:  # the physical cube's own coordinates aside (the system's constants scalar ones)
+        physical_coords = ["frequency", "friction_force", *schema.SCALAR_COORDS]
+        xr.testing.assert_identical(a[name].drop_vars(physical_coords, errors="ignore"), b[name])
+    np.testing.assert_allclose(a["natural_frequency"].values, f_n * FREQUENCY_UNITS[f_unit], rtol=1e-14)
     np.testing.assert_allclose(a["frequency"].values, hz, rtol=1e-14)
     np.testing.assert_allclose(a["friction_force"].values, newton, rtol=1e-14)
 

@@ -136,7 +136,10 @@ def cube(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], co
     from friction_sweep.storage import physical, provenance
 
     coords, attrs = None, dict(extra_attrs or {})
+    # the declared effects and the system's constants as scalar coordinates: a family of cubes stacks on them
+    scalars = {name: catalogue.effect_value(spec.scene.effects, name) for name in spec.scene.effects or {}}
     if spec.physical is not None:
+        scalars.update(physical.constants(spec.physical))
         coords = physical.coordinates(spec.physical)
         arrays = {**arrays, **physical.variables(spec.physical, arrays)}
         attrs[physical.ATTRIBUTE] = physical.attribute(spec.physical)
@@ -153,6 +156,7 @@ def cube(spec: Spec, arrays: dict[str, np.ndarray], settings: dict[str, Any], co
                **_effects_attribute(spec), **attrs},
         physical=coords,
         physical_dims=spec.physical is not None and spec.physical.physical_dims,
+        scalars=scalars,
     )
 
 

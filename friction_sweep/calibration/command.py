@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib.util
 import math
+import shlex
 import time
 from pathlib import Path
 
@@ -21,7 +22,8 @@ from friction_sweep.exits import EXIT_RUNTIME, fail
 from friction_sweep.measured import DataError
 from friction_sweep.progress import ProgressBar
 from friction_sweep.spec import SpecError
-from friction_sweep.storage import outputs
+from friction_sweep.storage import outputs, provenance
+from friction_sweep.storage.schema import CONVENTIONS
 
 from . import report
 from .data import read_observations
@@ -133,14 +135,18 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     params = report.summary(model, fit, chains)
     timing = {"map": map_seconds, "sampling": chains.seconds, "total": time.perf_counter() - began,
               "rate": chains.evaluations / chains.seconds}
-    attrs = {"spec": spec.text, "method": spec.method, "excitation": spec.excitation, "seed": seed,
-             "walkers": settings.walkers, "steps": chains.steps, "burn_in": chains.burn,
-             "acceptance_fraction": chains.acceptance, "converged": int(chains.converged),
-             "autocorr_time": chains.tau.tolist(), "autocorr_time_names": list(model.names),
-             "walker_rhat": chains.rhat.tolist(),
-             "effective_sample_size": chains.ess.tolist(), "length_in_autocorr_times": chains.length_in_tau,
-             "map": fit.theta.tolist(), "model_points_evaluated": points}
-    idata = report.inference_data(post, chains, replicated, attrs)
+    run = {"seed": seed, "walkers": settings.walkers, "steps": chains.steps, "burn_in": chains.burn,
+           "acceptance_fraction": chains.acceptance, "converged": int(chains.converged),
+           "length_in_autocorr_times": chains.length_in_tau, "model_points_evaluated": points}
+    command = "fsweep calibrate " + " ".join(shlex.quote(a) for a in [str(spec_path), "-o", str(folder)])
+    attrs = {"title": f"friction_sweep calibration: {spec.excitation} excitation, {spec.method} model, "
+                      f"{obs.size} rows of {obs.path}",
+             "Conventions": CONVENTIONS, "history": provenance.history_line(command),
+             **provenance.attributes(spec_text=spec.text, spec_path=str(spec_path), excitation=spec.excitation,
+                                     method=spec.method, settings=dict(spec.settings)),
+             "data_path": obs.path, "emcee_version": provenance.version("emcee"),
+             "arviz_version": provenance.version("arviz")}
+    idata = report.inference_data(post, chains, replicated, fit.theta, seed=seed, run=run, provenance=attrs)
     md = report.markdown(model, chains, params, fit.table, timing, obs.path)
     figures = (report.predictive_figure(post, theta), report.corner_figure(model, chains, fit))
     try:

@@ -68,12 +68,12 @@ class Posterior:
         delta = self.model.column(theta, "discrepancy_phase")
         return np.zeros(theta.shape[0]) if delta is None else delta
 
-    def pointwise(self, theta: np.ndarray, predicted: dict[str, np.ndarray]) -> np.ndarray:
-        """log p of every row (summed over the measured quantities): (n_vectors, n_rows); -inf where the
-        model gives no value."""
+    def pointwise_terms(self, theta: np.ndarray, predicted: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """log p of every row, per measured quantity (obs.measured: the von Mises of the phase, the
+        Gaussian of log T): {quantity: (n_vectors, n_rows)}; -inf where the model gives no value."""
         theta = np.atleast_2d(theta)
         obs = self.model.obs
-        total = np.zeros((theta.shape[0], obs.size))
+        terms = {}
         # a zero sd (a noise level of 0 with no row uncertainty: the edge of its prior) has no density; it
         # and a missing model value come out as inf or NaN here, and as -inf below, without warnings
         with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
@@ -81,24 +81,44 @@ class Posterior:
                 sd = np.radians(self.phase_sd(theta))
                 kappa = 1.0 / sd**2
                 d = np.radians(obs.phase[None, :] - predicted["phase"] - self.offset(theta)[:, None])
-                total += kappa * (np.cos(d) - 1.0) - np.log(2.0 * np.pi * special.i0e(kappa))
+                terms["phase"] = kappa * (np.cos(d) - 1.0) - np.log(2.0 * np.pi * special.i0e(kappa))
             if obs.transmissibility is not None:
                 sd = self.sd(theta, "transmissibility")
                 z = (np.log(obs.transmissibility)[None, :] - np.log(predicted["transmissibility"])) / sd
-                total += -0.5 * z**2 - np.log(sd * np.sqrt(2.0 * np.pi))
-        return np.where(np.isfinite(total), total, -np.inf)
+                terms["transmissibility"] = -0.5 * z**2 - np.log(sd * np.sqrt(2.0 * np.pi))
+        return {name: np.where(np.isfinite(t), t, -np.inf) for name, t in terms.items()}
+
+    def pointwise(self, theta: np.ndarray, predicted: dict[str, np.ndarray]) -> np.ndarray:
+        """log p of every row (summed over the measured quantities): (n_vectors, n_rows); -inf where the
+        model gives no value."""
+        return self._summed(self.pointwise_terms(theta, predicted), np.atleast_2d(theta).shape[0])
+
+    def _summed(self, terms: dict[str, np.ndarray], n: int) -> np.ndarray:
+        total = np.zeros((n, self.model.obs.size))
+        for term in terms.values():
+            total += term
+        return total
 
     def __call__(self, theta: np.ndarray) -> np.ndarray:
         """log posterior (unnormalised) of each row of theta: what the sampler draws from."""
+        return self.evaluate(theta)[0]
+
+    def evaluate(self, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(log posterior (n_vectors,), the fitted rows' log likelihood per quantity (n_vectors, quantities,
+        fitted rows)): the second is ArviZ's pointwise log_likelihood of a sample (report.inference_data),
+        NaN where the prior excludes the vector."""
         theta = np.atleast_2d(theta)
         lp = self.log_prior(theta)
         out = np.full(theta.shape[0], -np.inf)
+        terms = np.full((theta.shape[0], len(self.model.obs.measured), int(self.rows.sum())), np.nan)
         inside = np.isfinite(lp)
         if inside.any():
             predicted = self.model.predict(theta[inside])
-            ll = self.pointwise(theta[inside], predicted)[:, self.rows].sum(axis=1)
-            out[inside] = lp[inside] + ll
-        return out
+            pointwise = self.pointwise_terms(theta[inside], predicted)
+            terms[inside] = np.stack([pointwise[name][:, self.rows] for name in self.model.obs.measured], axis=1)
+            # summed as pointwise() sums (the reduction's order decides the last bits, and the sampler's path)
+            out[inside] = lp[inside] + self._summed(pointwise, int(inside.sum()))[:, self.rows].sum(axis=1)
+        return out, terms
 
     def residuals(self, theta: np.ndarray, predicted: dict[str, np.ndarray]) -> np.ndarray:
         """Least-squares residuals of one parameter vector: per fitted row and quantity, the signed

@@ -20,6 +20,7 @@ from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
 
 from .fit import MapFit
+from .inference import import_arviz
 from .model import ForwardModel
 from .posterior import Posterior
 from .sampler import Chains
@@ -33,6 +34,8 @@ FIGURE_DPI = 130
 SAMPLER_TITLE = "Sampler diagnostics (emcee, differential-evolution moves, walkers started from the prior)"
 #: points along r of the predictive band's curves
 CURVE_POINTS = 80
+#: draws from the priors in the InferenceData's `prior` group (no model evaluations: cheap)
+PRIOR_DRAWS = 1000
 
 
 def unit_of(model: ForwardModel, kind: str) -> str:
@@ -99,39 +102,85 @@ def predictive(post: Posterior, chains: Chains, draws: int, seed: int) -> tuple[
     return theta, out
 
 
-def inference_data(post: Posterior, chains: Chains, replicated, attrs: dict):
-    """ArviZ InferenceData: posterior (walkers as chains; per-series parameters on dim `series`), sample
-    stats (lp), observed data and the posterior predictive on dim `row` (the data file's line numbers)."""
-    import arviz as az
+def inference_data(post: Posterior, chains: Chains, replicated, map_theta: np.ndarray, *, seed: int, run: dict,
+                   provenance: dict):
+    """ArviZ InferenceData in ArviZ's conventions, walkers as chains:
 
+    * posterior, prior (PRIOR_DRAWS draws from the priors, one chain): per-series parameters on dim
+      `series`; each posterior variable carries its units, prior and diagnostics (emcee's autocorrelation
+      time, the ensemble's effective sample size, the walkers' R-hat, the MAP) as attributes, once;
+    * log_likelihood: each sample's log likelihood of every fitted row, per measured quantity (what
+      az.loo, az.waic and az.compare read), on dim `row` (the fitted rows' lines);
+    * sample_stats: `lp` (the log posterior) and `acceptance_rate` (1 where the step's proposal was
+      accepted, else 0: an ensemble move's acceptance, one draw at a time); the run's settings and
+      convergence (`run`) as the group's attributes;
+    * observed_data, posterior_predictive (replicated data) and constant_data (each row's frequency and
+      force ratio as the data give them, its series and whether it was fitted) on dim `row` = the data
+      file's line;
+    * the file's own attributes (`provenance`): title, history, Conventions, the spec.
+    """
+    import xarray as xr
+
+    az = import_arviz()
     model = post.model
     obs = model.obs
-    posterior: dict[str, np.ndarray] = {}
-    dims: dict[str, list[str]] = {}
-    for kind in dict.fromkeys(p.kind for p in model.parameters):
-        idx = [i for i, p in enumerate(model.parameters) if p.kind == kind]
-        if model.parameters[idx[0]].series >= 0:
-            posterior[kind] = chains.samples[:, :, idx]
-            dims[kind] = ["series"]
-        else:
-            posterior[kind] = chains.samples[:, :, idx[0]]
+
+    def grouped(values: np.ndarray) -> tuple[dict[str, np.ndarray], dict[str, list[str]]]:
+        """(chain, draw, parameter) values as one array per parameter kind, per-series ones on `series`."""
+        out: dict[str, np.ndarray] = {}
+        dims: dict[str, list[str]] = {}
+        for kind in dict.fromkeys(p.kind for p in model.parameters):
+            idx = [i for i, p in enumerate(model.parameters) if p.kind == kind]
+            if model.parameters[idx[0]].series >= 0:
+                out[kind], dims[kind] = values[:, :, idx], ["series"]
+            else:
+                out[kind] = values[:, :, idx[0]]
+        return out, dims
+
+    posterior, dims = grouped(chains.samples)
+    rng = np.random.default_rng(seed + 2)  # predictive() draws from seed + 1
+    prior, _ = grouped(np.column_stack([p.prior.sample(rng, PRIOR_DRAWS) for p in model.parameters])[None])
     observed = {name: getattr(obs, name) for name in obs.measured}
-    for name in replicated:
-        dims[name] = ["row"]
-    for name in observed:
+    constant = {"frequency_ratio": obs.frequency_ratio, "force_ratio": obs.force_ratio,
+                "series_index": obs.series.astype(np.int64), "fitted": obs.fitted.astype(np.int8)}
+    for name in (*replicated, *observed, *constant):
         dims[name] = ["row"]
     idata = az.from_dict(
         posterior=posterior,
+        prior=prior,
         posterior_predictive={name: values[None, :, :] for name, values in replicated.items()},
         observed_data=observed,
-        sample_stats={"lp": chains.log_posterior},
+        constant_data=constant,
+        sample_stats={"lp": chains.log_posterior, "acceptance_rate": chains.accepted.astype(np.float64)},
         coords={"series": list(obs.series_labels), "row": obs.lines.tolist()},
         dims=dims,
-        attrs=attrs,
     )
-    for p in model.parameters:
-        idata.posterior[p.kind].attrs["units"] = unit_of(model, p.kind)
-        idata.posterior[p.kind].attrs["prior"] = p.prior.describe(unit_of(model, p.kind))
+    fitted_rows = obs.lines[obs.fitted].tolist()  # the likelihood's rows: held-out rows are predicted only
+    idata.add_groups(log_likelihood=xr.Dataset(
+        {name: (("chain", "draw", "row"), chains.pointwise[:, :, q, :]) for q, name in enumerate(obs.measured)},
+        coords={"chain": idata.posterior["chain"].values, "draw": idata.posterior["draw"].values,
+                "row": fitted_rows}))
+    diagnostics = {"autocorr_time": chains.tau, "effective_sample_size": chains.ess, "walker_rhat": chains.rhat,
+                   "map": np.asarray(map_theta, dtype=np.float64)}
+    for kind in posterior:
+        idx = [i for i, p in enumerate(model.parameters) if p.kind == kind]
+        unit = unit_of(model, kind)
+        for group in (idata.posterior, idata.prior):
+            group[kind].attrs.update(units=unit, prior=model.parameters[idx[0]].prior.describe(unit))
+        for key, values in diagnostics.items():
+            idata.posterior[kind].attrs[key] = values[idx] if len(idx) > 1 or kind in dims else float(values[idx[0]])
+    constant_meaning = {
+        "frequency_ratio": "frequency ratio of the row as the data give it (the model's: this x f_ref / f_n, f_n "
+                           "the natural_frequency parameter where it is one)",
+        "force_ratio": "force ratio of the row as the data give it (the model's: scaled or per series by the "
+                       "friction parameter)",
+        "series_index": "the row's series, an index into the coordinate `series`",
+        "fitted": "1: the row enters the likelihood; 0: held out (predicted only)",
+    }
+    for name, meaning in constant_meaning.items():
+        idata.constant_data[name].attrs.update(long_name=meaning, units="1")
+    idata.sample_stats.attrs.update(run)
+    idata.attrs = provenance
     return idata
 
 

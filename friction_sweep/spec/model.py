@@ -568,7 +568,8 @@ class Spec(_Sourced):
         if self.system is not None:
             self._physical = PhysicalMap(natural_frequency=f_n, reference_force=force,
                                          length_scale=system.length_scale, stiffness=system.stiffness_si,
-                                         frequency=frequency, friction_force=friction_force, acceleration=acceleration)
+                                         frequency=frequency, friction_force=friction_force, acceleration=acceleration,
+                                         mass=system.mass_si)
         return []
 
     def _excitation_problems(self):

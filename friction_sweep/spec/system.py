@@ -141,6 +141,15 @@ class System(Model):
         return None
 
     @property
+    def mass_si(self) -> float | None:
+        """m in kg, as given or k / (2 pi f_n)^2."""
+        if self.mass is not None:
+            return self.mass
+        if self.stiffness is not None and self.natural_frequency is not None:
+            return self.stiffness / (2.0 * math.pi * self.natural_frequency) ** 2
+        return None
+
+    @property
     def reference_force(self) -> float | None:
         """F_k in N: the excitation's force amplitude, given or k Y; None at constant acceleration, where
         it depends on the frequency (force_at)."""
@@ -267,6 +276,7 @@ class PhysicalMap:
     frequency: np.ndarray | None  # Hz, one per frequency ratio
     friction_force: np.ndarray | None  # N, one per force ratio
     acceleration: float | None = None  # a, m/s^2, where the base's acceleration is held
+    mass: float | None = None  # m, kg
 
     @property
     def physical_dims(self) -> bool:

@@ -66,14 +66,29 @@ class Problem:
         return escape(text)
 
 
-#: every coordinate a cube may have: the grid's, and the physical ones of a spec with a system
-_COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS}
+#: every coordinate a cube may have: the grid's, the physical ones of a spec with a system, the scalar ones
+#: (the scene's effects, the system's constants)
+_COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS, **schema.SCALAR_COORDS}
 
 
 def provenance(ds: xr.Dataset) -> list[Problem]:
     """Every problem of the cube's provenance attributes (storage.attributes): an excitation or method outside
-    the catalogue, a JSON attribute too large, too deep or not JSON, method settings not the method's."""
-    return [Problem("provenance", what) for what in attributes.problems(ds.attrs)]
+    the catalogue, a JSON attribute too large, too deep or not JSON, method settings not the method's; and an
+    effect's scalar coordinate that is not the effect its method_settings record (a cube from before the
+    scalar coordinates has none: nothing to compare)."""
+    found = [Problem("provenance", what) for what in attributes.problems(ds.attrs)]
+    if found:
+        return found
+    from friction_sweep import catalogue
+
+    effects = attributes.method_settings(ds.attrs)["effects"]
+    for name in catalogue.EFFECTS:
+        if name in ds.coords and ds[name].ndim == 0:
+            recorded = catalogue.effect_value(effects, name)
+            value = ds[name].values.item()
+            if value != recorded:
+                found.append(Problem(name, f"is {value!r}; method_settings records the effect as {recorded!r}"))
+    return found
 
 
 #: methods that simulate an orbit: a settled point (stuck, stick_slip, continuous) always has its amplitude

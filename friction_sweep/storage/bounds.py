@@ -31,20 +31,20 @@ import numpy as np
 
 from friction_sweep.spec.grid import MAX_POINTS
 from friction_sweep.spec.model import MAX_HISTORY_SAMPLES
-from friction_sweep.storage.schema import COORDS, PHYSICAL_COORDS, VARIABLES
+from friction_sweep.storage.schema import COORDS, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES
 
 #: the most values one array of a cube holds: its grid's points, or a time history's samples
 MAX_VALUES = max(MAX_POINTS, MAX_HISTORY_SAMPLES)
 #: every variable and coordinate the schema knows, and a dimension scale for each dim it names
-MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + 8
+MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + 8
 #: the largest cube a run can write: every schema variable at its largest (grid variables at MAX_POINTS
 #: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
 MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if "history" in v.dims else MAX_POINTS)
                      for v in (*VARIABLES.values(), *COORDS.values(), *PHYSICAL_COORDS.values()))
 #: the most bytes a file's compressed (filtered) variables may expand to per byte of the file. fsweep writes
-#: its cubes uncompressed; one compressed afterwards (nccopy -d9, xarray's zlib) is a few times smaller (a
-#: grid's varied floats barely compress, its flags and constant variables do), so a reader loads at most
-#: this multiple of the file's size (plus COMPRESSION_SLACK); beyond it a file is a decompression bomb
+#: its cubes compressed (storage.encoding), a few times smaller than their values (the paper's planes 3-4
+#: times: a grid's varied floats barely compress, its flags and constant variables do), so a reader loads at
+#: most this multiple of the file's size (plus COMPRESSION_SLACK); beyond it a file is a decompression bomb
 MAX_COMPRESSION = 64
 #: what compressed variables may hold beyond MAX_COMPRESSION x the file's size (a small cube's chunk headers
 #: and constant variables weigh more than their data)
@@ -82,10 +82,17 @@ def check(f) -> None:
             raise Refused(f"its variables declare more than {_bytes(MAX_CUBE_BYTES)}, more than the largest "
                           "cube fsweep writes")
     size = f.id.get_filesize()
-    if expanded > MAX_COMPRESSION * size + COMPRESSION_SLACK:
+    if expands_too_far(expanded, size):
         raise Refused(f"its compressed variables expand to {expanded} bytes, {expanded / size:.0f} times the file's "
                       f"{size}; fsweep reads compressed cubes up to {MAX_COMPRESSION} times their size (decompress "
                       "it: nccopy -d0)")
+
+
+def expands_too_far(expanded: int, size: int) -> bool:
+    """Whether compressed variables of `expanded` bytes in all, in a file of `size` bytes, expand beyond
+    what a reader loads (MAX_COMPRESSION times the file, plus COMPRESSION_SLACK): the reader refuses such a
+    file, and the cube writer stores such a cube uncompressed instead (storage.cube.netcdf_bytes)."""
+    return expanded > MAX_COMPRESSION * size + COMPRESSION_SLACK
 
 
 def _dataset(name: str, ds) -> tuple[int, int]:
@@ -143,4 +150,4 @@ def _bytes(n: int) -> str:
 
 
 __all__ = ["MAX_VALUES", "MAX_DATASETS", "MAX_CUBE_BYTES", "MAX_COMPRESSION", "COMPRESSION_SLACK",
-           "MAX_ATTRIBUTES", "Refused", "check"]
+           "MAX_ATTRIBUTES", "Refused", "check", "expands_too_far"]

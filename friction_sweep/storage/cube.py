@@ -5,7 +5,10 @@ schema table, and the global attributes). `fsweep run` writes the parts straight
 (netcdf_bytes): building an xarray Dataset makes xarray import dask to ask whether any array is a
 dask array, and writing one imports dask.distributed to pick a lock, ~0.5 s of a one-point run (issue
 16's import floor). The Python API gets a Dataset of the same parts (build_dataset), and a Dataset is
-written by the same writer; a test holds the file read back by xarray identical to the Dataset.
+written by the same writer; a test holds the file read back by xarray identical to the Dataset. How each
+variable is stored (fill value, compression) is storage.encoding's one answer: the writer applies it and
+every Dataset handed out (as_dataset, open_cube) carries it as `.encoding`, so a user's own to_netcdf
+writes what `fsweep run` writes.
 """
 
 from __future__ import annotations
@@ -21,8 +24,9 @@ import numpy as np
 from friction_sweep.errors import FsweepError
 from friction_sweep.printable import escape
 from friction_sweep.storage import atomic, provenance
+from friction_sweep.storage.encoding import COMPRESSION, encoding, h5netcdf_options
 from friction_sweep.storage.outputs import file_kind
-from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES, cube_dims
+from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES, cube_dims
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -40,14 +44,16 @@ class CubeParts(NamedTuple):
 
 
 def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
-               history: str, physical: dict | None = None, physical_dims: bool = False) -> CubeParts:
+               history: str, physical: dict | None = None, physical_dims: bool = False,
+               scalars: dict | None = None) -> CubeParts:
     """The given arrays, each labelled and given CF attributes from the schema table; `physical`: the
     physical coordinates (storage.physical) beside the grid's; `physical_dims`: a cube at constant base
-    acceleration, whose dims are the physical coordinates (schema.cube_dims)."""
+    acceleration, whose dims are the physical coordinates (schema.cube_dims); `scalars`: the scalar
+    coordinates (schema.SCALAR_COORDS: the scene's effects, the system's constants) by name."""
     coords: Entries = {}
     for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio),
-                         *(physical or {}).items()):
-        var = {**COORDS, **PHYSICAL_COORDS}[name]
+                         *(physical or {}).items(), *(scalars or {}).items()):
+        var = {**COORDS, **PHYSICAL_COORDS, **SCALAR_COORDS}[name]
         dims = cube_dims(name, var.dims, physical_dims)
         coords[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     data_vars: Entries = {}
@@ -68,7 +74,14 @@ def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str
 def as_dataset(parts: CubeParts) -> xr.Dataset:
     import xarray as xr
 
-    return xr.Dataset(parts.data_vars, coords=parts.coords, attrs=parts.attrs)
+    return with_encoding(xr.Dataset(parts.data_vars, coords=parts.coords, attrs=parts.attrs))
+
+
+def with_encoding(ds: xr.Dataset) -> xr.Dataset:
+    """`ds` with each variable's `.encoding` the one the cube writer applies (storage.encoding), in place."""
+    for name, var in ds.variables.items():
+        var.encoding = encoding(var.values, coordinate=name in ds.coords)
+    return ds
 
 
 def _parts_of(ds: xr.Dataset) -> CubeParts:
@@ -78,15 +91,20 @@ def _parts_of(ds: xr.Dataset) -> CubeParts:
     return CubeParts(entries(ds.coords), entries(ds.data_vars), dict(ds.attrs))
 
 
-def netcdf_bytes(parts: CubeParts) -> bytes:
-    """The cube as netCDF4 bytes, as xarray would write it: floats get _FillValue NaN (none on
-    dimension coordinates), integers none (every flag code is meaningful); strings as variable-length;
-    non-dimension coordinates (a cube's physical ones, or its ratios where the dims are physical) named
-    in the `coordinates` attribute of each variable whose dims hold theirs, else in the global one, as
-    xarray's CF encoding does. What a cube never holds (bytes, dimensions of two sizes) is refused, not
-    written differently from xarray; a Dataset's own .encoding is not read."""
+def netcdf_bytes(parts: CubeParts, *, compress: bool = True) -> bytes:
+    """The cube as netCDF4 bytes, as xarray writes a Dataset carrying storage.encoding's encodings (fill
+    values, compression); strings as variable-length; non-dimension coordinates (a cube's physical ones,
+    or its ratios where the dims are physical) named in the `coordinates` attribute of each variable whose
+    dims hold theirs, else in the global one, as xarray's CF encoding does. What a cube never holds
+    (bytes, dimensions of two sizes) is refused, not written differently from xarray; a Dataset's own
+    .encoding is not read (the parts' encoding is the one answer). A cube so uniform that its compressed
+    variables would expand beyond what the reader loads per byte of file (storage.bounds.expands_too_far:
+    a grid of millions of points, every one stuck, compresses ~600 times) is written uncompressed
+    (`compress` False), as every cube was before issue 33, so that fsweep reads every cube it writes."""
     import h5netcdf
     import h5py
+
+    from friction_sweep.storage import bounds
 
     sizes: dict[str, int] = {}
     for name, (dims, values, _) in (*parts.coords.items(), *parts.data_vars.items()):
@@ -97,17 +115,21 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
             raise ValueError(f"{name}: only numbers and str are written")
     auxiliary = {name: set(dims) for name, (dims, _, _) in parts.coords.items() if dims != (name,)}
     referenced: set[str] = set()
+    expanded = 0  # bytes of the compressed variables
     buffer = io.BytesIO()
     with h5netcdf.File(buffer, "w") as f:
         f.dimensions = sizes
         for is_coord, entries in ((True, parts.coords), (False, parts.data_vars)):
             for name, (dims, values, attrs) in entries.items():
                 dtype: Any = values.dtype
+                enc = encoding(values, coordinate=is_coord)
+                if not compress:
+                    enc = {key: value for key, value in enc.items() if key not in COMPRESSION}
+                expanded += values.nbytes if enc.get("zlib") else 0
+                options = h5netcdf_options(enc)
                 if values.dtype.kind in "UO":
                     dtype, values = h5py.string_dtype(), values.astype(object)
-                float_ = np.issubdtype(values.dtype, np.floating)
-                dimension = is_coord and name not in auxiliary
-                var = f.create_variable(name, dims, dtype, fillvalue=np.nan if float_ and not dimension else None)
+                var = f.create_variable(name, dims, dtype, **options)
                 var[...] = values
                 for key, value in attrs.items():
                     var.attrs[key] = value
@@ -120,7 +142,10 @@ def netcdf_bytes(parts: CubeParts) -> bytes:
         unreferenced = sorted(set(auxiliary) - referenced)
         if unreferenced:
             f.attrs["coordinates"] = " ".join(unreferenced)
-    return buffer.getvalue()
+    data = buffer.getvalue()
+    if compress and bounds.expands_too_far(expanded, len(data)):
+        return netcdf_bytes(parts, compress=False)
+    return data
 
 
 def write_atomic(cube: CubeParts | xr.Dataset, path: Path, *, overwrite: bool) -> None:
@@ -173,7 +198,7 @@ def open_cube(path) -> xr.Dataset:
             fh.seek(0)
             # phony_dims: a dataset without dimension scales gets named dims (the audit refuses them) quietly
             with xr.open_dataset(fh, engine=ENGINE, phony_dims="access") as ds:
-                ds = ds.load()
+                ds = with_encoding(ds.load())  # the file's own (an older cube's: uncompressed) is not handed on
         except bounds.Refused as err:
             raise FsweepError(f"{shown} is not a cube fsweep reads: {escape(err)}") from None
         except Exception as err:  # any reader failure means: not a cube we can read
@@ -188,5 +213,6 @@ def open_cube(path) -> xr.Dataset:
     return ds
 
 
-__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "netcdf_bytes",
+__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "with_encoding",
+           "netcdf_bytes",
            "write_atomic", "open_cube", "provenance"]

@@ -34,6 +34,16 @@ def coordinates(physical: PhysicalMap) -> dict[str, np.ndarray]:
     return {name: np.asarray(values, dtype=np.float64) for name, values in coords.items() if values is not None}
 
 
+def constants(physical: PhysicalMap) -> dict[str, float]:
+    """The system's constants that the map knows, by their scalar coordinate's name (schema.SCALAR_COORDS):
+    natural frequency (Hz), mass (kg), stiffness (N/m), length scale and excitation force (where constant),
+    base acceleration (where held)."""
+    values = {"natural_frequency": physical.natural_frequency, "mass": physical.mass, "stiffness": physical.stiffness,
+              "length_scale": physical.length_scale, "excitation_force": physical.reference_force,
+              "base_acceleration": physical.acceleration}
+    return {name: float(value) for name, value in values.items() if value is not None}
+
+
 def variables(physical: PhysicalMap, arrays: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """The physical variables of a run's arrays: lengths in m, forces in N, energies in J, history time in s.
     At constant acceleration the scales depend on the frequency: along the grid's last axis, and at each

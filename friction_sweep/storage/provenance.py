@@ -13,7 +13,8 @@ import friction_sweep
 _DEPENDENCIES = ("numpy", "numba", "xarray", "scipy", "h5netcdf", "h5py")
 
 
-def _version(dist: str) -> str:
+def version(dist: str) -> str:
+    """The installed version of the distribution `dist`, or "not installed"."""
     try:
         return _md.version(dist)
     except _md.PackageNotFoundError:
@@ -41,5 +42,5 @@ def attributes(*, spec_text: str, spec_path: str, excitation: str, method: str, 
         "platform": sys.platform,
     }
     for dist in _DEPENDENCIES:
-        attrs[f"{dist}_version"] = _version(dist)
+        attrs[f"{dist}_version"] = version(dist)
     return attrs

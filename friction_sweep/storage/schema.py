@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from friction_sweep import codes
+from friction_sweep.catalogue import EFFECTS
 from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.theory.phase import PHASE_RANGE_DEG
 
@@ -119,6 +120,31 @@ PHYSICAL_COORDS = {
                           valid_range=POSITIVE),
     "friction_force": Variable(("force_ratio",), np.float64, "friction force F_mu = beta F_k", "N",
                                valid_range=NONNEGATIVE),
+}
+
+def _effect(name: str, long_name: str) -> Variable:
+    """An effect's scalar coordinate: its value, in the range the catalogue gives it."""
+    effect = EFFECTS[name]
+    return Variable((), np.float64, long_name, "1", valid_range=(effect.low, effect.high))
+
+
+#: scalar coordinates (no dims): each effect the scene declares and each constant of the physical system the
+#: spec knows, one value per cube, so that a family of cubes swept over one of them concatenates along it
+#: (README, "Analysing a cube")
+SCALAR_COORDS = {
+    "viscous_damping": _effect("viscous_damping", "viscous damping ratio zeta of the dashpot"),
+    "static_friction_ratio": _effect("static_friction_ratio", "static over kinetic friction force mu_s / mu_k"),
+    "contact_stiffness": _effect("contact_stiffness", "contact stiffness ratio kappa = k_t / k"),
+    "natural_frequency": Variable((), np.float64, "natural frequency f_n = sqrt(k / m) / (2 pi)", "Hz",
+                                  valid_range=POSITIVE),
+    "mass": Variable((), np.float64, "mass m", "kg", valid_range=POSITIVE),
+    "stiffness": Variable((), np.float64, "spring stiffness k", "N m-1", valid_range=POSITIVE),
+    "length_scale": Variable((), np.float64, "length unit {ref} of the dimensionless displacements", "m",
+                             valid_range=POSITIVE),
+    "excitation_force": Variable((), np.float64, "force unit {force_ref} of the force ratio beta = F_mu / {force_ref}",
+                                 "N", valid_range=POSITIVE),
+    "base_acceleration": Variable((), np.float64, "amplitude a of the base's acceleration, held along the sweep",
+                                  "m s-2", valid_range=POSITIVE),
 }
 
 VARIABLES = {
