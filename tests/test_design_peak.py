@@ -156,3 +156,24 @@ def test_optimize_refuses_too_few_levels_and_a_bad_tolerance():
         fs.peak(spec, r_tol=0)
     with pytest.raises(fs.FsweepError, match="variable must be one of"):
         fs.peak(spec, variable="phase")
+
+
+def test_cli_optimize_prints_the_optimum_and_writes_the_curve(tmp_path):
+    """fsweep optimize SPEC -o FILE: the optimum on one line, the Dataset in FILE as fs.optimize returns it."""
+    import xarray as xr
+    from click.testing import CliRunner
+
+    from friction_sweep.cli import main
+
+    spec = tmp_path / "base.yaml"
+    spec.write_text("scene: {excitation: base}\ngrid: {frequency_ratio: {start: 0.05, stop: 4.0, num: 80}, "
+                    "force_ratio: {start: 0.5, stop: 1.2, num: 8}}\nmethod: event\n")
+    out = tmp_path / "opt.h5"
+    done = CliRunner().invoke(main, ["optimize", str(spec), "-o", str(out)])
+    assert done.exit_code == 0, done.output
+    assert done.output.startswith("optimum (plateau): force_ratio ")
+    with xr.open_dataset(out) as ds:
+        direct = fs.optimize(str(spec))
+        assert float(ds.optimum_force_ratio) == float(direct.optimum_force_ratio)
+        np.testing.assert_array_equal(ds.resonance_peak.values, direct.resonance_peak.values)
+        assert ds.attrs["optimum_kind"] == "plateau"
