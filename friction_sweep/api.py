@@ -81,12 +81,16 @@ def peak(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: str =
          r_tol: float = 1e-10) -> xr.Dataset:
     """The resonance peak of the spec's scene for each force ratio of its grid (friction_sweep.design.peak):
     the largest `variable` over frequency, refined between the frequency grid's neighbours on the exact
-    solver to `r_tol` in r, with every local maximum (dim `peak`), its frequency ratio and regime."""
+    solver to `r_tol` in r, with every local maximum (dim `peak`), its frequency ratio and regime; and the
+    phase resonance (friction_sweep.design.phase_resonance): every r where the first harmonic lags the
+    excitation by 90 degrees, bisected to `r_tol` (dim `crossing`)."""
     from friction_sweep.design import peak as design_peak
+    from friction_sweep.design import phase_resonance
 
     problem, r, beta, attrs = _design_problem(spec, variable, r_tol)
     curve = design_peak.peaks(problem, r, beta, r_tol)
-    return design_peak.dataset(curve, beta, attrs)
+    crossings = phase_resonance.crossings(problem, r, beta, r_tol, curve.grid_phase)
+    return design_peak.dataset(curve, beta, attrs, crossings)
 
 
 def optimize(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: str = "transmissibility",

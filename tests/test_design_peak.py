@@ -177,3 +177,29 @@ def test_cli_optimize_prints_the_optimum_and_writes_the_curve(tmp_path):
         assert float(ds.optimum_force_ratio) == float(direct.optimum_force_ratio)
         np.testing.assert_array_equal(ds.resonance_peak.values, direct.resonance_peak.values)
         assert ds.attrs["optimum_kind"] == "plateau"
+
+
+@pytest.mark.parametrize("zeta", [0.05, 0.2])
+def test_linear_damped_peak_and_phase_resonance_against_the_closed_form(zeta):
+    """No friction, viscous damping zeta (force scene): T = 1 / sqrt((1 - r^2)^2 + (2 zeta r)^2) peaks at
+    r = sqrt(1 - 2 zeta^2) with 1 / (2 zeta sqrt(1 - zeta^2)); the lag is 90 degrees at r = 1 exactly, where
+    T = 1 / (2 zeta)."""
+    ds = fs.peak(_spec("force", {"start": 0.5, "stop": 1.5, "num": 11}, [0.0], effects={"viscous_damping": zeta}))
+    assert float(ds.resonance_peak[0]) == pytest.approx(1 / (2 * zeta * np.sqrt(1 - zeta**2)), rel=1e-8)
+    assert float(ds.resonance_frequency_ratio[0]) == pytest.approx(np.sqrt(1 - 2 * zeta**2), abs=1e-4)
+    crossings = ds.phase_resonance_frequency_ratio[0].values
+    assert np.count_nonzero(np.isfinite(crossings)) == 1
+    assert crossings[0] == pytest.approx(1.0, abs=1e-9)
+    assert float(ds.phase_resonance_value[0, 0]) == pytest.approx(1 / (2 * zeta), rel=1e-8)
+
+
+def test_phase_jumping_across_90_at_an_unbounded_resonance_is_no_crossing():
+    """Undamped, b = 0.3 < pi/4: the amplitude at r = 1 is unbounded and the lag jumps across 90 degrees
+    there (Den Hartog: sin(phi) -> 4 b / pi from either side), so there is no phase resonance; b = 0.9:
+    bounded stick-slip, the lag passes through 90 once, and a plain sweep at the r found lags by 90."""
+    ds = fs.peak(_spec("force", {"start": 0.5, "stop": 2.0, "num": 31}, [0.3, 0.9]))
+    r90 = ds.phase_resonance_frequency_ratio.values
+    assert not np.isfinite(r90[0]).any()
+    assert np.isfinite(r90[1]).sum() == 1
+    plain = fs.sweep(_spec("force", [float(r90[1, 0])], [0.9]))
+    assert float(plain.phase.squeeze()) == pytest.approx(90.0, abs=1e-6)

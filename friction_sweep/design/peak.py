@@ -139,6 +139,7 @@ class Peaks:
     phase: np.ndarray
     at_edge: np.ndarray
     largest: np.ndarray
+    grid_phase: np.ndarray | None = None  # the phase on the frequency grid (levels x r), for phase_resonance
 
     def best(self) -> dict[str, np.ndarray]:
         """The largest maximum of each level (NaN where a level has none)."""
@@ -190,7 +191,7 @@ def peaks(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TO
     size = max(1, max(len(found) for found in rows))
     shape = (beta.size, size)
     out = Peaks(np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan),
-                np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool))
+                np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), ph)
     for j, found in enumerate(rows):
         found.sort(key=lambda f: f[1])
         for k, (v, rx, g, p, e) in enumerate(found):
@@ -202,14 +203,16 @@ def peaks(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TO
     return out
 
 
-def dataset(curve: Peaks, beta: np.ndarray, attrs: Mapping[str, Any]):
+def dataset(curve: Peaks, beta: np.ndarray, attrs: Mapping[str, Any], crossings=None):
     """The peaks as an xarray Dataset over the friction axis `force_ratio` (and `peak`, the local maxima
-    of each level in increasing r, NaN-padded): `resonance_*` the largest, `local_*` every one."""
+    of each level in increasing r, NaN-padded): `resonance_*` the largest, `local_*` every one; with
+    `crossings` (phase_resonance.Crossings) the 90-degree points too, `phase_resonance_*` along dim
+    `crossing`."""
     import xarray as xr
 
     best = curve.best()
     dims, local = ("force_ratio",), ("force_ratio", "peak")
-    return xr.Dataset(
+    ds = xr.Dataset(
         {"resonance_peak": (dims, best["value"]), "resonance_frequency_ratio": (dims, best["frequency_ratio"]),
          "resonance_regime": (dims, best["regime"]), "resonance_phase": (dims, best["phase"]),
          "resonance_at_edge": (dims, best["at_edge"].astype(bool)),
@@ -218,3 +221,10 @@ def dataset(curve: Peaks, beta: np.ndarray, attrs: Mapping[str, Any]):
          "local_at_edge": (local, curve.at_edge), "local_largest": (local, curve.largest)},
         coords={"force_ratio": np.asarray(beta, dtype=float), "peak": np.arange(curve.value.shape[1])},
         attrs=dict(attrs))
+    if crossings is not None:
+        cross = ("force_ratio", "crossing")
+        ds = ds.assign({"phase_resonance_frequency_ratio": (cross, crossings.frequency_ratio),
+                        "phase_resonance_value": (cross, crossings.value),
+                        "phase_resonance_regime": (cross, crossings.regime)})
+        ds = ds.assign_coords(crossing=np.arange(crossings.value.shape[1]))
+    return ds
