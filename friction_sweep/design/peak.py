@@ -37,7 +37,7 @@ from friction_sweep.codes import Regime
 from friction_sweep.kernels import steady
 from friction_sweep.kernels.settings import KERNEL_RK4
 from friction_sweep.methods import auto, event, theory
-from friction_sweep.theory import den_hartog
+from friction_sweep.theory import den_hartog, scenes
 
 #: the methods whose per-point solve the peak is built on
 METHODS = ("event", "rk4", "auto")
@@ -82,7 +82,7 @@ class Problem:
         if self.method == "auto" and r.size:
             bstar = den_hartog.continuous_limit(r)
             th = theory.compute_points(self.excitation, r, beta, ("transmissibility", "phase", "regime"), bstar)
-            limit = theory._in_scene_convention(self.excitation, r, bstar)
+            limit = scenes.forcing_amplitude(self.excitation, r) * bstar  # beta*(r) in the scene's convention
             use = ((th["regime"] == Regime.CONTINUOUS) & (beta < (1.0 - margin) * limit)
                    & ~ties.at_resonance(r))
             value[use], regime[use], phase[use] = th[self.variable][use], th["regime"][use], th["phase"][use]
