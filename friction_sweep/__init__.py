@@ -8,7 +8,8 @@ kernels (numba) · storage (schema, cubes, atomic writes) · methods · bench, q
 drawings), measured (a rig's CSV) · batch (tiles, executors, checkpoint), calibration (fsweep calibrate) ·
 api · cli, validation.
 
-The Python API (friction_sweep.api): `sweep(path_or_dict)`, `sweep_yaml(text)` and `open_cube(path)`
+The Python API (friction_sweep.api): `sweep(path_or_dict)`, `sweep_yaml(text)`,
+`open_cube(path)`, `peak(spec)` and `optimize(spec)` (the resonance peak and the friction minimising it)
 return xarray Datasets; every refusal is a `FsweepError`. They are loaded on first use, so that
 `import friction_sweep` (and the CLI) stays cheap.
 """
@@ -19,7 +20,7 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-_API = ("sweep", "sweep_yaml", "open_cube")
+_API = ("sweep", "sweep_yaml", "open_cube", "peak", "optimize")
 __all__ = [*_API, "FsweepError", "SpecError", "__version__"]
 
 

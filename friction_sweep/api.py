@@ -77,6 +77,79 @@ def run(spec: Spec, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR) -> xr.Da
     return pipeline.dataset(spec, arrays, settings, f"friction_sweep.batch({spec.source_path!r})", extra)
 
 
+def peak(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: str = "transmissibility",
+         r_tol: float = 1e-10) -> xr.Dataset:
+    """The resonance peak of the spec's scene for each force ratio of its grid (friction_sweep.design.peak):
+    the largest `variable` over frequency, refined between the frequency grid's neighbours on the exact
+    solver to `r_tol` in r, with every local maximum (dim `peak`), its frequency ratio and regime; and the
+    phase resonance (friction_sweep.design.phase_resonance): every r where the first harmonic lags the
+    excitation by 90 degrees, bisected to `r_tol` (dim `crossing`)."""
+    from friction_sweep.design import peak as design_peak
+    from friction_sweep.design import phase_resonance
+
+    problem, r, beta, attrs = _design_problem(spec, variable, r_tol)
+    curve = design_peak.peaks(problem, r, beta, r_tol)
+    crossings = phase_resonance.crossings(problem, r, beta, r_tol, curve.grid_phase)
+    return design_peak.dataset(curve, beta, attrs, crossings)
+
+
+def optimize(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: str = "transmissibility",
+             beta_tol: float = 1e-8, r_tol: float = 1e-10) -> xr.Dataset:
+    """The force ratio that minimises the resonance peak (friction_sweep.design.optimum), to `beta_tol`,
+    searched from the spec's force-ratio grid, with the performance curve (fs.peak's Dataset) it came
+    from; the optimum in optimum_force_ratio, optimum_peak, optimum_frequency_ratio, and how it was found
+    in the attribute optimum_kind."""
+    from friction_sweep.design import optimum as design_optimum
+
+    problem, r, beta, attrs = _design_problem(spec, variable, r_tol)
+    if beta.size < 3:
+        raise FsweepError(f"{attrs['spec']}: grid.force_ratio: the optimum is searched from at least 3 force ratios "
+                          f"(got {beta.size})")
+    if not _positive_tolerance(beta_tol):
+        raise FsweepError(f"beta_tol must be a positive number (got {_shown(beta_tol)})")
+    found = design_optimum.optimum(problem, r, beta, float(beta_tol), r_tol)
+    return design_optimum.dataset(found, {**attrs, "beta_tol": float(beta_tol)})
+
+
+def _positive_tolerance(value: Any) -> bool:
+    return bool(isinstance(value, (int, float, np.floating, np.integer))
+                and not isinstance(value, (bool, np.bool_)) and np.isfinite(value) and value > 0)
+
+
+def _design_problem(spec: Any, variable: Any, r_tol: Any):
+    """The peak's Problem, frequency and force grids and Dataset attributes from a spec, or FsweepError
+    where the spec is not one the peak is built for."""
+    from friction_sweep.design.peak import METHODS, PEAK_VARIABLES, Problem
+
+    if isinstance(spec, Mapping):
+        parsed = spec_of_dict(spec)
+    else:
+        parsed = load_spec(path_argument(spec, "spec", "a spec file's path (str, bytes or os.PathLike) or a dict"))
+    where = parsed.source_path
+    if parsed.method not in METHODS:
+        raise FsweepError(f"{where}: method: the resonance peak is built on methods {', '.join(METHODS)} "
+                          f"(got {parsed.method!r})")
+    if parsed.sweep is not None:
+        raise FsweepError(f"{where}: sweep: the resonance peak solves each point on its own; drop `sweep:`")
+    if not isinstance(variable, str) or variable not in PEAK_VARIABLES:
+        raise FsweepError(f"variable must be one of: {', '.join(PEAK_VARIABLES)} (got {_shown(variable)})")
+    if not _positive_tolerance(r_tol):
+        raise FsweepError(f"r_tol must be a positive number (got {_shown(r_tol)})")
+    r = np.array(parsed.frequency_ratio, dtype=float)
+    beta = np.array(parsed.force_ratio, dtype=float)
+    if beta.ndim != 1:
+        raise FsweepError(f"{where}: grid: the resonance peak needs one force ratio per friction level "
+                          "(not one per point, as at constant base acceleration)")
+    if r.size < 3:
+        raise FsweepError(f"{where}: grid.frequency_ratio: the peak is searched from at least 3 frequency "
+                          f"ratios (got {r.size})")
+    settings, _ = accuracy_settings(parsed)
+    problem = Problem(parsed.method, parsed.scene.excitation, parsed.scene.effects or None, settings, variable)
+    attrs = {"spec": str(where), "method": parsed.method, "excitation": parsed.scene.excitation,
+             "variable": variable, "r_tol": float(r_tol)}
+    return problem, r, beta, attrs
+
+
 def run_options(jobs: Any, executor: Any) -> tuple[int, str]:
     """`jobs` as an int from 1 to MAX_JOBS (numpy integers too; not a bool or float) and `executor` one of
     the executors (Dask only where it is installed), or FsweepError."""

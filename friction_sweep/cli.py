@@ -636,6 +636,92 @@ def _shown(v) -> str:
     return f"{v:.10g}" if isinstance(v, float) else str(v)
 
 
+_DESIGN_OPTIONS = [
+    click.option("-o", "--output", type=click.Path(), help="Also write the Dataset (netCDF4/HDF5) here."),
+    click.option("--overwrite", is_flag=True, help="Replace an existing file at --output (atomically)."),
+    click.option("--variable", type=click.Choice(["transmissibility", "peak_transmissibility"]),
+                 default="transmissibility", show_default=True,
+                 help="The response whose peak is taken (first harmonic, or max|x| over the orbit)."),
+]
+
+
+def _design_options(command):
+    for option in reversed(_DESIGN_OPTIONS):
+        command = option(command)
+    return command
+
+
+@main.command()
+@click.argument("spec", type=click.Path(path_type=Path))
+@_design_options
+def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
+    """The resonance peak of SPEC's scene for each force ratio of its grid: the largest response over
+    frequency, refined on the exact solver to 1e-10 in r (fs.peak). One line per force ratio."""
+    from friction_sweep import api
+
+    ds = _design(lambda: api.peak(str(spec), variable=variable), spec, output, overwrite)
+    for j, beta in enumerate(ds.force_ratio.values):
+        click.echo(f"force_ratio {beta:.10g}: {_peak_line(ds, j)}")
+
+
+@main.command()
+@click.argument("spec", type=click.Path(path_type=Path))
+@_design_options
+def optimize(spec: Path, output: str | None, overwrite: bool, variable: str):
+    """The force ratio that minimises the resonance peak, to 1e-8, searched from SPEC's force-ratio grid
+    (fs.optimize); -o writes the performance curve (the peak at every force ratio) with it."""
+    from friction_sweep import api
+
+    ds = _design(lambda: api.optimize(str(spec), variable=variable), spec, output, overwrite)
+    regime = codes.Regime(int(ds.optimum_regime)).name.lower() if np.isfinite(ds.optimum_regime) else "none"
+    click.echo(f"optimum ({ds.attrs['optimum_kind']}): force_ratio {float(ds.optimum_force_ratio):.10g}, "
+               f"peak {float(ds.optimum_peak):.10g} at r = {float(ds.optimum_frequency_ratio):.12g} ({regime})")
+
+
+def _peak_line(ds, j: int) -> str:
+    value = float(ds.resonance_peak[j])
+    if np.isnan(value):
+        return "no peak"
+    code = float(ds.resonance_regime[j])
+    regime = codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
+    edge = " (grid edge)" if bool(ds.resonance_at_edge[j]) else ""
+    return f"peak {value:.10g} at r = {float(ds.resonance_frequency_ratio[j]):.12g} ({regime}){edge}"
+
+
+def _design(compute, spec: Path, output: str | None, overwrite: bool):
+    """Run `compute` (an fs.peak / fs.optimize call), refusing as every command does; write the Dataset to
+    `output` (booleans as 0/1 bytes) whole or not at all."""
+    from friction_sweep.storage.outputs import refuse_replacing, refuse_special_output
+
+    if output is not None:
+        reason = refuse_special_output(output)
+        if reason is not None:
+            fail(f"output: {reason}")
+        reason = refuse_replacing([output], overwrite, [spec])
+        if reason is not None:
+            fail(reason)
+    try:
+        ds = compute()
+    except SpecError as err:
+        fail(f"invalid spec\n{err}")
+    except FsweepError as err:
+        fail(str(err))
+    if output is not None:
+        from friction_sweep.storage.cube import write_atomic
+
+        written = ds.copy()
+        for name, var in ds.data_vars.items():
+            if var.dtype == bool:
+                written[name] = var.astype(np.int8)
+        try:
+            write_atomic(written, Path(output), overwrite=overwrite)
+        except FileExistsError:
+            fail(f"output: {output} appeared meanwhile; not replaced (--overwrite replaces it)")
+        except OSError as err:
+            fail(f"output: {output}: {err.strerror or err}", EXIT_RUNTIME)
+    return ds
+
+
 @main.command()
 @click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
 @click.option("-o", "--output", type=click.Path(),

@@ -1033,6 +1033,17 @@ CASES = [
     # a compressed file is read up to 64 times its size
     Case("info: a compressed bomb", args=("info", "{d}/c.h5"), setup=hc.compressed(1000, 2000),
          words=("compressed variables expand to 48000000 bytes", "up to 64 times their size")),
+    # ---- issue 32: the resonance peak and the optimum friction (fsweep peak, fsweep optimize)
+    *(Case(f"{command}: method theory (no per-point solve to refine on)", args=(command, "{spec}", "-o", "out.h5"),
+           words=("method: the resonance peak is built on methods event, rk4, auto",)) for command in ("peak", "optimize")),
+    Case("optimize: two force ratios bracket no optimum", spec=EVENT, args=("optimize", "{spec}", "-o", "out.h5"),
+         words=("grid.force_ratio: the optimum is searched from at least 3 force ratios (got 2)",)),
+    Case("peak: two frequency ratios", spec=EVENT.replace("{start: 0.5, stop: 2.0, num: 40}", "[0.5, 2.0]"),
+         args=("peak", "{spec}"), words=("grid.frequency_ratio: the peak is searched from at least 3",)),
+    Case("peak: a sweep section", spec=EVENT + "sweep: {direction: up}\n", args=("peak", "{spec}"),
+         words=("sweep: the resonance peak solves each point on its own",)),
+    Case("peak: -o over the spec itself", spec=EVENT, args=("peak", "{spec}", "-o", "{spec}", "--overwrite"),
+         words=("an input of this command",), absent=()),
 ]
 
 
