@@ -28,6 +28,7 @@ from friction_sweep.exits import (
     EXIT_TERMINATED,
     fail,
 )
+from friction_sweep.packaged import InputPath
 from friction_sweep.printable import escape
 from friction_sweep.progress import ProgressBar
 from friction_sweep.quicklook import KINDS
@@ -133,7 +134,7 @@ def _run_options(command):
 
 
 @main.command()
-@click.argument("spec", type=click.Path(path_type=Path))
+@click.argument("spec", type=InputPath())
 @_run_options
 def validate(spec: Path, output: str | None, overwrite: bool, jobs: int, yes: bool, executor: str,
              scheduler: str | None, resume: bool):
@@ -204,13 +205,15 @@ def _methods_table() -> None:
 
 
 @main.command()
-@click.argument("spec", type=click.Path(path_type=Path))
+@click.argument("spec", type=InputPath())
 @_run_options
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("-v", "--verbose", count=True, help="Log what happens (-vv: more).")
 def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool, yes: bool, executor: str,
         scheduler: str | None, resume: bool, verbose: int):
-    """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
+    """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4).
+
+    SPEC is a spec file, or an example shipped with the package: package:examples/demo.yaml."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
     from friction_sweep.batch import checkpoint
 

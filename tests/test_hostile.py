@@ -322,7 +322,7 @@ def _calibration_spec(d: Path, data: str, output: str, name: str = "rig.yaml") -
     from friction_sweep.validation import DEFAULT_DATA
 
     text = (Path(__file__).parents[1] / "configs/calibration/rig.yaml").read_text()
-    text = text.replace("../../friction_sweep/data/experiment_phase_fixed_wall.csv", data)
+    text = text.replace("package:data/experiment_phase_fixed_wall.csv", data)
     (d / name).write_text(text.replace("output: results/calibration/rig", f"output: {output}"))
     if data.startswith("rigdir/"):
         (d / "rigdir").mkdir(exist_ok=True)
@@ -1033,6 +1033,22 @@ CASES = [
     # a compressed file is read up to 64 times its size
     Case("info: a compressed bomb", args=("info", "{d}/c.h5"), setup=hc.compressed(1000, 2000),
          words=("compressed variables expand to 48000000 bytes", "up to 64 times their size")),
+    # ---- issue 29/33: packaging and CLI
+    # files shipped with the package are named package:PATH (friction_sweep/packaged.py); a name that is not
+    # one of them is refused as itself, before anything is read
+    *(Case(f"{command}: a packaged spec that is not there", spec=None, args=(command, "package:examples/nope.yaml"),
+           words=("'package:examples/nope.yaml': no such file in the installed package", "package:examples/NAME.yaml"))
+      for command in ("run", "validate", "calibrate")),
+    *(Case(f"run: package:{rest}", spec=None, args=("run", f"package:{rest}"), words=("PATH inside the package",))
+      for rest in ("../configs/demo.yaml", "/etc/hostname", "", "examples/../examples/demo.yaml")),
+    Case("validate-data --data a packaged file that is not there", spec=None,
+         args=("validate-data", "--data", "package:data/nope.csv", "-o", "{d}/v"),
+         words=("'package:data/nope.csv': no such file",), absent=("v",)),
+    Case("calibration spec: data package:data/nope.csv", spec=None, args=("calibrate", "{d}/cal.yaml", "-o", "{d}/cal"),
+         setup=lambda d: (_calibration("discrepancy_phase: {normal: [0 deg, 3 deg]}")(d), (d / "cal.yaml").write_text(
+             (d / "cal.yaml").read_text().replace("file: rig.csv", "file: package:data/nope.csv"))),
+         words=("cal.yaml:2:", "data.file", "'package:data/nope.csv': no such file in the installed package"),
+         absent=("cal",), lines=2),
 ]
 
 
