@@ -18,7 +18,7 @@ import click
 import numpy as np
 
 import friction_sweep
-from friction_sweep import codes
+from friction_sweep import codes, posix
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR, EXECUTORS, MAX_JOBS
 from friction_sweep.errors import FsweepError
 from friction_sweep.exits import (
@@ -74,6 +74,9 @@ class _Group(click.Group):
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         """As click's, but a usage error is one line like every other refusal (exit 2)."""
+        unsupported = posix.missing()
+        if unsupported:
+            fail(unsupported, EXIT_RUNTIME)
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
         try:

@@ -137,3 +137,23 @@ def test_installed_calibrate_starts_on_the_packaged_rig(installed):
     data = env_dir.glob("lib/python*/site-packages/friction_sweep/data/experiment_phase_fixed_wall.csv")
     assert f"from 36 rows of {next(data)} " in lines[0], lines[0]
     assert not (work / "results").exists()  # stopped before anything was written
+
+
+def test_installed_metadata_declares_licence_platform_and_types(installed):
+    """Issue 33 item 5: the wheel's own metadata (what pip and PyPI show), and its py.typed."""
+    env_dir, env, work = installed
+    code = ("import importlib.metadata as m, json, friction_sweep, pathlib\n"
+            "meta = m.metadata('friction_sweep')\n"
+            "print(json.dumps({'licence': meta['License-Expression'], 'classifiers': meta.get_all('Classifier'),\n"
+            "                  'version': friction_sweep.__version__, 'files': [str(f) for f in m.files('friction_sweep')],\n"
+            "                  'typed': (pathlib.Path(friction_sweep.__file__).parent / 'py.typed').is_file()}))\n")
+    res = _run([env_dir / "bin" / "python", "-c", code], cwd=work, env=env)
+    assert res.returncode == 0, res.stderr
+    import json
+    import tomllib
+
+    got = json.loads(res.stdout)
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    assert got["licence"] == "MIT" and got["version"] == project["version"] and got["typed"]
+    assert "Operating System :: POSIX :: Linux" in got["classifiers"]
+    assert any(f.endswith("licenses/LICENSE") for f in got["files"]), got["files"]
