@@ -30,8 +30,8 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/fsweep run configs/demo.yaml --overwrite
-	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png --overwrite
-	@echo "demo: the cube is results/demo.h5 (fsweep info results/demo.h5; friction_sweep.open_cube in Python),"
+	$(BIN)/fsweep plot results/demo.nc -o results/demo.png --overwrite
+	@echo "demo: the cube is results/demo.nc (fsweep info results/demo.nc; friction_sweep.open_cube in Python),"
 	@echo "      its regime map results/demo.png"
 
 # the README's opening picture: the demo's map (regenerate after a change that alters it)
@@ -62,7 +62,7 @@ coverage: $(STAMP)
 # measures speed, scaling and what accuracy costs; the calibration `accuracy:` would read, measured here
 bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
-	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.h5 --overwrite
+	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.nc --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)
 calibrate: $(STAMP)
@@ -75,13 +75,13 @@ refresh-readme: bench calibrate
 
 bench-quick: $(STAMP)
 	$(BIN)/python benchmarks/scale.py --quick
-	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5 --overwrite
+	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.nc --overwrite
 
 # one cube per figure spec; fsweep writes atomically, so an interrupted run leaves no partial file
 FIG_SPECS := $(wildcard configs/fig*.yaml)
-FIG_CUBES := $(patsubst configs/%.yaml,results/%.h5,$(FIG_SPECS))
+FIG_CUBES := $(patsubst configs/%.yaml,results/%.nc,$(FIG_SPECS))
 
-results/%.h5: configs/%.yaml $(STAMP)
+results/%.nc: configs/%.yaml $(STAMP)
 	$(BIN)/fsweep run $< -o $@ --overwrite --quiet
 
 cubes: $(FIG_CUBES)

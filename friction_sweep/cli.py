@@ -50,6 +50,11 @@ def _load(path: Path):
         fail(f"invalid spec\n{err}")
 
 
+#: a cube's default extension: CF section 2.1 asks netCDF files to end in .nc (the CF checker and other
+#: netCDF tools go by it); fsweep reads and writes .h5 alike, the same HDF5/netCDF4 file
+CUBE_SUFFIX = ".nc"
+
+
 def _output_path(spec_path: Path, spec, override: str | None) -> Path:
     """Where the result goes; exit 2 for a name that cannot be a file (checked as written: a Path
     would drop the trailing slash of `out/`)."""
@@ -60,7 +65,7 @@ def _output_path(spec_path: Path, spec, override: str | None) -> Path:
         fail(reason)
     raw = override if override is not None else spec.output
     if raw is None:
-        raw = str(Path("results") / f"{spec_path.stem}.h5")
+        raw = str(Path("results") / f"{spec_path.stem}{CUBE_SUFFIX}")
     reason = refuse_special_output(raw)
     if reason is not None:
         fail(f"output: {reason}")
@@ -84,6 +89,9 @@ class _Group(click.Group):
         except click.exceptions.Abort:
             click.echo("fsweep: interrupted", err=True)
             sys.exit(EXIT_INTERRUPTED)
+        except click.exceptions.NoArgsIsHelpError as err:  # `fsweep` alone: the help, as click prints it
+            err.show()
+            sys.exit(err.exit_code)
         except click.ClickException as err:
             where = f"fsweep {err.ctx.info_name}" if getattr(err, "ctx", None) and err.ctx.parent else "fsweep"
             click.echo(f"fsweep: error: {' '.join(err.format_message().split())} (see {where} --help)", err=True)
@@ -641,7 +649,7 @@ def _shown(v) -> str:
 @main.command()
 @click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
 @click.option("-o", "--output", type=click.Path(),
-              default=Path("results/bench/workprecision.h5"), show_default=True, help="Dataset to write.")
+              default=Path(f"results/bench/workprecision{CUBE_SUFFIX}"), show_default=True, help="Dataset to write.")
 @click.option("--calibrate", is_flag=True, help="Also write the calibration that `accuracy:` in specs uses.")
 @click.option("--calibration", type=click.Path(path_type=Path), default=None,
               help="Where --calibrate writes (default: the user's, ~/.local/share/friction_sweep/calibration.json, "

@@ -271,6 +271,9 @@ def validate_data(data: Path | None, output_dir: Path, overwrite: bool):
         measured = read_measurements(data_path)
     except DataError as err:
         fail(str(err))
+    refusal = outputs.refuse_stdout(output_dir)
+    if refusal:
+        fail(f"output: {refusal}")
     targets = [output_dir / name for name in OUTPUT_FILES]
     for target in targets:
         refusal = outputs.refuse_special_output(target)

@@ -1049,6 +1049,18 @@ CASES = [
              (d / "cal.yaml").read_text().replace("file: rig.csv", "file: package:data/nope.csv"))),
          words=("cal.yaml:2:", "data.file", "'package:data/nope.csv': no such file in the installed package"),
          absent=("cal",), lines=2),
+    # "-" for an output is the command-line convention for standard output: it wrote a file named "-"
+    *(Case(f"{args[0]} -o -", spec=spec, args=args, setup=setup, words=("'-' would be standard output",),
+           absent=("-",))
+      for spec, args, setup in (
+          (GOOD, ("run", "{spec}", "-q", "-o", "-"), None),
+          (GOOD, ("validate", "{spec}", "-o", "-"), None),
+          (GOOD, ("plot", "{d}/out.h5", "-o", "-"), _good_cube),
+          (None, ("bench", "--quick", "-o", "-"), None),
+          (None, ("calibrate", "{d}/cal.yaml", "-q", "-o", "-"), _calibration("discrepancy_phase: {normal: [0 deg, 3 deg]}")),
+          (None, ("validate-data", "-o", "-"), None))),
+    Case("spec output: -", spec=GOOD.replace("output: out.h5", "output: '-'"), words=("output: '-' would be standard output",),
+         absent=("-",)),
 ]
 
 

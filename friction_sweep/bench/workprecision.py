@@ -284,7 +284,7 @@ def refuse_outputs(output, calibrate: bool = False, calibration: Path | None = N
         if calibrate and paths[3] in paths[:3]:
             return f"--calibration {paths[3]}: the benchmark's own dataset, figure or table goes there"
         return (f"{output}: the figure and the table are written beside the dataset with the suffixes .png "
-                "and .md, so the dataset cannot have either: name it .h5")
+                "and .md, so the dataset cannot have either: name it .nc (or .h5)")
     return next((f"output: {reason}" for reason in map(refuse_special_output, paths) if reason), None)
 
 

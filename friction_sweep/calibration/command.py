@@ -85,6 +85,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     if refusal:
         fail(refusal)
     folder = output if output is not None else Path(spec.output or Path("results") / spec_path.stem)
+    refusal = outputs.refuse_stdout(folder)
+    if refusal:
+        fail(f"output: {refusal}")
     targets = [folder / name for name in report.OUTPUT_FILES]
     for target in targets:
         refusal = outputs.refuse_special_output(target)
