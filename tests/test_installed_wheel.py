@@ -136,7 +136,7 @@ def test_installed_calibrate_starts_on_the_packaged_rig(installed):
     assert lines and lines[-1].startswith("estimate:"), "".join(lines) + err
     data = env_dir.glob("lib/python*/site-packages/friction_sweep/data/experiment_phase_fixed_wall.csv")
     assert f"from 36 rows of {next(data)} " in lines[0], lines[0]
-    assert not (work / "results").exists()  # stopped before anything was written
+    assert not (work / "results" / "calibration").exists()  # stopped before anything was written
 
 
 def test_installed_metadata_declares_licence_platform_and_types(installed):
