@@ -608,6 +608,22 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
     click.echo(f"wrote {escape(out)}")
 
 
+def _bench_estimate(quick: bool) -> str:
+    """The bench's time: its measured CPU time with the kernels cached (bench.workprecision), plus the
+    compile of each kernel family numba's cache does not hold, as `fsweep run`'s estimate counts it."""
+    from friction_sweep.batch import estimate, kernel_cache
+    from friction_sweep.bench import workprecision as wp
+
+    cold = {module for module, name in wp.KERNELS if not kernel_cache.warm(module, name)}
+    compiling = sum(estimate.COMPILE_SECONDS[module] for module in cold)
+    seconds = wp.CACHED_SECONDS["quick" if quick else "full"] + compiling
+    text = f"about {estimate.duration(seconds)} of CPU time on one core"
+    if compiling:
+        text += (f", {estimate.duration(compiling)} of it compiling the simulation kernels (first run on this "
+                 "machine; cached afterwards)")
+    return text
+
+
 def _open_result(path: Path, every_problem: bool = False):
     """The cube at `path`, read and audited (friction_sweep.storage.cube.open_cube), or exit 2 with the
     reason: one line, or with `every_problem` one line for each value problem the audit found."""
@@ -647,7 +663,7 @@ def _shown(v) -> str:
 
 
 @main.command()
-@click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
+@click.option("--quick", is_flag=True, help="One point per region and fewer settings (it prints its estimate first).")
 @click.option("-o", "--output", type=click.Path(),
               default=Path(f"results/bench/workprecision{CUBE_SUFFIX}"), show_default=True, help="Dataset to write.")
 @click.option("--calibrate", is_flag=True, help="Also write the calibration that `accuracy:` in specs uses.")
@@ -671,6 +687,7 @@ def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None, o
     if problem:
         fail(problem)
     _check_writable(Path(output))
+    click.echo(f"estimate: {_bench_estimate(quick)}", err=True)
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
     table = wp.markdown(ds)
     try:
