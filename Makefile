@@ -11,7 +11,7 @@ help:
 	@echo "make demo   set up, simulate configs/demo.yaml (a rig in physical units), print its regimes, draw its map"
 	@echo "make test   set up, then run the whole test suite"
 	@echo "make lint   ruff and mypy, as CI runs them (and .pre-commit-config.yaml)"
-	@echo "make test-fast   only the tests not marked slow (under a minute)"
+	@echo "make test-fast   only the tests not marked slow"
 	@echo "make coverage    line coverage of friction_sweep, kernels run as Python (not part of make test)"
 	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
 	@echo "make bench  set up, then measure speed and scaling (results/bench/scale.md)"
@@ -48,7 +48,7 @@ lint: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/mypy
 
-# the tests not marked slow: under a minute with numba's cache warm
+# the tests not marked slow (how long: README, "Development notes")
 test-fast: $(STAMP)
 	$(BIN)/python -m pytest -q -m "not slow"
 
