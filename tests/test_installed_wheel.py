@@ -112,6 +112,9 @@ def test_installed_validate_reads_a_packaged_example(installed):
     assert res.returncode == 0, res.stdout + res.stderr
     spec = Path(res.stdout.split(": ok:")[0])
     assert spec.is_relative_to(env_dir) and spec.name == "demo.yaml"
+    # every spec of configs/, at whatever depth (the package data's globs must reach it)
+    shipped = {p.relative_to(spec.parent).as_posix() for p in spec.parent.rglob("*.yaml")}
+    assert shipped == {p.relative_to(ROOT / "configs").as_posix() for p in (ROOT / "configs").rglob("*.yaml")}
 
 
 def test_installed_calibrate_starts_on_the_packaged_rig(installed):
