@@ -11,7 +11,7 @@ help:
 	@echo "make demo   set up, simulate configs/demo.yaml (a rig in physical units), print its regimes, draw its map"
 	@echo "make test   set up, then run the whole test suite"
 	@echo "make lint   ruff and mypy, as CI runs them (and .pre-commit-config.yaml)"
-	@echo "make test-fast   only the tests not marked slow (under a minute)"
+	@echo "make test-fast   only the tests not marked slow"
 	@echo "make coverage    line coverage of friction_sweep, kernels run as Python (not part of make test)"
 	@echo "make cubes  set up, then compute one cube per configs/fig*.yaml into results/"
 	@echo "make bench  set up, then measure speed and scaling (results/bench/scale.md)"
@@ -30,8 +30,8 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	$(BIN)/fsweep run configs/demo.yaml --overwrite
-	$(BIN)/fsweep plot results/demo.h5 -o results/demo.png --overwrite
-	@echo "demo: the cube is results/demo.h5 (fsweep info results/demo.h5; friction_sweep.open_cube in Python),"
+	$(BIN)/fsweep plot results/demo.nc -o results/demo.png --overwrite
+	@echo "demo: the cube is results/demo.nc (fsweep info results/demo.nc; friction_sweep.open_cube in Python),"
 	@echo "      its regime map results/demo.png"
 
 # the README's opening picture: the demo's map (regenerate after a change that alters it)
@@ -48,7 +48,7 @@ lint: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/mypy
 
-# the tests not marked slow: under a minute with numba's cache warm
+# the tests not marked slow (how long: README, "Development notes")
 test-fast: $(STAMP)
 	$(BIN)/python -m pytest -q -m "not slow"
 
@@ -64,7 +64,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
 	$(BIN)/python benchmarks/performance_curve.py --excitation joined
 	$(BIN)/python benchmarks/performance_curve.py --excitation base
-	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.h5 --overwrite
+	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.nc --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)
 calibrate: $(STAMP)
@@ -77,13 +77,13 @@ refresh-readme: bench calibrate
 
 bench-quick: $(STAMP)
 	$(BIN)/python benchmarks/scale.py --quick
-	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.h5 --overwrite
+	$(BIN)/fsweep bench --quick -o results/bench/workprecision-quick.nc --overwrite
 
 # one cube per figure spec; fsweep writes atomically, so an interrupted run leaves no partial file
 FIG_SPECS := $(wildcard configs/fig*.yaml)
-FIG_CUBES := $(patsubst configs/%.yaml,results/%.h5,$(FIG_SPECS))
+FIG_CUBES := $(patsubst configs/%.yaml,results/%.nc,$(FIG_SPECS))
 
-results/%.h5: configs/%.yaml $(STAMP)
+results/%.nc: configs/%.yaml $(STAMP)
 	$(BIN)/fsweep run $< -o $@ --overwrite --quiet
 
 cubes: $(FIG_CUBES)

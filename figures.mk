@@ -6,7 +6,7 @@
 #   make validate        measured phase lags against theory and simulation -> results/validation/
 #
 # A figure is rebuilt only when its script, figures/common.py or one of its cubes changed; cubes
-# come from the Makefile's rule results/%.h5: configs/%.yaml. Scripts write their PNG under a
+# come from the Makefile's rule results/%.nc: configs/%.yaml. Scripts write their PNG under a
 # temporary name and rename it into place; .DELETE_ON_ERROR covers everything else.
 
 BIN   ?= .venv/bin
@@ -20,30 +20,30 @@ NUM     := results/numerical
 
 # The cubes each figure script reads, in the order it takes them (theory: configs/*.yaml;
 # simulation: configs/numerical/*.yaml).
-CUBES_fig01b := $(NUM)/fig01b_viscous_zeta005.h5 $(NUM)/fig01b_viscous_zeta010.h5 \
-                $(NUM)/fig01b_viscous_zeta020.h5 $(NUM)/fig01b_viscous_zeta050.h5
-CUBES_fig04  := results/fig04_force_amplitude.h5
-CUBES_fig05  := results/fig05_force_phase.h5
-CUBES_fig07  := results/fig07_base_transmissibility.h5
-CUBES_fig08  := results/fig08_transition_force_ratio.h5
-CUBES_fig10  := results/fig10_joined_relative_amplitude.h5
-CUBES_fig11  := results/fig11_joined_relative_phase.h5
-CUBES_fig13  := results/fig13_joined_regime_map.h5
-CUBES_fig14  := results/fig14a_joined_transmissibility.h5 results/fig14b_joined_inversion.h5
-CUBES_fig15  := results/fig11_joined_relative_phase.h5
-CUBES_fig16  := results/fig11_joined_relative_phase.h5
-CUBES_fig17  := $(NUM)/fig17_base_numerical.h5 $(NUM)/fig17b_base_numerical_low_r.h5
-CUBES_fig18  := $(NUM)/fig17_base_numerical.h5 results/fig07_base_transmissibility.h5
-CUBES_fig19  := $(NUM)/fig19_base_time_histories.h5
-CUBES_fig20  := $(NUM)/fig20_joined_numerical.h5
-CUBES_fig21  := $(NUM)/fig20_joined_numerical.h5 results/fig21_joined_theory.h5
-CUBES_fig22  := $(NUM)/fig22_joined_stick_slip_history.h5
+CUBES_fig01b := $(NUM)/fig01b_viscous_zeta005.nc $(NUM)/fig01b_viscous_zeta010.nc \
+                $(NUM)/fig01b_viscous_zeta020.nc $(NUM)/fig01b_viscous_zeta050.nc
+CUBES_fig04  := results/fig04_force_amplitude.nc
+CUBES_fig05  := results/fig05_force_phase.nc
+CUBES_fig07  := results/fig07_base_transmissibility.nc
+CUBES_fig08  := results/fig08_transition_force_ratio.nc
+CUBES_fig10  := results/fig10_joined_relative_amplitude.nc
+CUBES_fig11  := results/fig11_joined_relative_phase.nc
+CUBES_fig13  := results/fig13_joined_regime_map.nc
+CUBES_fig14  := results/fig14a_joined_transmissibility.nc results/fig14b_joined_inversion.nc
+CUBES_fig15  := results/fig11_joined_relative_phase.nc
+CUBES_fig16  := results/fig11_joined_relative_phase.nc
+CUBES_fig17  := $(NUM)/fig17_base_numerical.nc $(NUM)/fig17b_base_numerical_low_r.nc
+CUBES_fig18  := $(NUM)/fig17_base_numerical.nc results/fig07_base_transmissibility.nc
+CUBES_fig19  := $(NUM)/fig19_base_time_histories.nc
+CUBES_fig20  := $(NUM)/fig20_joined_numerical.nc
+CUBES_fig21  := $(NUM)/fig20_joined_numerical.nc results/fig21_joined_theory.nc
+CUBES_fig22  := $(NUM)/fig22_joined_stick_slip_history.nc
 # beyond the paper: stepped-sine sweeps up and down with static friction, over the two states
-CUBES_hysteresis := $(NUM)/hysteresis_joined_up.h5 $(NUM)/hysteresis_joined_down.h5 \
-                    $(NUM)/hysteresis_joined_starts.h5
+CUBES_hysteresis := $(NUM)/hysteresis_joined_up.nc $(NUM)/hysteresis_joined_down.nc \
+                    $(NUM)/hysteresis_joined_starts.nc
 # beyond the paper: the Jenkins contact (effect contact_stiffness) at several kappa, and the rigid contact
-CUBES_jenkins := $(NUM)/jenkins_base_kappa1.h5 $(NUM)/jenkins_base_kappa10.h5 $(NUM)/jenkins_base_kappa100.h5 \
-                 $(NUM)/jenkins_base_kappa1000.h5 $(NUM)/jenkins_base_rigid.h5
+CUBES_jenkins := $(NUM)/jenkins_base_kappa1.nc $(NUM)/jenkins_base_kappa10.nc $(NUM)/jenkins_base_kappa100.nc \
+                 $(NUM)/jenkins_base_kappa1000.nc $(NUM)/jenkins_base_rigid.nc
 
 FIGURE_NAMES := fig01b fig04 fig05 fig07 fig08 fig10 fig11 fig13 fig14 fig15 fig16 \
                 fig17 fig18 fig19 fig20 fig21 fig22 hysteresis jenkins
@@ -70,7 +70,7 @@ figures-quick: $(QUICK_FIGURES)
 results/quick/%.yaml: configs/%.yaml figures/quick_spec.py $(STAMP)
 	$(BIN)/python figures/quick_spec.py --num 100 --max-force-ratios 31 $< $@
 
-results/quick/%.h5: results/quick/%.yaml $(STAMP)
+results/quick/%.nc: results/quick/%.yaml $(STAMP)
 	$(BIN)/fsweep run $< -o $@ --overwrite --quiet
 
 # VALIDATION_DATA=path overrides the default data file, <repo>/../shared/data/experiment_phase_fixed_wall.csv

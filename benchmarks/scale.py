@@ -28,7 +28,7 @@ OUT = ROOT / "results" / "bench"
 def run_cube(spec: Path, executor: str, jobs: int, out: Path | None = None) -> tuple[float, float, float]:
     """Wall seconds, compute seconds as `fsweep run` prints them, and peak RSS (MiB) of one run in a
     fresh process."""
-    out = out or OUT / f"{spec.stem}.{executor}.h5"
+    out = out or OUT / f"{spec.stem}.{executor}.nc"
     cmd = [sys.executable, "-m", "friction_sweep", "run", str(spec), "-o", str(out), "--overwrite", "--quiet",
            "-j", str(jobs), "--executor", executor]
     before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
@@ -49,7 +49,7 @@ def paper_planes(quick: bool) -> list[str]:
         runs = {}
         for scene in ("base", "joined"):
             spec = ROOT / f"configs/bench/paper_cube_{scene}.yaml"
-            cubes[scene] = OUT / f"{spec.stem}.{executor}.h5"
+            cubes[scene] = OUT / f"{spec.stem}.{executor}.nc"
             runs[scene] = run_cube(spec, executor, 2, cubes[scene])
         (wb, cb, mb), (wj, cj, mj) = runs["base"], runs["joined"]
         rows.append(f"| {executor} | {cb:.2f} | {wb:.2f} | {cj:.2f} | {wj:.2f} | {wb + wj:.2f} | {max(mb, mj):.0f} |")
@@ -93,7 +93,7 @@ def one_point(quick: bool) -> tuple[list[str], list[str]]:
     spec = OUT / "one_point.yaml"
     spec.write_text(ONE_POINT)
     (OUT / "trivial_kernel.py").write_text(TRIVIAL_KERNEL)
-    out = OUT / "one_point.h5"
+    out = OUT / "one_point.nc"
     run = [sys.executable, "-m", "friction_sweep", "run", str(spec), "-o", str(out), "--overwrite"]
     floor = [sys.executable, "-c", FLOOR]
     numba_floor = [sys.executable, "-c", f"{FLOOR}; import sys; sys.path.insert(0, {str(OUT)!r}); "

@@ -268,7 +268,7 @@ def family_figure(argv, *, script: str, var: str, ylabel: str, title: str, bound
     """A figure with one curve of `var` against r per force ratio, optionally with the theory's
     continuous-motion boundary (dotted; drawn from r = boundary_min_r on), as in the paper's
     Figs. 4, 5, 7, 10, 11, 15, 16."""
-    (path,), out = parse_args(argv, f"python figures/{script} CUBE.h5 OUT.png", 1)
+    (path,), out = parse_args(argv, f"python figures/{script} CUBE.nc OUT.png", 1)
     ds = open_cube(path)
     require(ds, path, var)
     excitation = excitation_of(ds)

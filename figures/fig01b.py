@@ -3,7 +3,7 @@ one curve per damping ratio zeta (one cube each, the event simulation with the v
 effect and no friction), over the closed form |1 + 2i zeta r| / |1 - r^2 + 2i zeta r| (thin dashed,
 a check). All curves pass through 1 at r = sqrt(2), where damping stops reducing the transmission.
 
-    python figures/fig01b.py results/numerical/fig01b_viscous_zeta005.h5 ... figures/out/fig01b.png
+    python figures/fig01b.py results/numerical/fig01b_viscous_zeta005.nc ... figures/out/fig01b.png
 """
 
 
@@ -19,7 +19,7 @@ def classical(r, zeta):
 
 
 def main(argv=None):
-    paths, out = C.parse_args(argv, "python figures/fig01b.py CUBE.h5 [CUBE.h5 ...] OUT.png")
+    paths, out = C.parse_args(argv, "python figures/fig01b.py CUBE.nc [CUBE.nc ...] OUT.png")
     cubes = []
     for path in paths:
         ds = C.open_cube(path)

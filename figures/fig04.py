@@ -1,7 +1,7 @@
 """Paper Fig. 4: Den Hartog's dimensionless amplitude x0/(F0/k) under a harmonic force, one curve
 per force ratio muN/F0, and the limit of continuous motion (dotted, Eq. 13).
 
-    python figures/fig04.py results/fig04_force_amplitude.h5 figures/out/fig04.png
+    python figures/fig04.py results/fig04_force_amplitude.nc figures/out/fig04.png
 """
 
 

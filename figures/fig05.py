@@ -2,7 +2,7 @@
 per force ratio muN/F0, and its value on the limit of continuous motion (dotted, drawn from r = 0.5
 on: below, the limit is tiny and swings at r = 1/3, 1/5, ... where U(r) is singular).
 
-    python figures/fig05.py results/fig05_force_phase.h5 figures/out/fig05.png
+    python figures/fig05.py results/fig05_force_phase.nc figures/out/fig05.png
 """
 
 

@@ -1,7 +1,7 @@
 """Paper Fig. 7: theoretical displacement transmissibility x0/Y under base motion with a fixed wall
 (Eq. 22), one curve per force ratio, and the limit of continuous motion (dotted, Eq. 23a).
 
-    python figures/fig07.py results/fig07_base_transmissibility.h5 figures/out/fig07.png
+    python figures/fig07.py results/fig07_base_transmissibility.nc figures/out/fig07.png
 """
 
 

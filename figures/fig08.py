@@ -2,7 +2,7 @@
 motion with a fixed wall (cube variable `continuous_limit`), with its asymptote 2/sqrt(4 + pi^2)
 for r -> infinity (Eq. 25) and its maximum (Eq. 26) marked; above beta = 1 the mass never moves.
 
-    python figures/fig08.py results/fig08_transition_force_ratio.h5 figures/out/fig08.png
+    python figures/fig08.py results/fig08_transition_force_ratio.nc figures/out/fig08.png
 """
 
 
@@ -30,7 +30,7 @@ def refined_maximum(r, limit):
 
 
 def main(argv=None):
-    (path,), out = C.parse_args(argv, "python figures/fig08.py CUBE.h5 OUT.png", 1)
+    (path,), out = C.parse_args(argv, "python figures/fig08.py CUBE.nc OUT.png", 1)
     ds = C.open_cube(path)
     C.require(ds, path, "continuous_limit")
     r = ds["frequency_ratio"].values

@@ -1,7 +1,7 @@
 """Paper Fig. 10: amplitude |Z|/|Y| of the relative mass-wall motion under joined base-wall
 excitation (Eq. 34), one curve per force ratio, and the limit of continuous motion (dotted, Eq. 35).
 
-    python figures/fig10.py results/fig10_joined_relative_amplitude.h5 figures/out/fig10.png
+    python figures/fig10.py results/fig10_joined_relative_amplitude.nc figures/out/fig10.png
 """
 
 

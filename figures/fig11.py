@@ -3,7 +3,7 @@
 continuous motion (dotted, drawn from r = 0.5 on: below, the limit is tiny and swings at r = 1/3,
 1/5, ... where U(r) is singular).
 
-    python figures/fig11.py results/fig11_joined_relative_phase.h5 figures/out/fig11.png
+    python figures/fig11.py results/fig11_joined_relative_phase.nc figures/out/fig11.png
 """
 
 

@@ -4,7 +4,7 @@ curve beta = r^2, Eq. 42), continuous where beta <= r^2 beta*(r) (below the dash
 stick-slip between the two curves. Shown up to r = 2.5; beyond it every force ratio of the cube is
 continuous.
 
-    python figures/fig13.py results/fig13_joined_regime_map.h5 figures/out/fig13.png
+    python figures/fig13.py results/fig13_joined_regime_map.nc figures/out/fig13.png
 """
 
 
@@ -19,7 +19,7 @@ MAP_COLORS = ["0.55", "0.85", "white", "tab:red", "tab:orange"]
 
 
 def main(argv=None):
-    (path,), out = C.parse_args(argv, "python figures/fig13.py CUBE.h5 OUT.png", 1)
+    (path,), out = C.parse_args(argv, "python figures/fig13.py CUBE.nc OUT.png", 1)
     ds = C.open_cube(path)
     C.require(ds, path, "regime", "continuous_limit")
     r = ds["frequency_ratio"].values

@@ -3,8 +3,8 @@ base-wall motion, one curve per force ratio, with the limit of continuous motion
 the detail of the inversion of the curves inside 1.4 < r < 1.55 (b), where the crossings of curves
 of adjacent force ratios are marked.
 
-    python figures/fig14.py results/fig14a_joined_transmissibility.h5 \
-        results/fig14b_joined_inversion.h5 figures/out/fig14.png
+    python figures/fig14.py results/fig14a_joined_transmissibility.nc \
+        results/fig14b_joined_inversion.nc figures/out/fig14.png
 """
 
 
@@ -26,7 +26,7 @@ def crossings(r, y1, y2):
 
 
 def main(argv=None):
-    (path_a, path_b), out = C.parse_args(argv, "python figures/fig14.py CUBE_A.h5 CUBE_B.h5 OUT.png", 2)
+    (path_a, path_b), out = C.parse_args(argv, "python figures/fig14.py CUBE_A.nc CUBE_B.nc OUT.png", 2)
     a, b = C.open_cube(path_a), C.open_cube(path_b)
     C.require(a, path_a, VAR)
     C.require(b, path_b, VAR)

@@ -1,7 +1,7 @@
 """Paper Fig. 15: phase phi_xz between the absolute mass motion x and the relative mass-wall
 motion z, between maxima (Eq. 43), joined base-wall excitation, one curve per force ratio.
 
-    python figures/fig15.py results/fig11_joined_relative_phase.h5 figures/out/fig15.png
+    python figures/fig15.py results/fig11_joined_relative_phase.nc figures/out/fig15.png
 """
 
 

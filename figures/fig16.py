@@ -1,7 +1,7 @@
 """Paper Fig. 16: phase phi_xy = phi_yz - phi_xz between the base motion y and the absolute mass
 motion x, between maxima (Eq. 44), joined base-wall excitation, one curve per force ratio.
 
-    python figures/fig16.py results/fig11_joined_relative_phase.h5 figures/out/fig16.png
+    python figures/fig16.py results/fig11_joined_relative_phase.nc figures/out/fig16.png
 """
 
 

@@ -5,8 +5,8 @@ the region where Den Hartog's theory applies (b). The transmissibility is the fi
 Gaps: r = 1 below pi/4 (unbounded) and the few points the simulation reports `unsettled` (r = 1/2
 and small force ratios just below r = 1/3, 0.41, 0.48, where the orbit creeps to its limit).
 
-    python figures/fig17.py results/numerical/fig17_base_numerical.h5 \
-        results/numerical/fig17b_base_numerical_low_r.h5 figures/out/fig17.png
+    python figures/fig17.py results/numerical/fig17_base_numerical.nc \
+        results/numerical/fig17b_base_numerical_low_r.nc figures/out/fig17.png
 """
 
 
@@ -29,7 +29,7 @@ def panel(ax, ds, title, xlim, ylim, palette=None, legend_loc="upper right"):
 
 
 def main(argv=None):
-    (path_a, path_b), out = C.parse_args(argv, "python figures/fig17.py CUBE_A.h5 CUBE_B.h5 OUT.png", 2)
+    (path_a, path_b), out = C.parse_args(argv, "python figures/fig17.py CUBE_A.nc CUBE_B.nc OUT.png", 2)
     a, b = C.open_cube(path_a), C.open_cube(path_b)
     C.require(a, path_a, VAR)
     C.require(b, path_b, VAR)

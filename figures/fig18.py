@@ -3,8 +3,8 @@ force ratio. Theory dashed (Den Hartog's x0/Y, Eq. 22: only where it forecasts c
 simulation solid (the same quantity, max|x|/Y) and dotted (the first harmonic |X(r)|/|Y(r)|, the
 paper's FFT definition). The simulated regime is shaded (stick-slip light grey).
 
-    python figures/fig18.py results/numerical/fig17_base_numerical.h5 \
-        results/fig07_base_transmissibility.h5 figures/out/fig18.png
+    python figures/fig18.py results/numerical/fig17_base_numerical.nc \
+        results/fig07_base_transmissibility.nc figures/out/fig18.png
 """
 
 
@@ -25,7 +25,7 @@ def pick_force_ratios(sim, theory, n=4):
 
 
 def main(argv=None):
-    (path_sim, path_theory), out = C.parse_args(argv, "python figures/fig18.py SIM.h5 THEORY.h5 OUT.png", 2)
+    (path_sim, path_theory), out = C.parse_args(argv, "python figures/fig18.py SIM.nc THEORY.nc OUT.png", 2)
     sim, theory = C.open_cube(path_sim), C.open_cube(path_theory)
     C.require(sim, path_sim, "transmissibility", "peak_transmissibility", "regime")
     C.require(theory, path_theory, "peak_transmissibility")

@@ -6,7 +6,7 @@ forcing periods, with the time the mass is stuck shaded. Panel d is a transient,
 state can show: the motion from rest near resonance with little friction (r = 0.95, F_mu/F_k = 0.05
 by default) over 40 forcing periods, computed here with the exact event kernel.
 
-    python figures/fig19.py results/numerical/fig19_base_time_histories.h5 figures/out/fig19.png
+    python figures/fig19.py results/numerical/fig19_base_time_histories.nc figures/out/fig19.png
 """
 
 
@@ -55,7 +55,7 @@ def shade_stuck(ax, t, v, scale):
 
 
 def main(argv=None):
-    (path,), out = C.parse_args(argv, "python figures/fig19.py CUBE.h5 OUT.png", 1)
+    (path,), out = C.parse_args(argv, "python figures/fig19.py CUBE.nc OUT.png", 1)
     ds = C.open_cube(path)
     C.require(ds, path, "history_time", "history_displacement", "history_excitation", "history_relative_velocity")
     n = ds.sizes["history"]

@@ -3,7 +3,7 @@ base-wall motion, one curve per force ratio: 1 where the mass rides with the wal
 dip when relative stick-slip begins, and a resonant peak that fades as the force ratio grows. The
 transmissibility is the first harmonic |X(r)|/|Y(r)| (the paper's FFT definition).
 
-    python figures/fig20.py results/numerical/fig20_joined_numerical.h5 figures/out/fig20.png
+    python figures/fig20.py results/numerical/fig20_joined_numerical.nc figures/out/fig20.png
 """
 
 

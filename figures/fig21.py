@@ -4,8 +4,8 @@ only where it forecasts continuous motion or sticking), simulation solid (the sa
 dotted (first harmonic). Shading: the theory's forecast of the regime, dark grey stuck, light grey
 stick-slip, white continuous (sliding), as in the paper.
 
-    python figures/fig21.py results/numerical/fig20_joined_numerical.h5 \
-        results/fig21_joined_theory.h5 figures/out/fig21.png
+    python figures/fig21.py results/numerical/fig20_joined_numerical.nc \
+        results/fig21_joined_theory.nc figures/out/fig21.png
 """
 
 
@@ -25,7 +25,7 @@ def pick_force_ratios(sim, theory, n=6):
 
 
 def main(argv=None):
-    (path_sim, path_theory), out = C.parse_args(argv, "python figures/fig21.py SIM.h5 THEORY.h5 OUT.png", 2)
+    (path_sim, path_theory), out = C.parse_args(argv, "python figures/fig21.py SIM.nc THEORY.nc OUT.png", 2)
     sim, theory = C.open_cube(path_sim), C.open_cube(path_theory)
     C.require(sim, path_sim, "transmissibility", "peak_transmissibility")
     C.require(theory, path_theory, "peak_transmissibility", "regime")

@@ -4,7 +4,7 @@ orbit from the exact simulation over two forcing periods. Top: the relative disp
 and relative velocity z' (the mass sticks to the wall where z' = 0, shaded). Bottom: the absolute
 mass motion x against the base and wall motion y.
 
-    python figures/fig22.py results/numerical/fig22_joined_stick_slip_history.h5 figures/out/fig22.png
+    python figures/fig22.py results/numerical/fig22_joined_stick_slip_history.nc figures/out/fig22.png
 """
 
 
@@ -15,7 +15,7 @@ from friction_sweep.codes import Regime
 
 
 def main(argv=None):
-    (path,), out = C.parse_args(argv, "python figures/fig22.py CUBE.h5 OUT.png", 1)
+    (path,), out = C.parse_args(argv, "python figures/fig22.py CUBE.nc OUT.png", 1)
     ds = C.open_cube(path)
     C.require(ds, path, "history_time", "history_displacement", "history_excitation",
               "history_relative_displacement", "history_relative_velocity")

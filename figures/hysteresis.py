@@ -3,7 +3,7 @@ stepped-sine sweeps up and down in frequency (each point started from its neighb
 is run), over the two states the default cube reports at each point (from rest, from a moving start).
 Where the sweeps differ (shaded) the damper has two steady states: the band a rig shows as hysteresis.
 
-    python figures/hysteresis.py UP.h5 DOWN.h5 STARTS.h5 OUT.png
+    python figures/hysteresis.py UP.nc DOWN.nc STARTS.nc OUT.png
 """
 
 
@@ -16,7 +16,7 @@ from friction_sweep.methods.event import SAME_STATE_RTOL
 
 def main(argv=None):
     (up_path, down_path, starts_path), out = C.parse_args(
-        argv, "python figures/hysteresis.py UP.h5 DOWN.h5 STARTS.h5 OUT.png", 3)
+        argv, "python figures/hysteresis.py UP.nc DOWN.nc STARTS.nc OUT.png", 3)
     up, down, starts = (C.open_cube(p) for p in (up_path, down_path, starts_path))
     C.require(starts, starts_path, "transmissibility", "transmissibility_moving")
     beta = float(up["force_ratio"].values[0])

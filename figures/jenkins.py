@@ -8,8 +8,8 @@ axis). Near that resonance the stuck response outgrows beta / kappa and the slid
 the contact: the peaks of small kappa lie between r = 1 and sqrt(1 + kappa). As kappa grows the curves
 close in on the rigid one. Gaps: unbounded (r = 1 below pi/4) and unsettled points.
 
-    python figures/jenkins.py results/numerical/jenkins_base_kappa1.h5 ... \
-        results/numerical/jenkins_base_rigid.h5 figures/out/jenkins.png
+    python figures/jenkins.py results/numerical/jenkins_base_kappa1.nc ... \
+        results/numerical/jenkins_base_rigid.nc figures/out/jenkins.png
 
 The cubes may come in any order; the one without `contact_stiffness` is the rigid contact.
 """
@@ -50,7 +50,7 @@ def by_regime(ax, r, y, codes, color, lw):
 
 
 def main(argv=None):
-    paths, out = C.parse_args(argv, "python figures/jenkins.py CUBE.h5 [CUBE.h5 ...] OUT.png")
+    paths, out = C.parse_args(argv, "python figures/jenkins.py CUBE.nc [CUBE.nc ...] OUT.png")
     cubes = [C.open_cube(p) for p in paths]
     for ds, path in zip(cubes, paths, strict=True):
         C.require(ds, path, VAR, "regime")

@@ -40,7 +40,7 @@ def coarse_text(src: Path, dst: Path, num: int = 100, max_force_ratios: int = 16
         axis = _coarse_axis(values, limit)
         if axis is not None:
             grid[key] = axis
-    data["output"] = str(dst.with_suffix(".h5"))
+    data["output"] = str(dst.with_suffix(".nc"))
     buf = io.StringIO()
     buf.write(f"# coarse copy of {src} for `make figures-quick`, written by figures/quick_spec.py\n")
     yaml.dump(data, buf)

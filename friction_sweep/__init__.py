@@ -16,9 +16,13 @@ return xarray Datasets; every refusal is a `FsweepError`. They are loaded on fir
 
 from __future__ import annotations
 
+from importlib.metadata import PackageNotFoundError, version
 from typing import Any
 
-__version__ = "0.1.0"
+try:  # pyproject.toml's, the one place the version is written
+    __version__ = version("friction_sweep")
+except PackageNotFoundError:  # a source tree on the path but never installed
+    __version__ = "0+unknown"
 
 _API = ("sweep", "sweep_yaml", "open_cube", "peak", "optimize")
 __all__ = [*_API, "FsweepError", "SpecError", "__version__"]

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from friction_sweep import packaged
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR, EXECUTORS, MAX_JOBS
 from friction_sweep.errors import FsweepError
 from friction_sweep.spec import Spec, SpecError, grid, load_spec, parse_spec_text
@@ -53,7 +54,10 @@ def sweep(spec: str | bytes | os.PathLike | Mapping[str, Any], *, jobs: int = 1,
     if isinstance(spec, Mapping):
         return run(spec_of_dict(spec), jobs=jobs, executor=executor)
     path = path_argument(spec, "spec", "a spec file's path (str, bytes or os.PathLike) or a dict")
-    return run(load_spec(path), jobs=jobs, executor=executor)
+    reason = packaged.problem(path)  # package:PATH, a spec shipped with the package
+    if reason is not None:
+        raise FsweepError(f"spec: {reason}")
+    return run(load_spec(packaged.resolve(path)), jobs=jobs, executor=executor)
 
 
 def sweep_yaml(text: str, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR) -> xr.Dataset:

@@ -18,7 +18,7 @@ import click
 import numpy as np
 
 import friction_sweep
-from friction_sweep import codes
+from friction_sweep import codes, posix
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR, EXECUTORS, MAX_JOBS
 from friction_sweep.errors import FsweepError
 from friction_sweep.exits import (
@@ -28,6 +28,7 @@ from friction_sweep.exits import (
     EXIT_TERMINATED,
     fail,
 )
+from friction_sweep.packaged import InputPath
 from friction_sweep.printable import escape
 from friction_sweep.progress import ProgressBar
 from friction_sweep.quicklook import KINDS, WIDE_RANGE, YSCALES
@@ -49,6 +50,11 @@ def _load(path: Path):
         fail(f"invalid spec\n{err}")
 
 
+#: a cube's default extension: CF section 2.1 asks netCDF files to end in .nc (the CF checker and other
+#: netCDF tools go by it); fsweep reads and writes .h5 alike, the same HDF5/netCDF4 file
+CUBE_SUFFIX = ".nc"
+
+
 def _output_path(spec_path: Path, spec, override: str | None) -> Path:
     """Where the result goes; exit 2 for a name that cannot be a file (checked as written: a Path
     would drop the trailing slash of `out/`)."""
@@ -59,7 +65,7 @@ def _output_path(spec_path: Path, spec, override: str | None) -> Path:
         fail(reason)
     raw = override if override is not None else spec.output
     if raw is None:
-        raw = str(Path("results") / f"{spec_path.stem}.h5")
+        raw = str(Path("results") / f"{spec_path.stem}{CUBE_SUFFIX}")
     reason = refuse_special_output(raw)
     if reason is not None:
         fail(f"output: {reason}")
@@ -73,6 +79,9 @@ class _Group(click.Group):
 
     def main(self, args=None, prog_name=None, complete_var=None, standalone_mode=True, **extra):
         """As click's, but a usage error is one line like every other refusal (exit 2)."""
+        unsupported = posix.missing()
+        if unsupported:
+            fail(unsupported, EXIT_RUNTIME)
         if not standalone_mode:
             return super().main(args, prog_name, complete_var, standalone_mode, **extra)
         try:
@@ -80,6 +89,9 @@ class _Group(click.Group):
         except click.exceptions.Abort:
             click.echo("fsweep: interrupted", err=True)
             sys.exit(EXIT_INTERRUPTED)
+        except click.exceptions.NoArgsIsHelpError as err:  # `fsweep` alone: the help, as click prints it
+            err.show()
+            sys.exit(err.exit_code)
         except click.ClickException as err:
             where = f"fsweep {err.ctx.info_name}" if getattr(err, "ctx", None) and err.ctx.parent else "fsweep"
             click.echo(f"fsweep: error: {' '.join(err.format_message().split())} (see {where} --help)", err=True)
@@ -133,7 +145,7 @@ def _run_options(command):
 
 
 @main.command()
-@click.argument("spec", type=click.Path(path_type=Path))
+@click.argument("spec", type=InputPath())
 @_run_options
 def validate(spec: Path, output: str | None, overwrite: bool, jobs: int, yes: bool, executor: str,
              scheduler: str | None, resume: bool):
@@ -204,13 +216,15 @@ def _methods_table() -> None:
 
 
 @main.command()
-@click.argument("spec", type=click.Path(path_type=Path))
+@click.argument("spec", type=InputPath())
 @_run_options
 @click.option("-q", "--quiet", is_flag=True, help="No progress bar.")
 @click.option("-v", "--verbose", count=True, help="Log what happens (-vv: more).")
 def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool, yes: bool, executor: str,
         scheduler: str | None, resume: bool, verbose: int):
-    """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4)."""
+    """Run the sweep described by SPEC and write the result cube (HDF5/netCDF4).
+
+    SPEC is a spec file, or an example shipped with the package: package:examples/demo.yaml."""
     # imported here so that `fsweep validate` and `--help` stay fast (no numba kernels loaded)
     from friction_sweep.batch import checkpoint
 
@@ -598,6 +612,22 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
     click.echo(f"wrote {escape(out)}")
 
 
+def _bench_estimate(quick: bool) -> str:
+    """The bench's time: its measured CPU time with the kernels cached (bench.workprecision), plus the
+    compile of each kernel family numba's cache does not hold, as `fsweep run`'s estimate counts it."""
+    from friction_sweep.batch import estimate, kernel_cache
+    from friction_sweep.bench import workprecision as wp
+
+    cold = {module for module, name in wp.KERNELS if not kernel_cache.warm(module, name)}
+    compiling = sum(estimate.COMPILE_SECONDS[module] for module in cold)
+    seconds = wp.CACHED_SECONDS["quick" if quick else "full"] + compiling
+    text = f"about {estimate.duration(seconds)} of CPU time on one core"
+    if compiling:
+        text += (f", {estimate.duration(compiling)} of it compiling the simulation kernels (first run on this "
+                 "machine; cached afterwards)")
+    return text
+
+
 def _open_result(path: Path, every_problem: bool = False):
     """The cube at `path`, read and audited (friction_sweep.storage.cube.open_cube), or exit 2 with the
     reason: one line, or with `every_problem` one line for each value problem the audit found."""
@@ -723,9 +753,9 @@ def _design(compute, spec: Path, output: str | None, overwrite: bool):
 
 
 @main.command()
-@click.option("--quick", is_flag=True, help="One point per region and fewer settings (about 10 s).")
+@click.option("--quick", is_flag=True, help="One point per region and fewer settings (it prints its estimate first).")
 @click.option("-o", "--output", type=click.Path(),
-              default=Path("results/bench/workprecision.h5"), show_default=True, help="Dataset to write.")
+              default=Path(f"results/bench/workprecision{CUBE_SUFFIX}"), show_default=True, help="Dataset to write.")
 @click.option("--calibrate", is_flag=True, help="Also write the calibration that `accuracy:` in specs uses.")
 @click.option("--calibration", type=click.Path(path_type=Path), default=None,
               help="Where --calibrate writes (default: the user's, ~/.local/share/friction_sweep/calibration.json, "
@@ -747,6 +777,7 @@ def bench(quick: bool, output: str, calibrate: bool, calibration: Path | None, o
     if problem:
         fail(problem)
     _check_writable(Path(output))
+    click.echo(f"estimate: {_bench_estimate(quick)}", err=True)
     ds = wp.run(quick=quick, log=lambda line: click.echo(line, err=True))
     table = wp.markdown(ds)
     try:

@@ -33,6 +33,7 @@ from friction_sweep import codes
 from friction_sweep.codes import Regime
 from friction_sweep.exits import EXIT_RUNTIME, fail
 from friction_sweep.measured import MEASURED_PHASE_RANGE_DEG, DataError, read_table
+from friction_sweep.packaged import InputPath
 from friction_sweep.spec import grid
 from friction_sweep.storage import outputs
 from friction_sweep.storage.atomic import save_figure, write_text
@@ -250,7 +251,7 @@ def write_outputs(table: pd.DataFrame, summary: pd.DataFrame, output_dir, data_p
 @click.command("validate-data")
 # no click.Path checks (dir_okay, file_okay): their refusals are multi-line usage errors; ours
 # below are one line each
-@click.option("--data", type=click.Path(path_type=Path), default=None,
+@click.option("--data", type=InputPath(), default=None,
               help=f"Measured data CSV (default: {DEFAULT_DATA}).")
 @click.option("-o", "--output-dir", type=click.Path(path_type=Path), default=DEFAULT_OUTPUT_DIR,
               show_default=True, help="Folder for table.csv, table.md and phase_measured_vs_predicted.png.")
@@ -270,6 +271,9 @@ def validate_data(data: Path | None, output_dir: Path, overwrite: bool):
         measured = read_measurements(data_path)
     except DataError as err:
         fail(str(err))
+    refusal = outputs.refuse_stdout(output_dir)
+    if refusal:
+        fail(f"output: {refusal}")
     targets = [output_dir / name for name in OUTPUT_FILES]
     for target in targets:
         refusal = outputs.refuse_special_output(target)

@@ -32,7 +32,7 @@ pytestmark = pytest.mark.skipif(importlib.util.find_spec("emcee") is None, reaso
 
 def _rig_spec(tmp_path: Path, method: str = "event", extra: str = "", data: Path = DATA,
               parameters: str | None = None) -> Path:
-    text = RIG.read_text().replace("../../friction_sweep/data/experiment_phase_fixed_wall.csv", str(data))
+    text = RIG.read_text().replace("package:data/experiment_phase_fixed_wall.csv", str(data))
     text = text.replace("method: event", f"method: {method}").replace("output: results/calibration/rig",
                                                                       f"output: {tmp_path / 'out'}")
     if parameters is not None:
@@ -412,7 +412,7 @@ RIG_SPEC = RIG.read_text()
     ("sampler: {walkers: 32, seed: 0}", "sampler: {walkers: 2, seed: -1}"),
     ("output: results/calibration/rig", "output: [1]"),
     ("phase: phase_deg", "phase: phase_deg\n  holdout: []"),
-    ("  file: ../../friction_sweep/data/experiment_phase_fixed_wall.csv", "  file: [1]"),
+    ("  file: package:data/experiment_phase_fixed_wall.csv", "  file: [1]"),
     ("system: {natural_frequency: 19.5721 rad/s, excitation_force: 2.5 N}", "system: {natural_frequency: -1 rad/s, "
                                                                               "excitation_force: 2.5 N}"),
     ("method: event", "method: rk4"),

@@ -1,10 +1,14 @@
 """The command line, driven through click's CliRunner: run, validate, info, and bad input."""
 
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import xarray as xr
+from click.testing import CliRunner
 from conftest import ROOT, in_dir, small_spec, write_spec
 
 from friction_sweep import codes
@@ -544,3 +548,41 @@ def test_kill_9_then_resume_gives_the_same_bits(tmp_path):
     subprocess.run(fsweep + ["-o", str(out), "--resume"], check=True, capture_output=True)
     subprocess.run(fsweep + ["-o", str(ref)], check=True, capture_output=True)
     _assert_same_bits(_cube_arrays(ref), _cube_arrays(out))
+
+
+# ---- issue 33 item 6: command-line conventions
+
+
+def test_fsweep_alone_prints_the_help():
+    """It squashed the whole help into one error line."""
+    res = CliRunner().invoke(main, [], prog_name="fsweep")
+    assert res.exit_code == 2  # as click's own no_args_is_help
+    lines = res.stderr.splitlines()
+    assert lines[0] == "Usage: fsweep [OPTIONS] COMMAND [ARGS]..." and "fsweep: error" not in res.stderr
+    commands = lines[lines.index("Commands:") + 1:]
+    assert {line.split()[0] for line in commands} == set(main.list_commands(None))
+
+
+def test_a_spec_without_output_writes_a_nc_cube(tmp_path):
+    """CF 2.1: netCDF files end in .nc (the default was results/<spec>.h5)."""
+    spec = write_spec(tmp_path, text=small_spec().replace("output: out.h5\n", ""))
+    with in_dir(tmp_path):
+        res = CliRunner().invoke(main, ["run", str(spec), "-q"])
+    assert res.exit_code == 0, res.output
+    assert sorted(p.relative_to(tmp_path).as_posix() for p in (tmp_path / "results").iterdir()) == ["results/spec.nc"]
+    with xr.open_dataset(tmp_path / "results/spec.nc", engine="h5netcdf") as ds:
+        assert ds.attrs["Conventions"].startswith("CF-")
+
+
+def test_the_readme_documents_shell_completion_that_works(tmp_path):
+    """click's completion, under the variable click derives from the program's name."""
+    readme = (ROOT / "README.md").read_text()
+    for shell in ("bash", "zsh", "fish"):
+        assert f"_FSWEEP_COMPLETE={shell}_source fsweep" in readme
+    fsweep = Path(sys.executable).with_name("fsweep")
+    res = subprocess.run([fsweep], env={**os.environ, "_FSWEEP_COMPLETE": "bash_source"}, capture_output=True,
+                         text=True, check=False, cwd=tmp_path)
+    assert res.returncode == 0 and "_fsweep_completion" in res.stdout, res.stdout + res.stderr
+    words = subprocess.run([fsweep], env={**os.environ, "_FSWEEP_COMPLETE": "bash_complete", "COMP_WORDS": "fsweep ca",
+                                          "COMP_CWORD": "1"}, capture_output=True, text=True, check=False, cwd=tmp_path)
+    assert words.stdout.split() == ["plain,calibrate"], words.stdout

@@ -238,7 +238,7 @@ def test_quick_spec_is_a_valid_coarse_copy(tmp_path):
     assert coarse.frequency_ratio[0] == original.frequency_ratio[0]
     assert coarse.frequency_ratio[-1] == original.frequency_ratio[-1]
     assert (coarse.scene, coarse.method, coarse.outputs) == (original.scene, original.method, original.outputs)
-    assert str(coarse.output) == str(dst.with_suffix(".h5"))
+    assert str(coarse.output) == str(dst.with_suffix(".nc"))
 
 
 def test_quick_spec_keeps_small_axes_and_time_histories(tmp_path):
@@ -256,7 +256,7 @@ def test_quick_spec_keeps_small_axes_and_time_histories(tmp_path):
 def test_simulation_specs_are_valid(config):
     spec = load_spec(config)
     assert spec.method == "event"
-    assert str(spec.output) == f"results/numerical/{config.stem}.h5"
+    assert str(spec.output) == f"results/numerical/{config.stem}.nc"
     assert spec.frequency_ratio.size * spec.force_ratio.size <= 10_000  # well under a minute on 2 cores
 
 

@@ -322,7 +322,7 @@ def _calibration_spec(d: Path, data: str, output: str, name: str = "rig.yaml") -
     from friction_sweep.validation import DEFAULT_DATA
 
     text = (Path(__file__).parents[1] / "configs/calibration/rig.yaml").read_text()
-    text = text.replace("../../friction_sweep/data/experiment_phase_fixed_wall.csv", data)
+    text = text.replace("package:data/experiment_phase_fixed_wall.csv", data)
     (d / name).write_text(text.replace("output: results/calibration/rig", f"output: {output}"))
     if data.startswith("rigdir/"):
         (d / "rigdir").mkdir(exist_ok=True)
@@ -1044,6 +1044,34 @@ CASES = [
          words=("sweep: the resonance peak solves each point on its own",)),
     Case("peak: -o over the spec itself", spec=EVENT, args=("peak", "{spec}", "-o", "{spec}", "--overwrite"),
          words=("an input of this command",), absent=()),
+    # ---- issue 29/33: packaging and CLI
+    # files shipped with the package are named package:PATH (friction_sweep/packaged.py); a name that is not
+    # one of them is refused as itself, before anything is read
+    *(Case(f"{command}: a packaged spec that is not there", spec=None, args=(command, "package:examples/nope.yaml"),
+           words=("'package:examples/nope.yaml': no such file in the installed package", "package:examples/NAME.yaml"))
+      for command in ("run", "validate", "calibrate")),
+    *(Case(f"run: package:{rest}", spec=None, args=("run", f"package:{rest}"), words=("PATH inside the package",))
+      for rest in ("../configs/demo.yaml", "/etc/hostname", "", "examples/../examples/demo.yaml")),
+    Case("validate-data --data a packaged file that is not there", spec=None,
+         args=("validate-data", "--data", "package:data/nope.csv", "-o", "{d}/v"),
+         words=("'package:data/nope.csv': no such file",), absent=("v",)),
+    Case("calibration spec: data package:data/nope.csv", spec=None, args=("calibrate", "{d}/cal.yaml", "-o", "{d}/cal"),
+         setup=lambda d: (_calibration("discrepancy_phase: {normal: [0 deg, 3 deg]}")(d), (d / "cal.yaml").write_text(
+             (d / "cal.yaml").read_text().replace("file: rig.csv", "file: package:data/nope.csv"))),
+         words=("cal.yaml:2:", "data.file", "'package:data/nope.csv': no such file in the installed package"),
+         absent=("cal",), lines=2),
+    # "-" for an output is the command-line convention for standard output: it wrote a file named "-"
+    *(Case(f"{args[0]} -o -", spec=spec, args=args, setup=setup, words=("'-' would be standard output",),
+           absent=("-",))
+      for spec, args, setup in (
+          (GOOD, ("run", "{spec}", "-q", "-o", "-"), None),
+          (GOOD, ("validate", "{spec}", "-o", "-"), None),
+          (GOOD, ("plot", "{d}/out.h5", "-o", "-"), _good_cube),
+          (None, ("bench", "--quick", "-o", "-"), None),
+          (None, ("calibrate", "{d}/cal.yaml", "-q", "-o", "-"), _calibration("discrepancy_phase: {normal: [0 deg, 3 deg]}")),
+          (None, ("validate-data", "-o", "-"), None))),
+    Case("spec output: -", spec=GOOD.replace("output: out.h5", "output: '-'"), words=("output: '-' would be standard output",),
+         absent=("-",)),
 ]
 
 

@@ -253,7 +253,7 @@ def test_bench_refuses_special_outputs_before_computing(kind, tmp_path, monkeypa
     line = one_error_line(res, 2)
     expected = {"directory": "is a directory", "fifo": "is a named pipe (FIFO)", "device": "is a character device",
                 "symlink": "fsweep never replaces links", "parent_file": "is a file, not a folder",
-                "png_suffix": "name it .h5"}[kind]
+                "png_suffix": "name it .nc"}[kind]
     assert expected in line
     if kind == "symlink":
         assert str(tmp_path / "real.h5") in line

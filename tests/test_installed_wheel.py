@@ -6,9 +6,11 @@ from __future__ import annotations
 
 import os
 import shutil
+import signal
 import site
 import subprocess
 import sys
+import threading
 import venv
 from pathlib import Path
 
@@ -101,3 +103,60 @@ def test_installed_validate_data_uses_the_packaged_data(installed):
     data = Path(first.removeprefix("measured data: ").split(" (")[0])
     assert data.is_relative_to(env_dir) and data.name == "experiment_phase_fixed_wall.csv"
     assert (work / "validation" / "table.csv").is_file()
+
+
+def test_installed_validate_reads_a_packaged_example(installed):
+    """Issue 29 item 6: the example specs travel in the wheel, named package:examples/..."""
+    env_dir, env, work = installed
+    res = _run([env_dir / "bin" / "fsweep", "validate", "package:examples/demo.yaml"], cwd=work, env=env)
+    assert res.returncode == 0, res.stdout + res.stderr
+    spec = Path(res.stdout.split(": ok:")[0])
+    assert spec.is_relative_to(env_dir) and spec.name == "demo.yaml"
+    # every spec of configs/, at whatever depth (the package data's globs must reach it)
+    shipped = {p.relative_to(spec.parent).as_posix() for p in spec.parent.rglob("*.yaml")}
+    assert shipped == {p.relative_to(ROOT / "configs").as_posix() for p in (ROOT / "configs").rglob("*.yaml")}
+
+
+def test_installed_calibrate_starts_on_the_packaged_rig(installed):
+    """Issue 29 item 6: `fsweep calibrate` on the rig example from a plain install, away from the repository:
+    the spec and its data come from the package. Stopped (SIGTERM) once it has read both, loaded the
+    model and estimated its time: the sampling itself takes minutes and is tested in test_calibration."""
+    env_dir, env, work = installed
+    proc = subprocess.Popen([str(env_dir / "bin" / "fsweep"), "calibrate", "package:examples/calibration/rig.yaml",
+                             "-q"], cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    watchdog = threading.Timer(600, proc.kill)
+    watchdog.start()
+    try:
+        lines = []
+        for line in proc.stdout:  # click.echo flushes every line
+            lines.append(line)
+            if line.startswith("estimate:"):
+                break
+        proc.send_signal(signal.SIGTERM)
+        _, err = proc.communicate()
+    finally:
+        watchdog.cancel()
+    assert lines and lines[-1].startswith("estimate:"), "".join(lines) + err
+    data = env_dir.glob("lib/python*/site-packages/friction_sweep/data/experiment_phase_fixed_wall.csv")
+    assert f"from 36 rows of {next(data)} " in lines[0], lines[0]
+    assert not (work / "results" / "calibration").exists()  # stopped before anything was written
+
+
+def test_installed_metadata_declares_licence_platform_and_types(installed):
+    """Issue 33 item 5: the wheel's own metadata (what pip and PyPI show), and its py.typed."""
+    env_dir, env, work = installed
+    code = ("import importlib.metadata as m, json, friction_sweep, pathlib\n"
+            "meta = m.metadata('friction_sweep')\n"
+            "print(json.dumps({'licence': meta['License-Expression'], 'classifiers': meta.get_all('Classifier'),\n"
+            "                  'version': friction_sweep.__version__, 'files': [str(f) for f in m.files('friction_sweep')],\n"
+            "                  'typed': (pathlib.Path(friction_sweep.__file__).parent / 'py.typed').is_file()}))\n")
+    res = _run([env_dir / "bin" / "python", "-c", code], cwd=work, env=env)
+    assert res.returncode == 0, res.stderr
+    import json
+    import tomllib
+
+    got = json.loads(res.stdout)
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    assert got["licence"] == "MIT" and got["version"] == project["version"] and got["typed"]
+    assert "Operating System :: POSIX :: Linux" in got["classifiers"]
+    assert any(f.endswith("licenses/LICENSE") for f in got["files"]), got["files"]

@@ -16,6 +16,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "friction_sweep"
 #: layer and those below, never one above)
 LAYERS = {
     "": 0, "catalogue": 0, "codes": 0, "ties": 0, "exits": 0, "errors": 0, "progress": 0, "printable": 0,
+    "packaged": 0, "posix": 0,
     "spec": 1,
     "theory": 2,
     "kernels": 3,

@@ -45,3 +45,16 @@ def test_refresh_readme_publishes_what_bench_and_calibrate_measured():
     recipe = _dry_run("refresh-readme")
     assert "cp results/bench/calibration.json friction_sweep/bench/calibration.json" in recipe
     assert "readme_tables.py" in recipe
+
+
+def test_durations_are_stated_once_and_as_measured():
+    """Issue 29 item 8: "about 35 s" for figures-quick (290 s under load), and test-fast's "under a minute" in
+    the Makefile's help, its comment and the README. A duration lives in the README, measured (CPU time,
+    named so), or the command prints its own estimate (fsweep bench, fsweep run and validate)."""
+    duration = re.compile(r"\b(\d+(\.\d+)?\s*|(a|half a)\s+)(s|sec|seconds?|min|minutes?)\b")
+    for name in ("Makefile", "figures.mk"):
+        assert not duration.search((ROOT / name).read_text()), name
+    readme = (ROOT / "README.md").read_text()
+    figures = readme[readme.index("`make figures-quick` draws"):]
+    figures = figures[:figures.index("\n\n")]
+    assert "CPU time" in figures and "fsweep validate SPEC" in figures

@@ -57,6 +57,14 @@ for _name, (_method, _) in VARIANTS.items():
     SETTINGS[_name] = SETTINGS[_method]
     QUICK_SETTINGS[_name] = QUICK_SETTINGS[_method]
 REFERENCE_SETTINGS = {"stop_tol": 1e-13, "steady_tol": 1e-12}
+#: the compiled kernels the rows call (module, entry point): each family compiles on its first call where
+#: numba's cache does not hold it (batch.kernel_cache; batch.estimate.COMPILE_SECONDS says how long)
+KERNELS = (("steady", "solve_points"), ("jenkins_steady", "solve_points_jenkins"))
+#: CPU seconds (user + sys) of `fsweep bench [--quick]` with those kernels cached, on the 2-core reference
+#: machine (/usr/bin/time: 8.8 and 94.8 s, measured while other users loaded it, so that the wall times were
+#: 29 and 1490 s). The bench measures in one thread, so alone on a core its wall time is about this. Most of
+#: --quick is the DOP853 cross-check (bench/reference.py, one point per region; cProfile).
+CACHED_SECONDS = {"quick": 9.0, "full": 95.0}
 METHODS = {"event": event, "rk4": rk4, "paper": paper}
 ALL_ROWS = ("event", "rk4", "paper", *VARIANTS)
 
@@ -284,7 +292,7 @@ def refuse_outputs(output, calibrate: bool = False, calibration: Path | None = N
         if calibrate and paths[3] in paths[:3]:
             return f"--calibration {paths[3]}: the benchmark's own dataset, figure or table goes there"
         return (f"{output}: the figure and the table are written beside the dataset with the suffixes .png "
-                "and .md, so the dataset cannot have either: name it .h5")
+                "and .md, so the dataset cannot have either: name it .nc (or .h5)")
     return next((f"output: {reason}" for reason in map(refuse_special_output, paths) if reason), None)
 
 

@@ -20,6 +20,7 @@ import numpy as np
 from friction_sweep.batch.executors import MAX_JOBS
 from friction_sweep.exits import EXIT_RUNTIME, fail
 from friction_sweep.measured import DataError
+from friction_sweep.packaged import InputPath
 from friction_sweep.progress import ProgressBar
 from friction_sweep.spec import SpecError
 from friction_sweep.storage import outputs, provenance
@@ -48,7 +49,7 @@ def missing_extra() -> str | None:
 
 
 @click.command("calibrate")
-@click.argument("spec_path", metavar="SPEC", type=click.Path(path_type=Path))
+@click.argument("spec_path", metavar="SPEC", type=InputPath())
 @click.option("-o", "--output", type=click.Path(path_type=Path), help="Folder for the results (overrides the "
               "spec's `output`; default results/<spec name>).")
 @click.option("-j", "--jobs", type=click.IntRange(min=1, max=MAX_JOBS), default=1, show_default=True,
@@ -61,7 +62,12 @@ def missing_extra() -> str | None:
               "(all together; never the spec or the data).")
 def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None, quiet: bool, yes: bool,
               overwrite: bool):
-    """Calibrate the model to a rig's measurements (MAP, then posterior samples)."""
+    """Calibrate the model to a rig's measurements (MAP, then posterior samples).
+
+    SPEC is a calibration spec file, or one shipped with the package named package:PATH, from any folder:
+    `fsweep calibrate package:examples/calibration/rig.yaml` calibrates to the rig's measured phases, which
+    that spec names as `data: {file: package:data/experiment_phase_fixed_wall.csv}`. Results go to the
+    spec's `output`, relative to the working directory."""
     began = time.perf_counter()
     refusal = outputs.refuse_name(str(spec_path), "spec")  # paths are written into the report
     if refusal:
@@ -81,6 +87,9 @@ def calibrate(spec_path: Path, output: Path | None, jobs: int, seed: int | None,
     if refusal:
         fail(refusal)
     folder = output if output is not None else Path(spec.output or Path("results") / spec_path.stem)
+    refusal = outputs.refuse_stdout(folder)
+    if refusal:
+        fail(f"output: {refusal}")
     targets = [folder / name for name in report.OUTPUT_FILES]
     for target in targets:
         refusal = outputs.refuse_special_output(target)

@@ -35,6 +35,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, Field, PrivateAttr, Strict, field_validator, model_validator
 from pydantic import ValidationError as _ValidationError
 
+from friction_sweep import packaged
 from friction_sweep.catalogue import EFFECTS, EXCITATIONS, METHODS, able
 from friction_sweep.spec.base import Model, Sourced, problem, raise_all, show
 from friction_sweep.spec.errors import SpecError
@@ -115,9 +116,17 @@ class Columns(Model):
 
 
 class Data(Model):
-    file: str
+    file: str  # relative to the spec's folder, or package:PATH (a file shipped with the package)
     columns: Columns
     holdout: Annotated[list[float | str], Field(min_length=1)] | None = None
+
+    @field_validator("file")
+    @classmethod
+    def _packaged(cls, file: str) -> str:
+        reason = packaged.problem(file)
+        if reason is not None:
+            raise problem("packaged_file", reason)
+        return file
 
 
 #: the largest seed: emcee draws from numpy's RandomState, which takes seeds 0 .. 2**32 - 1
@@ -359,7 +368,9 @@ def _without(data: dict, keys: list[KeyPath]) -> dict:
 
 
 def data_path(spec: CalibrationSpec) -> Path:
-    """The data file, relative to the spec's folder."""
+    """The data file: a packaged one (`package:PATH`, packaged.py), else relative to the spec's folder."""
+    if packaged.named(spec.data.file):
+        return packaged.resolve(spec.data.file)
     return (Path(spec.source_path).parent / spec.data.file) if spec.source_path != "<string>" else \
         Path(spec.data.file)
 

@@ -39,6 +39,18 @@ NAME_MAX = 255
 HIDDEN_NAME_EXTRA = 40
 MAX_NAME_BYTES = NAME_MAX - HIDDEN_NAME_EXTRA
 
+#: what a command line means by an output named "-": standard output, which fsweep never writes (a cube, a
+#: figure, a folder of results is a file renamed into place when complete, never a stream)
+STDOUT = "-"
+
+
+def refuse_stdout(path: str | os.PathLike[str]) -> str | None:
+    """Why `path` cannot be an output (file or folder) when it is "-" (None otherwise)."""
+    if os.fspath(path) != STDOUT:
+        return None
+    return ("'-' would be standard output, which fsweep does not write (a result is a file, renamed into place "
+            "when complete): name a file, ./- for one called '-'")
+
 def refuse_name(text: str, what: str = "name") -> str | None:
     """Why `text` cannot be a file name fsweep records and writes (None if it can): name_problem, said of
     `what` (the spec, the data, the file name). Shared by every command, and by `validate` and `run` for the
@@ -59,7 +71,7 @@ def refuse_special_output(path: str | os.PathLike[str]) -> str | None:
     one of whose parents exists as something other than a folder.
     """
     text = os.fspath(path)
-    reason = refuse_name(text, "the file name")
+    reason = refuse_name(text, "the file name") or refuse_stdout(text)
     if reason is not None:
         return reason
     if text.endswith(os.sep) or not text or os.path.basename(text) in (".", ".."):
