@@ -4,7 +4,7 @@
     ds = fs.sweep("configs/demo.yaml")             # a spec file
     ds = fs.sweep({"scene": {"excitation": "base"}, "grid": {...}, "method": "event"})   # a dict
     ds = fs.sweep_yaml(text)                         # YAML text
-    ds = fs.open_cube("results/demo.h5")             # a cube `fsweep run` wrote
+    ds = fs.open_cube("results/demo.nc")             # a cube `fsweep run` wrote
 
 Each returns the xarray Dataset that `fsweep run` would write (the same variables, coordinates and
 attributes), and writes nothing. Every refusal is a friction_sweep.FsweepError whose message is the one
