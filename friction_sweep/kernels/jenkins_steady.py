@@ -470,7 +470,12 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
     out[:] = math.nan
     if p.bk == 0.0 and p.bs == 0.0:
         # no friction, no contact force: the rigid model's point, exactly
-        solve_point(Point(p.A, p.r, 0.0, 0.0, p.zeta, p.c), settings, math.nan, math.nan, out[:OUT_SIZE])
+        # (the integrator is a run-time switch in this family: the rigid kernel is compiled for both)
+        rigid = Point(p.A, p.r, 0.0, 0.0, p.zeta, p.c)
+        if settings[SET_KERNEL] == KERNEL_RK4:
+            solve_point(rigid, settings, math.nan, math.nan, out[:OUT_SIZE], True)
+        else:
+            solve_point(rigid, settings, math.nan, math.nan, out[:OUT_SIZE], None)
         return
     acc = np.empty(JACC_SIZE)
     budget = int(settings[SET_WORK_BUDGET])

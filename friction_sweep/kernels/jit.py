@@ -11,8 +11,6 @@ once per argument type: a call from compiled code asks for the arguments' plain 
 
 from __future__ import annotations
 
-import functools
-
 import numba
 from numba.core import types
 from numba.core.registry import CPUDispatcher
