@@ -159,10 +159,11 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
         out = np.empty((r.size, jenkins_steady.JOUT_SIZE))
         kappas = np.full(r.shape, kappa)
         if start is None:
-            jenkins_steady.solve_points_jenkins(A, r, bk, bs, zeta, c, kappas, sett, out)
+            jenkins_steady.solve_points_jenkins(A, r, bk, bs, zeta, c, kappas, sett, out, integrator(sett))
         else:
             q0, v0, w0, m0 = (np.ascontiguousarray(x, dtype=float) for x in start)
-            jenkins_steady.solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappas, sett, q0, v0, w0, m0, out)
+            jenkins_steady.solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappas, sett, q0, v0, w0, m0, out,
+                                                     integrator(sett))
         _against_excitation(out, forcing_lead(excitation, r, effects))
         return out
     out = np.empty((r.size, steady.OUT_SIZE))
@@ -269,7 +270,8 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
         A, c, bk, bs, zeta = point_parameters(excitation, rs, np.full(rs.shape, b), effects)
         row = np.empty((r.size, size))
         if kappa > 0.0:
-            jenkins_steady.solve_sweep_jenkins(A, rs, bk, bs, zeta, c, np.full(rs.shape, kappa), sett, row)
+            jenkins_steady.solve_sweep_jenkins(A, rs, bk, bs, zeta, c, np.full(rs.shape, kappa), sett, row,
+                                               integrator(sett))
         else:
             steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row,
                               integrator(sett))
