@@ -1,6 +1,6 @@
 """Whether numba's on-disk cache holds a compiled kernel, read without importing numba or the kernel
-(the estimate stays numba-free): a run whose kernels are not cached compiles them first, for a minute
-or two.
+(the estimate stays numba-free): a run whose kernels are not cached compiles them first (estimate.py:
+COMPILE_SECONDS).
 
 numba (numba.core.caching) keeps, per jitted function, an index `<module>.<function>-<line>.pyXY.nbi`
 in the first of: NUMBA_CACHE_DIR/<folder>_<sha1 of the source's folder>, the source's __pycache__, the
