@@ -47,9 +47,8 @@ class ProgressBar:
 
 class Step:
     """`with Step(quiet, label, seconds):` a step whose progress cannot be counted (numba compiling the
-    kernels): on a terminal a line of its own (the label, a spinner, the time spent of the `seconds`
-    expected), gone when the step ends; elsewhere (a log, a pipe) the label once on stderr; nothing when
-    quiet."""
+    kernels): the label on stderr, on a line of its own, and on a terminal below it a live line (a spinner,
+    the time spent of the `seconds` expected), gone when the step ends; nothing when quiet."""
 
     def __init__(self, quiet: bool, label: str, seconds: float):
         self.quiet = quiet
@@ -60,17 +59,15 @@ class Step:
     def __enter__(self):
         if self.quiet:
             return self
-        if not self.live:
-            print(self.label, file=sys.stderr, flush=True)
-            return self
-        from rich.console import Console
-        from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+        print(self.label, file=sys.stderr, flush=True)
+        if self.live:
+            from rich.console import Console
+            from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
 
-        self.bar = Progress(SpinnerColumn(), TextColumn(self.label), TimeElapsedColumn(),
-                            TextColumn(f"of about {self.seconds:.0f} s"), console=Console(stderr=True),
-                            transient=True)
-        self.bar.start()
-        self.bar.add_task(self.label, total=None)
+            self.bar = Progress(SpinnerColumn(), TimeElapsedColumn(), TextColumn(f"of about {self.seconds:.0f} s"),
+                                console=Console(stderr=True), transient=True)
+            self.bar.start()
+            self.bar.add_task(self.label, total=None)
         return self
 
     def __exit__(self, *exc):
