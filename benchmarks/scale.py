@@ -13,6 +13,7 @@ import re
 import resource
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -135,6 +136,50 @@ def import_table(run, floor) -> list[str]:
     rows = ["| package | ms |", "|---|---|"]
     rows += [f"| {k} | {v / 1e3:.0f} |" for k, v in sorted(packages.items(), key=lambda kv: -kv[1]) if v >= 2000]
     rows.append(f"| all beyond the floor | {sum(packages.values()) / 1e3:.0f} |")
+    return rows
+
+
+#: the first run on a machine: the kernels of each family, compiled from an empty numba cache
+COLD_SPECS = {"steady": ROOT / "configs/demo.yaml",
+              "jenkins_steady": ROOT / "configs/numerical/jenkins_base_kappa100.yaml"}
+
+
+def _timed_run(spec: Path, cache: str) -> tuple[float, float, str]:
+    """CPU seconds (user + sys) and wall seconds of `fsweep run spec` in a fresh process whose numba cache
+    is `cache`, and what it wrote on stderr."""
+    cmd = [sys.executable, "-m", "friction_sweep", "run", str(spec), "-o", str(OUT / f"{spec.stem}.cold.h5"),
+           "--overwrite"]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t = time.perf_counter()
+    done = subprocess.run(cmd, check=True, capture_output=True, text=True, env={**os.environ, "NUMBA_CACHE_DIR": cache})
+    wall = time.perf_counter() - t
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime, wall, done.stderr
+
+
+def cold_and_warm(quick: bool) -> list[str]:
+    """The first run on a machine against the next: `fsweep run` of each family's spec in a fresh process
+    with an empty NUMBA_CACHE_DIR (numba compiles every kernel the run calls, the run says so), then with the
+    cache that run filled, side by side; CPU seconds (user + sys, which a loaded machine inflates less than
+    wall time) and wall seconds. Their difference is what the estimate counts as the compile
+    (batch/estimate.py: COMPILE_SECONDS)."""
+    from friction_sweep.batch.estimate import COMPILE_SECONDS, COMPILING
+
+    rows = ["| kernels (spec) | cold CPU s | warm CPU s | compile CPU s | cold wall s | warm wall s | "
+            "estimate's compile s | says it compiles |", "|---|---|---|---|---|---|---|---|"]
+    for family, spec in COLD_SPECS.items():
+        if quick and family != "steady":
+            continue
+        with tempfile.TemporaryDirectory() as cache:
+            cold_cpu, cold_wall, cold_err = _timed_run(spec, cache)
+            warm_cpu, warm_wall, warm_err = _timed_run(spec, cache)
+        says = "yes" if COMPILING in cold_err and COMPILING not in warm_err else "NO"
+        rows.append(f"| {family} (`{spec.relative_to(ROOT)}`) | {cold_cpu:.1f} | {warm_cpu:.1f} | "
+                    f"{cold_cpu - warm_cpu:.1f} | {cold_wall:.1f} | {warm_wall:.1f} | {COMPILE_SECONDS[family]:g} | "
+                    f"{says} |")
+    rows += ["", "Cold: a fresh process with an empty `NUMBA_CACHE_DIR`; warm: the same command again with the "
+             "cache the cold run filled. A Dask worker on a fresh node pays the cold column's compile once (a "
+             "LocalCluster's workers load the cache the run's own process filled first)."]
     return rows
 
 
@@ -272,6 +317,8 @@ def main():
     lines += ["## The paper's planes: r 0.05–5 step 0.01, β 0–1.5 step 0.01 (74,896 points each), method event, "
               "2 workers", "", *paper_planes(args.quick), "",
               "## A one-point run against its import floor", "", *one, "",
+              "## The first run on a machine: compiling the kernels (cold) against the cached ones (warm)", "",
+              *cold_and_warm(args.quick), "",
               "## A 200 × 50 grid against the paper's method (ode45 tolerances, 200 periods, 64 samples a period)",
               "", *grid_against_paper(paper_times), "",
               "## Per point against the paper's method (200 periods, 64 samples a period, ode45 tolerances)",

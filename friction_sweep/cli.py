@@ -30,7 +30,7 @@ from friction_sweep.exits import (
 )
 from friction_sweep.packaged import InputPath
 from friction_sweep.printable import escape
-from friction_sweep.progress import ProgressBar
+from friction_sweep.progress import ProgressBar, Step
 from friction_sweep.quicklook import KINDS, WIDE_RANGE, YSCALES
 from friction_sweep.spec import SpecError, load_spec
 
@@ -237,7 +237,7 @@ def run(spec: Path, output: str | None, overwrite: bool, jobs: int, quiet: bool,
     try:
         with checkpoint.Lock(plan.out):
             _run_locked(plan.spec, spec, plan.out, overwrite, resume, jobs, quiet, plan.executor, scheduler,
-                        plan.store, plan.settings, plan.extra)
+                        plan.store, plan.settings, plan.extra, plan.cost.compile)
     except (checkpoint.Busy, checkpoint.Mismatch) as err:
         fail(str(err))
 
@@ -372,9 +372,12 @@ def _check_dask(scheduler: str | None) -> None:
 
 
 def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, scheduler, store, settings,
-                extra_attrs):
-    """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up."""
+                extra_attrs, compile_seconds):
+    """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up. Kernels that
+    numba's cache does not hold (the estimate's `compile_seconds`) are compiled first, on a line of their
+    own, unless a remote Dask cluster's workers compute (they compile for themselves)."""
     from friction_sweep.batch import checkpoint, pipeline
+    from friction_sweep.batch.estimate import COMPILING
     from friction_sweep.storage import cube
 
     reason = _checkpoint_refusal(store, out, resume)  # first: it refuses a folder that is not provably fsweep's
@@ -391,6 +394,9 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     r = s.frequency_ratio
     start = time.perf_counter()
     try:
+        if compile_seconds > 0 and scheduler is None:
+            with Step(quiet, COMPILING, compile_seconds):
+                pipeline.compile_kernels(s, settings)
         with ProgressBar(quiet, r.size * s.force_count) as advance:
             arrays = pipeline.compute(s, settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
                                       on_done=store.save, on_tile=advance)

@@ -43,3 +43,34 @@ class ProgressBar:
         if self.enabled:
             self.bar.stop()
         return False
+
+
+class Step:
+    """`with Step(quiet, label, seconds):` a step whose progress cannot be counted (numba compiling the
+    kernels): the label on stderr, on a line of its own, and on a terminal below it a live line (a spinner,
+    the time spent of the `seconds` expected), gone when the step ends; nothing when quiet."""
+
+    def __init__(self, quiet: bool, label: str, seconds: float):
+        self.quiet = quiet
+        self.live = not quiet and sys.stderr.isatty()
+        self.label = label
+        self.seconds = seconds
+
+    def __enter__(self):
+        if self.quiet:
+            return self
+        print(self.label, file=sys.stderr, flush=True)
+        if self.live:
+            from rich.console import Console
+            from rich.progress import Progress, SpinnerColumn, TextColumn, TimeElapsedColumn
+
+            self.bar = Progress(SpinnerColumn(), TimeElapsedColumn(), TextColumn(f"of about {self.seconds:.0f} s"),
+                                console=Console(stderr=True), transient=True)
+            self.bar.start()
+            self.bar.add_task(self.label, total=None)
+        return self
+
+    def __exit__(self, *exc):
+        if self.live:
+            self.bar.stop()
+        return False

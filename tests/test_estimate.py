@@ -128,6 +128,16 @@ def test_a_warm_cache_adds_nothing(compiled, monkeypatch):
     if not kernel_cache.warm("steady", "solve_points"):
         pytest.skip("numba caches the kernels elsewhere here (not writable beside the source)")
     assert model.estimate(_spec("event"), jobs=1, executor="serial").compile == 0.0
+    assert model.estimate(_spec("rk4"), jobs=1, executor="serial").compile == 0.0
+
+
+def test_the_kernels_called_are_those_of_the_integrator(monkeypatch):
+    """An event run's kernels are cold for an rk4 run: numba compiles the drivers per integrator."""
+    seen = []
+    monkeypatch.setattr(kernel_cache, "warm", lambda module, name, last=(): seen.append(last) or last == ("none",))
+    assert model.estimate(_spec("event"), jobs=1, executor="serial").compile == 0.0
+    assert model.estimate(_spec("rk4"), jobs=1, executor="serial").compile == model.COMPILE_SECONDS["steady"]
+    assert seen == [("none",), ("bool",)]
 
 
 def test_an_index_of_another_source_or_numba_is_cold(compiled, tmp_path, monkeypatch):
@@ -146,6 +156,11 @@ def test_an_index_of_another_source_or_numba_is_cold(compiled, tmp_path, monkeyp
     monkeypatch.setattr(kernel_cache, "KERNELS", tmp_path)
     assert kernel_cache.warm("steady", "solve_points")
     assert not kernel_cache.warm("steady", "solve_points_jenkins")  # no index at all
+    # compiled per integrator (its last argument: None for event, True for rk4; `compiled` ran both), and
+    # for no other type there
+    assert kernel_cache.warm("steady", "solve_points", ("none",))
+    assert kernel_cache.warm("steady", "solve_points", ("bool",))
+    assert not kernel_cache.warm("steady", "solve_points", ("float64",))
     monkeypatch.setattr(kernel_cache.importlib.metadata, "version", lambda name: "0.0.0")
     assert not kernel_cache.warm("steady", "solve_points")
     monkeypatch.undo()

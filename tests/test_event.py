@@ -349,7 +349,7 @@ def _period(p, q, v):
     acc = rec.new_accumulator()
     from friction_sweep.kernels.period_map import map_k
 
-    q1, v1, st, _ = map_k(q, v, 1, p, event.kernel_settings(), 10**7, False, acc)
+    q1, v1, st, _ = map_k(q, v, 1, p, event.kernel_settings(), 10**7, False, acc, None)
     assert st == 0
     return np.array([q1, v1]), acc
 

@@ -1343,7 +1343,7 @@ def test_no_point_exceeds_its_work_budget_and_calls_itself_converged(compiled, r
         A, rr, bk, bs, zeta = (np.array([x]) for x in (1.0, r, beta, beta * static, 0.0))
         settings = event.kernel_settings({"work_budget": budget})
         steady.solve_points(A, rr, bk, bs, zeta, np.array([0.0]), settings,
-                            *event.newton_guess(A, rr, bk, bs, zeta, settings), out)
+                            *event.newton_guess(A, rr, bk, bs, zeta, settings), out, None)
         return out[0]
 
     full = solve(5_000_000)

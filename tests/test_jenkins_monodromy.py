@@ -96,7 +96,8 @@ def test_period_k_monodromy_is_the_product():
     fd = central_differences(x0, mode, p, periods=k)
     assert np.max(np.abs(product - fd)) <= 1e-6 * np.max(np.abs(fd))
     acc = np.empty(jk.JACC_SIZE)
-    *_, st, _ = js._map_k(x0[0], x0[1], x0[2], mode, np.nan, k, p, event.kernel_settings({}), 10**7, False, acc)
+    *_, st, _ = js._map_k(x0[0], x0[1], x0[2], mode, np.nan, k, p, event.kernel_settings({}), 10**7, False, acc,
+                          None)
     assert st == 0 and acc[jk.JACC_JAC_OK] == 1.0
     np.testing.assert_allclose(acc[jk.JACC_JAC:jk.JACC_JAC + 9].reshape(3, 3), product, rtol=1e-12, atol=1e-15)
 

@@ -11,7 +11,7 @@ from independent_integrator import independent
 from friction_sweep.batch.runner import run_grid
 from friction_sweep.cli import main
 from friction_sweep.codes import Regime
-from friction_sweep.kernels import steady
+from friction_sweep.kernels import period_map, steady
 from friction_sweep.methods import event
 
 R = np.round(np.arange(1, 61) * 0.05, 12)  # 0.05 .. 3
@@ -61,7 +61,8 @@ def test_a_state_that_only_a_sweep_finds_is_a_real_orbit():
     A, c, bk, bs, zeta = event.point_parameters("base", r, np.full(r.shape, 0.3), STATIC)
     raw = np.empty((r.size, steady.OUT_SIZE))
     settings = event.kernel_settings()
-    steady.solve_sweep(A, r, bk, bs, zeta, c, settings, *event.newton_guess(A, r, bk, bs, zeta, settings), raw)
+    steady.solve_sweep(A, r, bk, bs, zeta, c, settings, *event.newton_guess(A, r, bk, bs, zeta, settings), raw,
+                       period_map.integrator(settings))
     last = raw[-1]
     default = event.compute_tile("base", r[-1:], np.array([0.3]), OUTPUTS, STATIC)
     assert default["steady_states"][0, 0] == 1

@@ -33,9 +33,10 @@ Executors: workers never outnumber tiles, nor (on this machine) cores (executors
 process (processes, a Dask LocalCluster) holds its own Python, numba and kernels, and a Dask worker
 starts as a fresh Python that imports them.
 
-Compile: where numba's cache holds no valid entry for a kernel the run calls (its index file beside
-the source, or under NUMBA_CACHE_DIR, stamped with the source's mtime and size), the first call compiles
-it; that time (measured on the 2-core reference machine, CPU seconds) is added.
+Compile: where numba's cache holds no valid entry for a kernel the run calls (batch/kernel_cache.py: its
+index file beside the source, or under NUMBA_CACHE_DIR, for this source and numba, with a signature for
+the run's integrator), the first call compiles it; that time (COMPILE_SECONDS, CPU seconds that make bench
+measures on the 2-core reference machine) is added, and fsweep run shows it as a step of its own.
 Numba-free: `fsweep validate` prints the estimate without loading any kernel or numba.
 """
 
@@ -74,8 +75,11 @@ WORKER_BYTES = 120 * 2**20
 #: that imports numba and loads them (-j 24 on 2 cores: 34.8 s for one point)
 WORKER_START_SECONDS = {"processes": 0.2, "dask": 2.5}
 #: seconds to compile a family of kernels that numba's cache does not hold (first run of a version):
-#: CPU seconds of the first call with an empty NUMBA_CACHE_DIR, on the 2-core reference machine
-COMPILE_SECONDS = {"steady": 26.0, "jenkins_steady": 59.0}
+#: CPU seconds of the first call with an empty NUMBA_CACHE_DIR on the 2-core reference machine (make bench's
+#: "The first run on a machine" measures them; here from runs under load scaled by main's quiet 25 s, 59 s)
+COMPILE_SECONDS = {"steady": 10.0, "jenkins_steady": 37.0}
+#: what a run says while it compiles them (fsweep run)
+COMPILING = "compiling the simulation kernels (first run on this machine; cached afterwards)"
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
@@ -204,18 +208,24 @@ def _two_starts(spec, knobs: dict) -> bool:
             and knobs.get("starts", 1) == 2)
 
 
-def kernels_called(spec, two_starts: bool, kappa: float) -> list[tuple[str, str]]:
-    """The compiled entry points (kernel module, function) that a run of `spec` calls: numba compiles
-    each with everything it calls, so these are what its cache must hold."""
+def kernels_called(spec, two_starts: bool, kappa: float) -> list[tuple[str, str, tuple[str, ...]]]:
+    """The compiled entry points (kernel module, function, the names of its last argument types) that a run
+    of `spec` calls: numba compiles each with everything it calls, so these are what its cache must hold.
+    The rigid drivers are compiled per integrator, their last argument (kernels.period_map.integrator:
+    None, numba's "none", for the event kernel, True, "bool", for RK4)."""
     if spec.method in ("theory", "paper"):
         return []
     module, suffix = ("jenkins_steady", "_jenkins") if kappa > 0.0 else ("steady", "")
     names = [f"solve_sweep{suffix}"] if spec.sweep is not None else [f"solve_points{suffix}"]
     if two_starts:
         names.append(f"solve_points{suffix}_from")
+    last: tuple[str, ...] = ("bool",) if spec.method == "rk4" else ("none",)
+    if module != "steady":
+        last = ()
+    called: list[tuple[str, str, tuple[str, ...]]] = [(module, name, last) for name in names]
     if spec.time_history is not None:
-        names.append(f"sample_orbit{suffix}")
-    return [(module, name) for name in names]
+        called.append((module, f"sample_orbit{suffix}", ()))
+    return called
 
 
 def _compile_seconds(spec, two_starts: bool, kappa: float) -> float:
@@ -223,7 +233,8 @@ def _compile_seconds(spec, two_starts: bool, kappa: float) -> float:
     once (its entry points share what they call)."""
     from friction_sweep.batch import kernel_cache
 
-    cold = {module for module, name in kernels_called(spec, two_starts, kappa) if not kernel_cache.warm(module, name)}
+    cold = {module for module, name, last in kernels_called(spec, two_starts, kappa)
+            if not kernel_cache.warm(module, name, last)}
     return sum(COMPILE_SECONDS[module] for module in cold)
 
 

@@ -1,11 +1,13 @@
 """Whether numba's on-disk cache holds a compiled kernel, read without importing numba or the kernel
-(the estimate stays numba-free): a run whose kernels are not cached compiles them first, for a minute
-or two.
+(the estimate stays numba-free): a run whose kernels are not cached compiles them first (estimate.py:
+COMPILE_SECONDS).
 
 numba (numba.core.caching) keeps, per jitted function, an index `<module>.<function>-<line>.pyXY.nbi`
 in the first of: NUMBA_CACHE_DIR/<folder>_<sha1 of the source's folder>, the source's __pycache__, the
 user's cache folder. The index holds numba's version, then the SHA-256 of the source file it was
-compiled from and the compiled signatures; numba ignores an index of another version or source.
+compiled from and the compiled signatures; numba ignores an index of another version or source. A
+kernel compiled for another choice that is a type (the integrator: `rk4` None or True, see
+kernels/period_map.py) is cold for this one: a signature is read as the names of its types.
 """
 
 from __future__ import annotations
@@ -20,10 +22,11 @@ from pathlib import Path
 KERNELS = Path(__file__).resolve().parent.parent / "kernels"
 
 
-def warm(module: str, function: str) -> bool:
+def warm(module: str, function: str, last: tuple[str, ...] = ()) -> bool:
     """Whether a first call of `function` of friction_sweep.kernels.`module` finds it compiled: numba's
-    cache holds it for this numba and this source, or numba compiles nothing (NUMBA_DISABLE_JIT). Any
-    doubt: False, so that an estimate counts the compile rather than misses it."""
+    cache holds it for this numba and this source, for a signature whose last argument types are named
+    `last` (numba's names: "none", "bool"), or numba compiles nothing (NUMBA_DISABLE_JIT). Any doubt:
+    False, so that an estimate counts the compile rather than misses it."""
     if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
         return True  # pure Python: nothing is compiled
     source = KERNELS / f"{module}.py"
@@ -39,7 +42,7 @@ def warm(module: str, function: str) -> bool:
         except OSError:
             continue
         if indexes:  # numba reads the first folder it can use; an index there decides
-            return any(_index_stamp(index, version) == stamp for index in indexes)
+            return any(_compiled(index, version, stamp, last) for index in indexes)
     return False
 
 
@@ -54,10 +57,12 @@ def _folders(source: Path) -> list[Path]:
 
 
 class _Opaque:
-    """Stands in for numba's classes while an index is read: only the source's stamp is wanted."""
+    """Stands in for numba's classes while an index is read: the source's stamp is wanted, and of a type
+    its name (numba pickles a type as _type_reconstructor(reconstructor, args, state), state its __dict__)."""
 
     def __init__(self, *args, **kwargs):
-        pass
+        state = args[2] if len(args) == 3 and isinstance(args[2], dict) else {}
+        self.name = state.get("name")
 
     def __setstate__(self, state):
         pass
@@ -70,15 +75,19 @@ class _Shallow(pickle.Unpickler):
         return super().find_class(module, name)
 
 
-def _index_stamp(index: Path, version: str) -> bytes | None:
-    """The source stamp an index was written for, where it is of this numba `version`."""
+def _compiled(index: Path, version: str, stamp: bytes, last: tuple[str, ...]) -> bool:
+    """Whether an index of this numba `version` and source `stamp` holds a signature ending in types named
+    `last`. Its payload is (stamp, {(signature, codegen, hashes): data file})."""
     import io
 
     try:
         with open(index, "rb") as fh:
             if _Shallow(fh).load() != version:
-                return None
-            stamp, _ = _Shallow(io.BytesIO(fh.read())).load()
+                return False
+            found, overloads = _Shallow(io.BytesIO(fh.read())).load()
+        if found != stamp:
+            return False
+        names = [tuple(getattr(t, "name", None) for t in key[0]) for key in overloads]
     except Exception:  # unreadable, truncated, another format: numba would recompile
-        return None
-    return stamp if isinstance(stamp, bytes) else None
+        return False
+    return any(len(sig) >= len(last) and sig[len(sig) - len(last):] == last for sig in names)

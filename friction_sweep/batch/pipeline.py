@@ -116,6 +116,22 @@ def compute(spec: Spec, settings: dict[str, Any], *, jobs: int = 1, executor: st
     return arrays
 
 
+def compile_kernels(spec: Spec, settings: dict[str, Any]) -> None:
+    """Have numba compile (or load from its cache) every kernel a run of `spec` calls, by computing its first
+    point (and first time history) in this process: a run whose kernels are not cached says so while this
+    runs, before its sweep (fsweep run), and its local workers then load them from the cache."""
+    from friction_sweep import methods
+    from friction_sweep.batch.runner import warm_up
+
+    warm_up(spec.method, spec.scene.excitation, spec.frequency_ratio, spec.force_ratio, spec.outputs,
+            effects=spec.scene.effects, settings=settings,
+            sweep=spec.sweep.direction if spec.sweep is not None else None)
+    if spec.time_history is not None:
+        method: Any = methods.get(spec.method)
+        method.time_histories(spec.scene.excitation, np.asarray(spec.time_history.points, dtype=float)[:1],
+                              spec.time_history.samples_per_period, spec.scene.effects, settings)
+
+
 def recorded_settings(spec: Spec, settings: dict[str, Any]) -> dict[str, Any]:
     """The settings the numbers came from, for the cube's method_settings attribute: the method's
     algorithm and defaults, the run's settings over them, and the effects."""

@@ -21,7 +21,7 @@ from friction_sweep.storage.schema import VARIABLES
 
 log = logging.getLogger("friction_sweep")
 
-__all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_grid", "tiles"]
+__all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_grid", "tiles", "warm_up"]
 
 
 def compute_tile(args):
@@ -38,6 +38,17 @@ def compute_tile(args):
     columns = [method.compute_tile(excitation, r[i:i + 1], beta[:, i], outputs, effects=effects, settings=settings)
                for i in range(r.size)]
     return {name: np.concatenate([c[name] for c in columns], axis=-1) for name in columns[0]}
+
+
+def warm_up(method_name: str, excitation: str, frequency_ratio, force_ratio, outputs, *, effects=None,
+            settings=None, sweep: str | None = None) -> None:
+    """Compute the grid's first point as run_grid would compute its tiles: numba compiles every kernel the
+    run calls (or loads it from its cache) and caches it for the run's workers on this machine."""
+    r = np.asarray(frequency_ratio, dtype=float)
+    beta = np.asarray(force_ratio, dtype=float)
+    grid_outputs = tuple(o for o in outputs if o in GRID_OUTPUTS)
+    compute_tile((method_name, excitation, r[:1], beta[:1] if beta.ndim == 1 else beta[:1, :1], grid_outputs,
+                  dict(effects or {}), dict(settings or {}), sweep))
 
 
 def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, outputs, *, effects=None,
@@ -86,7 +97,7 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         log.info("resuming: %d of %d tiles already done", len(done), len(parts))
     if todo and executor in ("processes", "threads") and jobs > 1:
         # compile (or load from the cache) once here, before workers start: no compile storm
-        compute_tile((method_name, excitation, r[:1], beta[:1] if beta.ndim == 1 else beta[:1, :1], *common))
+        warm_up(method_name, excitation, r, beta, outputs, effects=effects, settings=settings, sweep=sweep)
     log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
              sum((r.size if sweep else n_beta) * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
     with execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler) as running:

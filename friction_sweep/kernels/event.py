@@ -299,7 +299,8 @@ def _jac_release(acc, te, sig, p):
 def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
     """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work).
 
-    ts: sorted period-local sample times (empty when not sampling); q, v there go to sq, sv.
+    ts: sorted period-local sample times, or None when not sampling (a compile-time choice: a run without
+    time histories compiles no sampling); q, v there go to sq, sv.
     Along the way acc[ACC_JAC:ACC_JAC + 4] gets the monodromy matrix d(q, v)(T)/d(q, v)(0) and
     acc[ACC_JAC_OK] = 1 when it is valid: through reversals and sticks, not where the map is not smooth
     (a stop that neither reverses nor sticks, a stick that ends as it starts or where the force only
@@ -330,7 +331,7 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
                 acc[ACC_JAC_OK] = 0.0
             new_stop = False
             stalled = False
-            if ts.size:
+            if ts is not None:
                 j = _sample(ts, sq, sv, j, t, te if te < T else math.inf, t, q, 0.0, 0, A, r, bk, zeta)
             if te >= T:
                 return q, 0.0, 0, OK, work
@@ -359,7 +360,7 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
             from_rest = False
             if measure:
                 _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
-            if ts.size:
+            if ts is not None:
                 j = _sample(ts, sq, sv, j, t, t + s if found else math.inf, t, q, v, mode, A, r, bk, zeta)
             _jac_flow(acc, s, zeta)
             t = t + s

@@ -357,7 +357,8 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
     status, work); acc (JACC_SIZE slots) gathers what measure.py describes plus the slips and the jumps'
     energy, and the period's monodromy matrix (JACC_JAC, JACC_JAC_OK; the module's docstring). anchor: where
     the slider was when the current slip began from a held stick (NaN otherwise). ts: sorted period-local
-    sample times (empty when not sampling); q, v there go to sq, sv (event.advance_period's contract)."""
+    sample times, or None when not sampling (compiled without sampling then); q, v there go to sq, sv
+    (event.advance_period's contract)."""
     A, r, bk, bs, zeta, c, kappa = p
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
@@ -415,7 +416,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             if measure:
                 _measure_stick_piece(acc, scratch, t, ub, p0, pu0, K, Ap, rho, zp, om, r, c)
             _mono_stick(acc, ub, zp, om, kappa)
-            if ts.size:
+            if ts is not None:
                 i_sample = _sample(ts, sq, sv, i_sample, t, t + ub / om if found else math.inf, True, t, q, v, w,
                                    0, p)
             if not found:
@@ -470,7 +471,7 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
         if measure:
             _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
         _mono_slip(acc, s, zeta)
-        if ts.size:
+        if ts is not None:
             i_sample = _sample(ts, sq, sv, i_sample, t, t + s if hit else math.inf, False, t, q, v, w, mode, p)
         t = t + s
         q = q1

@@ -119,14 +119,13 @@ def _monodromy(acc):
 
 
 @jit_inline
-def _advance(q, v, w, mode, anchor, p, settings, budget, measure, acc):
-    """One period with the integrator the settings choose (a runtime switch, as period_map.advance)."""
-    none = np.empty(0)  # no samples
-    if settings[SET_KERNEL] == KERNEL_RK4:
-        return advance_period_jenkins_rk4(q, v, w, mode, anchor, p, int(settings[SET_STEPS_PER_PERIOD]), budget,
-                                          measure, acc)
-    return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc,
-                                  none, none, none)
+def _advance(q, v, w, mode, anchor, p, settings, budget, measure, acc, rk4):
+    """One period with the integrator `rk4` chooses (a compile-time switch, as period_map.advance)."""
+    if rk4 is None:
+        return advance_period_jenkins(q, v, w, mode, anchor, p, settings[SET_STOP_TOL], budget, measure, acc,
+                                      None, None, None)
+    return advance_period_jenkins_rk4(q, v, w, mode, anchor, p, int(settings[SET_STEPS_PER_PERIOD]), budget,
+                                      measure, acc)
 
 
 @jit_inline
@@ -143,13 +142,13 @@ def _map_error(p, settings):
 
 
 @jit_inline
-def _period(q, v, w, mode, anchor, p, settings, budget, measure, acc):
+def _period(q, v, w, mode, anchor, p, settings, budget, measure, acc, rk4):
     reset_accumulator(acc)
-    return _advance(q, v, w, mode, anchor, p, settings, budget, measure, acc)
+    return _advance(q, v, w, mode, anchor, p, settings, budget, measure, acc, rk4)
 
 
 @jit_inline
-def _map_k(q, v, w, mode, anchor, k, p, settings, budget, measure, acc):
+def _map_k(q, v, w, mode, anchor, k, p, settings, budget, measure, acc, rk4):
     """P^k from (q, v, w, mode, anchor), measured together in acc if asked, with P^k's monodromy matrix (the
     product of the periods') in acc's JACC_JAC slots. Returns (q, v, w, mode, anchor, status, work)."""
     reset_accumulator(acc)
@@ -157,7 +156,7 @@ def _map_k(q, v, w, mode, anchor, k, p, settings, budget, measure, acc):
     chain = np.eye(3) if k > 1 else np.empty((0, 0))
     chain_ok = True
     for _ in range(k):
-        q, v, w, mode, anchor, st, wk = _advance(q, v, w, mode, anchor, p, settings, budget - work, measure, acc)
+        q, v, w, mode, anchor, st, wk = _advance(q, v, w, mode, anchor, p, settings, budget - work, measure, acc, rk4)
         work += wk
         if st != 0:
             return q, v, w, mode, anchor, st, work
@@ -182,7 +181,7 @@ def _same_kind(m1, m2):
 
 
 @jit
-def _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget, acc):
+def _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget, acc, rk4):
     """Forward differences of P^k at (q, v, w) (P^k = (q1, v1, w1) there) in the coordinates Newton moves:
     (q, v) with the slider following where it slips, else (q, v, w). Returns (J, dim, ok, work)."""
     dim = 2 if _slipping(mode) else 3
@@ -198,7 +197,7 @@ def _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget, acc):
         if dim == 2:
             x[2] = x[0] - mode * p.bk / p.kappa
         qa, va, wa, ma, _, st, wk = _map_k(x[0], x[1], x[2], mode, anchor, k, p, settings, budget - work, False,
-                                           acc)
+                                           acc, rk4)
         work += wk
         if st != 0 or not _same_kind(ma, mode):
             return jac, dim, False, work
@@ -219,7 +218,7 @@ def _radius(jac, dim):
 
 
 @jit
-def _central_radius(q, v, w, mode, anchor, k, p, settings, budget, size):
+def _central_radius(q, v, w, mode, anchor, k, p, settings, budget, size, rk4):
     """The largest |multiplier| of P^k at the orbit's state by central differences (the rk4 kernel, which
     builds no monodromy matrix), in Newton's coordinates (_jacobian), step steady.FLOQUET_FD_STEP of the
     larger of the orbit and the forcing. Returns (radius, periods, work); NaN where a perturbed start
@@ -238,7 +237,7 @@ def _central_radius(q, v, w, mode, anchor, k, p, settings, budget, size):
             if dim == 2:
                 x[2] = x[0] - mode * p.bk / p.kappa
             qa, va, wa, ma, _, st, wk = _map_k(x[0], x[1], x[2], mode, anchor, k, p, settings, budget - work, False,
-                                               acc)
+                                               acc, rk4)
             work += wk
             periods += k
             if st != 0 or not _same_kind(ma, mode):
@@ -250,7 +249,7 @@ def _central_radius(q, v, w, mode, anchor, k, p, settings, budget, size):
 
 
 @jit
-def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
+def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc, rk4):
     """Newton on P^k(x) = x from (q, v, w, mode) (anchor: jenkins.py's label, kept), with P^k's exact
     monodromy matrix where the map is smooth there, forward differences elsewhere. Returns (q, v, w, mode,
     ok, work, periods); on success acc holds the measurement of the k periods from the returned state. A
@@ -264,7 +263,7 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
     for _ in range(NEWTON_ITERATIONS):
         if _slipping(mode):
             w = q - mode * p.bk / p.kappa
-        q1, v1, w1, m1, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, False, acc)
+        q1, v1, w1, m1, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, False, acc, rk4)
         work += wk
         periods += k
         if st != 0 or not _same_kind(m1, mode) or not (math.isfinite(q1) and math.isfinite(v1)):
@@ -277,12 +276,12 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
             # converged: measure the k periods from here, with the creep anchor the orbit itself carries
             # across the section (one unmeasured pass), not the one the march had where shooting began:
             # the labels of a slip begun before t = 0 depend on it
-            _, _, _, _, anchor, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, False, acc)
+            _, _, _, _, anchor, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, False, acc, rk4)
             work += wk
             periods += k
             if st != 0:
                 return q, v, w, mode, False, work, periods
-            _, _, _, _, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, True, acc)
+            _, _, _, _, _, st, wk = _map_k(q, v, w, mode, anchor, k, p, settings, budget - work, True, acc, rk4)
             work += wk
             periods += k
             if st == 0 and acc[JACC_JAC_OK] == 1.0:
@@ -293,7 +292,7 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc):
             jac = _monodromy(acc)
             dim = 2 if _slipping(mode) else 3
         else:
-            jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget - work, acc)
+            jac, dim, ok, wk = _jacobian(q, v, w, mode, anchor, k, q1, v1, w1, p, settings, budget - work, acc, rk4)
             work += wk
             periods += dim * k
             if not ok:
@@ -372,7 +371,7 @@ def _held_forever(q, v, w, p):
 
 
 @jit
-def _march(q, v, w, mode, anchor, p, settings, work, acc):
+def _march(q, v, w, mode, anchor, p, settings, work, acc, rk4):
     """March the period map until it repeats (period k), a shooting solve lands on the orbit, the motion
     grows without bound (next to r = 1 below pi/4, steady.py's test), or the periods or the work run out.
     Returns (q, v, w, mode, anchor, status, orbit, periods, work, shot)."""
@@ -394,7 +393,7 @@ def _march(q, v, w, mode, anchor, p, settings, work, acc):
     while n < max_periods:
         n += 1
         periods += 1
-        q, v, w, mode, anchor, st, wk = _period(q, v, w, mode, anchor, p, settings, budget - work, False, acc)
+        q, v, w, mode, anchor, st, wk = _period(q, v, w, mode, anchor, p, settings, budget - work, False, acc, rk4)
         work += wk
         if st == BUDGET or work > budget:
             return q, v, w, mode, anchor, SteadyState.EVENT_BUDGET, 0, periods, work, False
@@ -420,7 +419,7 @@ def _march(q, v, w, mode, anchor, p, settings, work, acc):
         # direction of the map (multiplier 1), and there the march settles by itself
         if n >= next_shot and acc[JACC_SLIPS] > 0.0:
             qs, vs, ws, ms, ok, wk, k = shoot_jenkins(q, v, w, mode, anchor, 1, p, settings, tol, budget - work,
-                                                      acc)
+                                                      acc, rk4)
             work += wk
             periods += k
             next_shot = n + shoot_every
@@ -462,7 +461,7 @@ def _record(out, acc, orbit, p):
 
 
 @jit
-def solve_point_jenkins(p, settings, start_w, start_mode, out):
+def solve_point_jenkins(p, settings, start_w, start_mode, out, rk4):
     """Steady state and measurements of one grid point with a Jenkins contact; results in `out` (slots of
     JENKINS_OUTPUT_FIELDS). The march starts from the settings' (q, v) with the slider at start_w in mode
     start_mode (NaN and 0: at rest on a relaxed contact spring, w = q; a sweep's or a second start's state
@@ -470,7 +469,7 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
     out[:] = math.nan
     if p.bk == 0.0 and p.bs == 0.0:
         # no friction, no contact force: the rigid model's point, exactly
-        solve_point(Point(p.A, p.r, 0.0, 0.0, p.zeta, p.c), settings, math.nan, math.nan, out[:OUT_SIZE])
+        solve_point(Point(p.A, p.r, 0.0, 0.0, p.zeta, p.c), settings, math.nan, math.nan, out[:OUT_SIZE], rk4)
         return
     acc = np.empty(JACC_SIZE)
     budget = int(settings[SET_WORK_BUDGET])
@@ -486,14 +485,14 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
     held, qf, wf = _held_forever(q, v, w, p) if not _slipping(mode) or p.bs <= p.bk else (False, math.nan, w)
     if held:
         # the start settles without slipping: the forced orbit about the slider's place, confirmed by a period
-        q1, v1, w1, m1, _, st, work = _map_k(qf, 0.0, wf, STUCK_HELD, math.nan, 1, p, settings, budget, True, acc)
+        q1, v1, w1, m1, _, st, work = _map_k(qf, 0.0, wf, STUCK_HELD, math.nan, 1, p, settings, budget, True, acc, rk4)
         periods = 1
         if st == 0 and acc[JACC_SLIPS] == 0.0 and abs(q1 - qf) + abs(v1) <= settings[SET_STEADY_TOL] * abs(qf) + \
                 _map_error(p, settings) * max(abs(qf), p.A):
             q, v, w, mode, status, orbit, shot = qf, 0.0, wf, STUCK_HELD, SteadyState.CONVERGED, 1, True
     if status != SteadyState.CONVERGED:
         q, v, w, mode, anchor, status, orbit, marched, work, shot = _march(q, v, w, mode, anchor, p, settings, work,
-                                                                           acc)
+                                                                           acc, rk4)
         periods += marched
     out[OUT_PERIODS] = periods
     out[OUT_STEADY_STATE] = status.value
@@ -507,7 +506,7 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
         out[OUT_REGIME] = Regime.UNSETTLED.value
         return
     if not shot:
-        q1, v1, w1, m1, _, st, wk = _map_k(q, v, w, mode, anchor, orbit, p, settings, budget - work, True, acc)
+        q1, v1, w1, m1, _, st, wk = _map_k(q, v, w, mode, anchor, orbit, p, settings, budget - work, True, acc, rk4)
         work += wk
         out[OUT_WORK] = work
         out[OUT_PERIODS] = periods + orbit
@@ -520,28 +519,27 @@ def solve_point_jenkins(p, settings, start_w, start_mode, out):
     # (multiplier 1 of a continuum), undefined; the event kernel's exact matrix of the measured periods, NaN
     # where the map is not smooth at the orbit; central differences for rk4
     if settings[SET_STABILITY] != 0.0 and acc[JACC_SLIPS] > 0.0:
-        if settings[SET_KERNEL] == KERNEL_RK4:
+        if rk4 is None:
+            radius = _radius(_monodromy(acc), 2 if _slipping(mode) else 3) if acc[JACC_JAC_OK] == 1.0 else math.nan
+        else:
             radius, k, wk = _central_radius(q, v, w, mode, anchor, orbit, p, settings, budget - int(out[OUT_WORK]),
-                                            max(math.hypot(q, v), acc[ACC_QMAX]))
+                                            max(math.hypot(q, v), acc[ACC_QMAX]), rk4)
             out[OUT_PERIODS] += k
             out[OUT_WORK] += wk
-        elif acc[JACC_JAC_OK] == 1.0:
-            radius = _radius(_monodromy(acc), 2 if _slipping(mode) else 3)
-        else:
-            radius = math.nan
         out[JOUT_FLOQUET] = radius
 
 
 @jit
-def solve_points_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out):
-    """solve_point_jenkins over 1-D arrays of points from the settings' start; out has shape (n, JOUT_SIZE)."""
+def solve_points_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out, rk4):
+    """solve_point_jenkins over 1-D arrays of points from the settings' start; out has shape (n, JOUT_SIZE).
+    rk4: the integrator, kernels.period_map.integrator(settings) (compile-time: None, the event kernel)."""
     for i in range(r.size):
         solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), settings, math.nan, 0,
-                            out[i])
+                            out[i], rk4)
 
 
 @jit
-def solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappa, settings, q0, v0, w0, m0, out):
+def solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappa, settings, q0, v0, w0, m0, out, rk4):
     """solve_points_jenkins with a start (q0[i], v0[i], w0[i], m0[i]) of its own for each point (at the
     excitation's maximum): the second, moving start where static friction exceeds kinetic."""
     own = settings.copy()
@@ -549,11 +547,11 @@ def solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappa, settings, q0, v0, w0
         own[SET_INITIAL_DISPLACEMENT] = q0[i]
         own[SET_INITIAL_VELOCITY] = v0[i]
         solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), own, w0[i],
-                            int(m0[i]), out[i])
+                            int(m0[i]), out[i], rk4)
 
 
 @jit
-def solve_sweep_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out):
+def solve_sweep_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out, rk4):
     """A stepped-sine sweep over the points in the order given (steady.solve_sweep's rule): each point starts
     from the state (q, v, w, mode) at the excitation's maximum of the orbit the previous one settled on;
     the first, and any after a point with no steady state, from the settings' start."""
@@ -561,7 +559,7 @@ def solve_sweep_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out):
     w0 = math.nan
     m0 = 0
     for i in range(r.size):
-        solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), own, w0, m0, out[i])
+        solve_point_jenkins(JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa[i]), own, w0, m0, out[i], rk4)
         regime = out[i, OUT_REGIME]
         if regime == Regime.UNBOUNDED.value or regime == Regime.UNSETTLED.value or math.isnan(out[i, JOUT_END_W]):
             own[SET_INITIAL_DISPLACEMENT] = settings[SET_INITIAL_DISPLACEMENT]

@@ -4,6 +4,11 @@ P takes the state (q, v, mode) at forcing phase 0 to the state one period T = 2 
 event kernel (event.py) computes it exactly between events, the RK4 kernel (rk4.py) on a fixed grid;
 both fill the same accumulator record (measure.py). P^k, its own error and the mode of a state at
 rest live here too, for the march (steady.py) and the shooting solve (shoot.py).
+
+Which integrator is a compile-time choice: every function that integrates takes `rk4`, None for the
+event kernel and True for RK4 (integrator(settings)). numba prunes the branch of the other one before
+it types it (a test on None of an argument's type), so a run compiles only the integrator it uses: the
+RK4 kernel is a fifth of the event run's compile otherwise.
 """
 
 from __future__ import annotations
@@ -23,23 +28,25 @@ from friction_sweep.kernels.stick import decide
 MAP_ROUNDING = 32.0 * 2.220446049250313e-16
 
 
-@jit
-def advance(q, v, mode, p, settings, budget, measure, acc):
-    """One period with the chosen integrator (a runtime switch: cached kernels cannot take functions).
-    Returns (q, v, mode, status, work)."""
-    if settings[SET_KERNEL] == KERNEL_RK4:
-        return advance_period_rk4(q, v, mode, p, int(settings[SET_STEPS_PER_PERIOD]), budget,
-                                  measure, acc)
-    none = np.empty(0)  # no samples (a global array would be a read-only constant to numba)
-    return advance_period(q, v, mode, p, settings[SET_STOP_TOL], budget, measure, acc, none,
-                          none, none)
+def integrator(settings: np.ndarray) -> bool | None:
+    """The `rk4` argument of the kernels for a settings record: None for the event kernel, True for RK4."""
+    return True if settings[SET_KERNEL] == KERNEL_RK4 else None
 
 
 @jit
-def period(q, v, mode, p, settings, budget, acc):
+def advance(q, v, mode, p, settings, budget, measure, acc, rk4):
+    """One period with the integrator `rk4` chooses (a compile-time switch: cached kernels cannot take
+    functions). Returns (q, v, mode, status, work)."""
+    if rk4 is None:
+        return advance_period(q, v, mode, p, settings[SET_STOP_TOL], budget, measure, acc, None, None, None)
+    return advance_period_rk4(q, v, mode, p, int(settings[SET_STEPS_PER_PERIOD]), budget, measure, acc)
+
+
+@jit
+def period(q, v, mode, p, settings, budget, acc, rk4):
     """One unmeasured period into a fresh accumulator (the march's step)."""
     reset_accumulator(acc)
-    return advance(q, v, mode, p, settings, budget, False, acc)
+    return advance(q, v, mode, p, settings, budget, False, acc, rk4)
 
 
 @jit
@@ -53,14 +60,14 @@ def mode_of(q, v, p):
 
 
 @jit
-def map_k(q, v, k, p, settings, budget, measure, acc):
+def map_k(q, v, k, p, settings, budget, measure, acc, rk4):
     """P^k(q, v): k periods from (q, v), measured together in `acc` if asked. Returns (q, v, status,
     work); acc's jac_ok vouches for the monodromy matrix only for k = 1."""
     reset_accumulator(acc)
     mode = mode_of(q, v, p)
     work = 0
     for _ in range(k):
-        q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, measure, acc)
+        q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, measure, acc, rk4)
         work += w
         if st != 0:
             return q, v, st, work

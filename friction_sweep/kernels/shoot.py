@@ -123,7 +123,7 @@ FIRST_PLAIN, FIRST_GIVEN, FIRST_MEASURED = 0, 1, 2
 
 
 @jit
-def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
+def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first, rk4):
     """Newton on F(x) = P^k(x) - x for a period-k orbit, at most NEWTON_ITERATIONS evaluations of P^k
     (finite differences aside). Returns (q, v, ok, work, periods): periods the forcing periods integrated (every
     evaluation of P^k, finite differences included).
@@ -176,7 +176,7 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
         if first == FIRST_GIVEN:
             measure = False
         else:
-            q1, v1, st, w = map_k(q, v, k, p, settings, budget - work, measure, acc)
+            q1, v1, st, w = map_k(q, v, k, p, settings, budget - work, measure, acc, rk4)
             work += w
             periods += k
             if st != 0 or not (math.isfinite(q1) and math.isfinite(v1)):
@@ -203,8 +203,8 @@ def shoot(q, v, k, p, settings, tol, budget, acc, q1, v1, first):
         else:
             # a step of 1e-6 of the orbit, or more where that would drown in the forcing's rounding
             h = max(1e-6 * scale, 1e-8 * math.sqrt(p.A * scale))
-            qa, va, st1, w1 = map_k(q + h, v, k, p, settings, budget - work, False, acc)
-            qb, vb, st2, w2 = map_k(q, v + h, k, p, settings, budget - work, False, acc)
+            qa, va, st1, w1 = map_k(q + h, v, k, p, settings, budget - work, False, acc, rk4)
+            qb, vb, st2, w2 = map_k(q, v + h, k, p, settings, budget - work, False, acc, rk4)
             work += w1 + w2
             periods += 2 * k
             if st1 != 0 or st2 != 0:

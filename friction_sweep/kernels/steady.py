@@ -44,10 +44,8 @@ from friction_sweep.kernels.period_map import advance, map_error, map_k, mode_of
 from friction_sweep.kernels.point import Point
 from friction_sweep.kernels.segments import TWO_PI
 from friction_sweep.kernels.settings import (
-    KERNEL_RK4,
     SET_INITIAL_DISPLACEMENT,
     SET_INITIAL_VELOCITY,
-    SET_KERNEL,
     SET_MAX_ORBIT_PERIOD,
     SET_MAX_PERIODS,
     SET_SHOOT_AFTER,
@@ -279,7 +277,7 @@ def _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p):
 
 
 @jit_inline
-def _march(q, v, mode, p, settings, work, acc):
+def _march(q, v, mode, p, settings, work, acc, rk4):
     """March the period map from (q, v, mode) until it repeats, a shooting solve lands on the orbit, the
     motion grows without bound, or the periods or the work run out; at the cap, shoot for the orbit
     of the lag the march repeats best at, else tell an aperiodic motion from a cut-short transient.
@@ -315,7 +313,7 @@ def _march(q, v, mode, p, settings, work, acc):
         n += 1
         periods += 1
         q0, v0 = q, v
-        q, v, mode, st, w = period(q, v, mode, p, settings, budget - work, acc)
+        q, v, mode, st, w = period(q, v, mode, p, settings, budget - work, acc, rk4)
         work += w
         if st == BUDGET or work > budget:
             return q, v, mode, SteadyState.EVENT_BUDGET, 0, periods, work, False
@@ -338,7 +336,7 @@ def _march(q, v, mode, p, settings, work, acc):
         hq[i], hv[i], hm[i] = q, v, mode
         if bs > bk and n >= lyap_from:
             if tracked > 0:
-                yq, yv, ym, _, w = period(yq, yv, ym, p, settings, budget - work, acc_y)
+                yq, yv, ym, _, w = period(yq, yv, ym, p, settings, budget - work, acc_y, rk4)
                 work += w
                 periods += 1
             yq, yv, ym, delta, log_growth = _lyapunov_step(q, v, size, tracked, yq, yv, delta, log_growth, p)
@@ -354,9 +352,9 @@ def _march(q, v, mode, p, settings, work, acc):
             # (it lands on the orbit nearest its start, and the march from the settings' start decides
             # which of several that is).
             if unique and acc[ACC_JAC_OK] == 1.0:
-                qs, vs, ok, w, k = shoot(q0, v0, 1, p, settings, tol, budget - work, acc, q, v, FIRST_GIVEN)
+                qs, vs, ok, w, k = shoot(q0, v0, 1, p, settings, tol, budget - work, acc, q, v, FIRST_GIVEN, rk4)
             else:
-                qs, vs, ok, w, k = shoot(q, v, 1, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN)
+                qs, vs, ok, w, k = shoot(q, v, 1, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN, rk4)
             work += w
             periods += k
             next_shot = n + shoot_every
@@ -374,7 +372,7 @@ def _march(q, v, mode, p, settings, work, acc):
         # onto long periods) is solved for directly, from the lag at which the march repeats best.
         lag, best = _closest_lag(q, v, n, hq, hv, kmax)
         if lag > 0 and best <= LAG_SHOT * max(math.hypot(q, v), acc[ACC_QMAX], A):
-            qs, vs, ok, w, k = shoot(q, v, lag, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN)
+            qs, vs, ok, w, k = shoot(q, v, lag, p, settings, tol, budget - work, acc, 0.0, 0.0, FIRST_PLAIN, rk4)
             work += w
             periods += k
             if ok:
@@ -388,13 +386,13 @@ def _march(q, v, mode, p, settings, work, acc):
 
 
 @jit_inline
-def _measure_orbit(q, v, mode, orbit, p, settings, work, acc):
+def _measure_orbit(q, v, mode, orbit, p, settings, work, acc, rk4):
     """Measure the k = orbit periods from a state on the orbit into `acc`. Returns (work, done): not
     done when the point's work budget (which the measurement is part of) runs out."""
     budget = int(settings[SET_WORK_BUDGET])
     reset_accumulator(acc)
     for _ in range(orbit):
-        q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, True, acc)
+        q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, True, acc, rk4)
         work += w
         if st == BUDGET or work > budget:
             return work, False
@@ -446,7 +444,7 @@ FLOQUET_FD_STEP = 1e-5
 
 
 @jit_inline
-def _floquet(q, v, mode, orbit, p, settings, budget, acc):
+def _floquet(q, v, mode, orbit, p, settings, budget, acc, rk4):
     """The largest modulus among the multipliers of the period-k map P^k (k = orbit) at the orbit's state
     (q, v, mode), with `acc` holding the orbit's measurement (the monodromy matrix of its last period).
     Returns (multiplier, periods, work): the periods and work spent on it.
@@ -458,7 +456,7 @@ def _floquet(q, v, mode, orbit, p, settings, budget, acc):
     friction alone). RK4 kernel: central differences of P^k, 4 k periods. With a stick the matrix has
     rank 1 (a stop forgets the velocity): one multiplier is 0 and the other decides attraction.
     """
-    if settings[SET_KERNEL] != KERNEL_RK4:
+    if rk4 is None:
         if orbit == 1:
             if acc[ACC_JAC_OK] != 1.0:
                 return math.nan, 0, 0
@@ -468,7 +466,7 @@ def _floquet(q, v, mode, orbit, p, settings, budget, acc):
         work = 0
         for i in range(orbit):
             reset_accumulator(scratch)
-            q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, False, scratch)
+            q, v, mode, st, w = advance(q, v, mode, p, settings, budget - work, False, scratch, rk4)
             work += w
             if st != 0 or scratch[ACC_JAC_OK] != 1.0:
                 return math.nan, i + 1, work
@@ -484,7 +482,7 @@ def _floquet(q, v, mode, orbit, p, settings, budget, acc):
     for j in range(4):
         dq = h if j == 0 else (-h if j == 1 else 0.0)
         dv = h if j == 2 else (-h if j == 3 else 0.0)
-        qa, va, st, w = map_k(q + dq, v + dv, orbit, p, settings, budget - work, False, scratch)
+        qa, va, st, w = map_k(q + dq, v + dv, orbit, p, settings, budget - work, False, scratch, rk4)
         work += w
         if st != 0:
             return math.nan, (j + 1) * orbit, work
@@ -495,7 +493,7 @@ def _floquet(q, v, mode, orbit, p, settings, budget, acc):
 
 
 @jit
-def solve_point(p, settings, guess_q, guess_v, out):
+def solve_point(p, settings, guess_q, guess_v, out, rk4):
     """Steady state and measurements of one grid point; results in `out` (slots of OUTPUT_FIELDS): the
     family's member, the orbit Newton finds from the guess (guess_q, guess_v) at the excitation's
     maximum (NaN: none) where the steady state is unique and shoot_after is 0, or the march's end from
@@ -511,18 +509,18 @@ def solve_point(p, settings, guess_q, guess_v, out):
         # Den Hartog's member of the family, confirmed (and measured) by one exact period
         qf, mf = _family_start(p)
         reset_accumulator(acc)
-        q1, v1, _, st, work = advance(qf, 0.0, mf, p, settings, int(settings[SET_WORK_BUDGET]), True, acc)
+        q1, v1, _, st, work = advance(qf, 0.0, mf, p, settings, int(settings[SET_WORK_BUDGET]), True, acc, rk4)
         periods = 1
         if _returns_to_start(qf, mf, q1, v1, st, p, settings, acc):
             q, v, mode, status, orbit, shot = qf, 0.0, mf, SteadyState.FAMILY, 1, True
     elif settings[SET_SHOOT_AFTER] == 0 and math.isfinite(guess_q) and math.isfinite(guess_v) and _unique(p):
         reset_accumulator(acc)
         qs, vs, ok, work, periods = shoot(guess_q, guess_v, 1, p, settings, settings[SET_STEADY_TOL],
-                                          int(settings[SET_WORK_BUDGET]), acc, 0.0, 0.0, FIRST_MEASURED)
+                                          int(settings[SET_WORK_BUDGET]), acc, 0.0, 0.0, FIRST_MEASURED, rk4)
         if ok:
             q, v, mode, status, orbit, shot = qs, vs, mode_of(qs, vs, p), SteadyState.CONVERGED, 1, True
     if status != SteadyState.FAMILY and status != SteadyState.CONVERGED:
-        q, v, mode, status, orbit, marched, work, shot = _march(q, v, mode, p, settings, work, acc)
+        q, v, mode, status, orbit, marched, work, shot = _march(q, v, mode, p, settings, work, acc, rk4)
         periods += marched
     out[OUT_PERIODS] = periods
     out[OUT_STEADY_STATE] = status.value  # a float slot: numba casts no IntEnum to float
@@ -536,7 +534,7 @@ def solve_point(p, settings, guess_q, guess_v, out):
         return
     # a shooting solve (or the family's check) measured its orbit already
     if not shot:
-        work, done = _measure_orbit(q, v, mode, orbit, p, settings, work, acc)
+        work, done = _measure_orbit(q, v, mode, orbit, p, settings, work, acc, rk4)
         out[OUT_WORK] = work
         out[OUT_PERIODS] = periods + orbit
         if not done:
@@ -556,7 +554,7 @@ def solve_point(p, settings, guess_q, guess_v, out):
     if (settings[SET_STABILITY] != 0.0 and status == SteadyState.CONVERGED
             and out[OUT_REGIME] != Regime.STUCK.value):
         out[OUT_FLOQUET], k, w = _floquet(q, v, mode, orbit, p, settings,
-                                          int(settings[SET_WORK_BUDGET]) - int(out[OUT_WORK]), acc)
+                                          int(settings[SET_WORK_BUDGET]) - int(out[OUT_WORK]), acc, rk4)
         out[OUT_PERIODS] += k
         out[OUT_WORK] += w
 
@@ -578,25 +576,26 @@ def sample_orbit(q, v, mode, p, vtol, budget, periods, ts, sq, sv):
 
 
 @jit
-def solve_points(A, r, bk, bs, zeta, c, settings, gq, gv, out):
-    """solve_point over 1-D arrays of points, with guesses (gq[i], gv[i]); out has shape (n, OUT_SIZE)."""
+def solve_points(A, r, bk, bs, zeta, c, settings, gq, gv, out, rk4):
+    """solve_point over 1-D arrays of points, with guesses (gq[i], gv[i]); out has shape (n, OUT_SIZE). rk4:
+    the integrator, period_map.integrator(settings) (a compile-time choice: None, the event kernel)."""
     for i in range(r.size):
-        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), settings, gq[i], gv[i], out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), settings, gq[i], gv[i], out[i], rk4)
 
 
 @jit
-def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, gq, gv, out):
+def solve_points_from(A, r, bk, bs, zeta, c, settings, q0, v0, gq, gv, out, rk4):
     """solve_points with a start (q0[i], v0[i]) of its own for each point (at the excitation's maximum);
     where the steady state is unique the guess, if any, comes first (the start cannot matter there)."""
     own = settings.copy()
     for i in range(r.size):
         own[SET_INITIAL_DISPLACEMENT] = q0[i]
         own[SET_INITIAL_VELOCITY] = v0[i]
-        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, gq[i], gv[i], out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, gq[i], gv[i], out[i], rk4)
 
 
 @jit
-def solve_sweep(A, r, bk, bs, zeta, c, settings, gq, gv, out):
+def solve_sweep(A, r, bk, bs, zeta, c, settings, gq, gv, out, rk4):
     """A stepped-sine sweep over the points in the order given (one force ratio): each point starts
     from the state, at the excitation's maximum, of the orbit the previous point settled on, as a rig
     stepping its frequency does; the first from the settings' start. After a point with no steady
@@ -604,7 +603,7 @@ def solve_sweep(A, r, bk, bs, zeta, c, settings, gq, gv, out):
     is unique the guess, if any, comes first (the start cannot matter there)."""
     own = settings.copy()
     for i in range(r.size):
-        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, gq[i], gv[i], out[i])
+        solve_point(Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]), own, gq[i], gv[i], out[i], rk4)
         regime = out[i, OUT_REGIME]
         # a float slot against the codes' values: numba casts no IntEnum to float
         if regime == Regime.UNBOUNDED.value or regime == Regime.UNSETTLED.value:

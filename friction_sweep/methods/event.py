@@ -28,6 +28,7 @@ import numpy as np
 from friction_sweep import catalogue
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.kernels import steady
+from friction_sweep.kernels.period_map import integrator
 from friction_sweep.kernels.point import JenkinsPoint, Point
 from friction_sweep.kernels.settings import (
     KERNEL_EVENT,
@@ -158,19 +159,20 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
         out = np.empty((r.size, jenkins_steady.JOUT_SIZE))
         kappas = np.full(r.shape, kappa)
         if start is None:
-            jenkins_steady.solve_points_jenkins(A, r, bk, bs, zeta, c, kappas, sett, out)
+            jenkins_steady.solve_points_jenkins(A, r, bk, bs, zeta, c, kappas, sett, out, integrator(sett))
         else:
             q0, v0, w0, m0 = (np.ascontiguousarray(x, dtype=float) for x in start)
-            jenkins_steady.solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappas, sett, q0, v0, w0, m0, out)
+            jenkins_steady.solve_points_jenkins_from(A, r, bk, bs, zeta, c, kappas, sett, q0, v0, w0, m0, out,
+                                                     integrator(sett))
         _against_excitation(out, forcing_lead(excitation, r, effects))
         return out
     out = np.empty((r.size, steady.OUT_SIZE))
     gq, gv = newton_guess(A, r, bk, bs, zeta, sett)
     if start is None:
-        steady.solve_points(A, r, bk, bs, zeta, c, sett, gq, gv, out)
+        steady.solve_points(A, r, bk, bs, zeta, c, sett, gq, gv, out, integrator(sett))
     else:
         q0, v0 = (np.ascontiguousarray(s, dtype=float) for s in start)
-        steady.solve_points_from(A, r, bk, bs, zeta, c, sett, q0, v0, gq, gv, out)
+        steady.solve_points_from(A, r, bk, bs, zeta, c, sett, q0, v0, gq, gv, out, integrator(sett))
     _against_excitation(out, forcing_lead(excitation, r, effects))
     return out
 
@@ -268,9 +270,11 @@ def compute_sweep_tile(excitation: str, r, beta, outputs, effects=None, settings
         A, c, bk, bs, zeta = point_parameters(excitation, rs, np.full(rs.shape, b), effects)
         row = np.empty((r.size, size))
         if kappa > 0.0:
-            jenkins_steady.solve_sweep_jenkins(A, rs, bk, bs, zeta, c, np.full(rs.shape, kappa), sett, row)
+            jenkins_steady.solve_sweep_jenkins(A, rs, bk, bs, zeta, c, np.full(rs.shape, kappa), sett, row,
+                                               integrator(sett))
         else:
-            steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row)
+            steady.solve_sweep(A, rs, bk, bs, zeta, c, sett, *newton_guess(A, rs, bk, bs, zeta, sett), row,
+                              integrator(sett))
         _against_excitation(row, forcing_lead(excitation, rs, effects))
         raw[j, order] = row
     result = _per_point(raw.reshape(-1, size), names, excitation, np.broadcast_to(r, (beta.size, r.size)))
