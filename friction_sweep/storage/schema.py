@@ -27,6 +27,10 @@ HISTORY_DIM = "history_point"
 LEGACY_HISTORY_DIM = "history"
 HISTORY_DIMS = (HISTORY_DIM, "sample")
 CONVENTIONS = "CF-1.10"
+#: No variable has a CF standard_name or axis. The standard-name table holds none of these quantities but
+#: `time`, which CF then wants in units "since an epoch" (a history's time is elapsed from a section), and
+#: axis X/Y/Z mark space (the CF checker then asks for latitude/longitude units). tests/test_names.py runs
+#: the checker on every kind of cube.
 
 
 # Valid values (friction_sweep.storage.audit checks a cube against them, for `fsweep info` to refuse a cube
