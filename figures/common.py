@@ -22,6 +22,7 @@ from matplotlib.patches import Patch
 
 from friction_sweep.codes import Regime
 from friction_sweep.storage.atomic import save_figure
+from friction_sweep.storage.cube import legacy_names
 
 plt.switch_backend("Agg")  # no display: every figure is written to a file
 
@@ -55,9 +56,10 @@ def parse_args(argv, usage: str, n_inputs: int | None = None) -> tuple[list[Path
 
 
 def open_cube(path) -> xr.Dataset:
-    """A result cube, loaded into memory and the file closed."""
+    """A result cube, loaded into memory and the file closed; one written before issue 33 with today's
+    names (storage.cube.legacy_names), as results/ may still hold."""
     with xr.open_dataset(path, engine="h5netcdf") as ds:
-        return ds.load()
+        return legacy_names(ds.load())
 
 
 def excitation_of(ds: xr.Dataset) -> str:

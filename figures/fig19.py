@@ -58,7 +58,7 @@ def main(argv=None):
     (path,), out = C.parse_args(argv, "python figures/fig19.py CUBE.nc OUT.png", 1)
     ds = C.open_cube(path)
     C.require(ds, path, "history_time", "history_displacement", "history_excitation", "history_relative_velocity")
-    n = ds.sizes["history"]
+    n = ds.sizes["history_point"]
     steady_panels = list(range(n))
     # the beating transient goes in as panel (d), after the first three steady states
     order = steady_panels[:3] + ["beating"] + steady_panels[3:]
@@ -74,7 +74,7 @@ def main(argv=None):
                          + C.ratio_label("base", BEATING["beta"]))
             ax.set_xlim(0, BEATING["periods"])
         else:
-            h = ds.isel(history=item)
+            h = ds.isel(history_point=item)
             r = float(h["history_frequency_ratio"])
             beta = float(h["history_force_ratio"])
             regime = int(h["history_regime"])

@@ -19,7 +19,7 @@ def main(argv=None):
     ds = C.open_cube(path)
     C.require(ds, path, "history_time", "history_displacement", "history_excitation",
               "history_relative_displacement", "history_relative_velocity")
-    h = ds.isel(history=0)
+    h = ds.isel(history_point=0)
     r = float(h["history_frequency_ratio"])
     beta = float(h["history_force_ratio"])
     regime = int(h["history_regime"])

@@ -576,10 +576,11 @@ def check(result: Path, as_json: bool):
 @click.argument("result", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(), help="PNG to write (default: RESULT with suffix .png, beside it).")
 @click.option("--kind", type=click.Choice(KINDS), help="What to draw (default: map for a plane with regimes; "
-              "curves otherwise, or with --sel; orbit with --sel history=K).")
+              "curves otherwise, or with --sel; orbit with --sel history_point=K).")
 @click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
               help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
-                   "history=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those dims.")
+                   "history_point=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those "
+                   "dims.")
 @click.option("--yscale", type=click.Choice(YSCALES), default="auto", show_default=True,
               help="The curves' y axis: log, linear, or auto (log where the values span more than "
                    f"{WIDE_RANGE:g} times their median, e.g. a frictionless peak beside damped curves).")

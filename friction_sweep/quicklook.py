@@ -40,6 +40,7 @@ import numpy as np
 
 from friction_sweep import ties
 from friction_sweep.codes import Regime
+from friction_sweep.storage.schema import HISTORY_DIM
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -198,7 +199,7 @@ def default_kind(ds: xr.Dataset, sel: Sequence[str] = ()) -> str:
     than one force and frequency ratio) that has regimes, else `curves`."""
     names = {name for name, _ in parse_selection(sel)}
     if names:
-        return "orbit" if "history" in names else "curves"
+        return "orbit" if HISTORY_DIM in names else "curves"
     plane = any(all(ds.sizes.get(dim, 0) > 1 for dim in dims) for dims in (GRID, PHYSICAL_GRID))
     return "map" if plane and "regime" in ds else "curves"
 
@@ -225,7 +226,7 @@ def selection_names(ds: xr.Dataset, kind: str) -> tuple[str, ...]:
     if kind in CURVE_VARIABLE:
         dims: tuple[str, ...] = (force,)
     elif kind == "orbit":
-        dims = ("history", frequency, force)
+        dims = (HISTORY_DIM, frequency, force)
     else:
         return ()
     names = [d for d in dims if d in ds.dims]
@@ -246,9 +247,9 @@ def _selection(ds: xr.Dataset, kind: str, items: Sequence[str]) -> dict[str, lis
             what = f"it applies to {', '.join(applies)}" if applies else "it draws the whole cube"
             raise PlotError(f"--sel {name}={text} does not apply to --kind {kind} ({what})")
         try:
-            value = int(text) if name == "history" else float(text)
+            value = int(text) if name == HISTORY_DIM else float(text)
         except ValueError:
-            need = "a whole number (a history's index)" if name == "history" else "a number"
+            need = "a whole number (a history's index)" if name == HISTORY_DIM else "a number"
             raise PlotError(f"--sel {name}={text}: {text!r} is not {need}") from None
         if not math.isfinite(value):
             raise PlotError(f"--sel {name}={text}: the value must be finite")
@@ -271,7 +272,7 @@ def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = (), yscal
     if kind not in KINDS:
         raise PlotError(f"unknown kind {kind!r} (kinds: {', '.join(KINDS)})")
     grid_dims(ds)  # PlotError where the cube has no grid
-    if kind == "orbit" and ("history" not in ds.dims or any(n not in ds for n in NEEDS["orbit"])):
+    if kind == "orbit" and (HISTORY_DIM not in ds.dims or any(n not in ds for n in NEEDS["orbit"])):
         raise PlotError("--kind orbit: the cube holds no time history (history_* variables); add "
                         "time_history to the spec's outputs (time_history: {points: [[r, beta]]})")
     lacking = [n for n in NEEDS[kind] if n not in ds]
@@ -719,18 +720,18 @@ def _viridis(k: int, n: int):
 
 
 def history_index(ds: xr.Dataset, chosen: dict[str, list[float]]) -> int:
-    """The stored orbit to draw: --sel history=K, else the one nearest the chosen frequency and force
+    """The stored orbit to draw: --sel history_point=K, else the one nearest the chosen frequency and force
     ratios (physical coordinates converted to ratios), else the first."""
-    n = ds.sizes["history"]
+    n = ds.sizes[HISTORY_DIM]
     for name, values in chosen.items():
         if len(values) > 1:
             raise PlotError(f"--sel {name}: --kind orbit draws one orbit; give {name} once")
-    if "history" in chosen:
+    if HISTORY_DIM in chosen:
         if len(chosen) > 1:
-            raise PlotError("--sel history=K picks the orbit by itself; leave out the other --sel")
-        k = int(chosen["history"][0])
+            raise PlotError(f"--sel {HISTORY_DIM}=K picks the orbit by itself; leave out the other --sel")
+        k = int(chosen[HISTORY_DIM][0])
         if not 0 <= k < n:
-            raise PlotError(f"--sel history={k}: the cube holds histories 0..{n - 1}")
+            raise PlotError(f"--sel {HISTORY_DIM}={k}: the cube holds histories 0..{n - 1}")
         return k
     if not chosen:
         return 0
@@ -743,7 +744,7 @@ def history_index(ds: xr.Dataset, chosen: dict[str, list[float]]) -> int:
                 if stored not in ds:
                     raise PlotError(f"--sel {name}: the cube does not record its histories' {dim} ({stored})")
                 if dim == "friction_force":  # beta varies with the frequency: no one ratio to compare
-                    raise PlotError(f"--sel {name}: at constant acceleration pick the history by history=K or "
+                    raise PlotError(f"--sel {name}: at constant acceleration pick the history by {HISTORY_DIM}=K or "
                                     "by its frequency")
                 target = values[0] if name == dim else float(
                     _interp(np.array([values[0]]), ds[name].values.astype(float), axis.ratio)[0])
@@ -852,7 +853,7 @@ def draw_orbit(ds: xr.Dataset, k: int) -> Figure:
             xlabel = label(ds, "history_relative_displacement")
             ylabel = label(ds, "history_relative_velocity")
         plane.set(xlabel=_wrapped(xlabel), ylabel=_wrapped(ylabel), title="phase plane")
-    fit_title(fig, title_phrases(ds, f"orbit {k} of {ds.sizes['history']} at {_history_point(ds, k, units)}"))
+    fit_title(fig, title_phrases(ds, f"orbit {k} of {ds.sizes[HISTORY_DIM]} at {_history_point(ds, k, units)}"))
     return fig
 
 

@@ -163,7 +163,7 @@ def test_a_corrupted_history_value_is_reported(static, name, value, words):
     p = only(audit.audit(ds), name)
     assert p.count == 1 and p.example == value and p.where == ()
     assert words in str(p)
-    assert str(p).endswith(" at history[0], sample[3])" if len(idx) == 2 else " at history[0])")
+    assert str(p).endswith(" at history_point[0], sample[3])" if len(idx) == 2 else " at history_point[0])")
 
 
 def test_other_variables_are_checked(static):

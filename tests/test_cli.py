@@ -287,7 +287,7 @@ settings: {theory_margin: 0.05}
     res = runner.invoke(main, ["run", str(spec), "-o", str(out)])
     assert res.exit_code == 0, res.output
     ds = cube.open_cube(out)
-    assert ds["history_displacement"].dims == ("history", "sample")
+    assert ds["history_displacement"].dims == ("history_point", "sample")
     assert ds.sizes["sample"] == 32 * int(ds["history_orbit_period"].max())
     assert list(ds["method_used"].attrs["flag_meanings"].split()) == ["theory", "event"]
     assert ds["history_regime"].values[0] == Regime.STICK_SLIP  # the paper's Fig. 22 point

@@ -152,8 +152,8 @@ def test_axis_label_is_long_name_and_units_unless_dimensionless(ds):
     base = ds["base"]
     assert axis_label(base["frequency_ratio"]) == "frequency ratio r"  # "r = omega / omega_n" is a definition
     assert axis_label(base["force_ratio"]) == "force ratio beta"
-    assert axis_label(base["phase"]) == "first-harmonic phase lag of the response behind the excitation [degree]"
-    assert axis_label(base["transmissibility"]) == "first-harmonic displacement transmissibility |X(r)|/|Y(r)|"
+    assert axis_label(base["phase"]) == "first-harmonic phase lag of the response [degree]"
+    assert axis_label(base["transmissibility"]) == "first-harmonic transmissibility |X| / Y"
     phys = ds["base_physical"]
     assert axis_label(phys["frequency"]) == "frequency [Hz]"
     assert axis_label(phys["friction_force"]) == "friction force [N]"
@@ -168,7 +168,7 @@ def test_default_kind_and_output(ds):
     assert quicklook.default_kind(ds["no_regime"]) == "curves"  # a plane without regimes has no map
     # a selection chooses curves, or an orbit by its index
     assert quicklook.default_kind(ds["event"], ["force_ratio=0.2"]) == "curves"
-    assert quicklook.default_kind(ds["event"], ["history=1"]) == "orbit"
+    assert quicklook.default_kind(ds["event"], ["history_point=1"]) == "orbit"
     assert str(quicklook.default_output("results/demo.h5")) == "results/demo.png"
 
 
@@ -316,7 +316,7 @@ def test_curves_without_regimes_draw_no_strip(ds):
 
 def test_orbit_draws_the_chosen_history(ds):
     d = ds["event"]
-    for sel, k in ((["history=1"], 1), ([], 0), (["frequency_ratio=0.45"], 0), (["force_ratio=0.25"], 1),
+    for sel, k in ((["history_point=1"], 1), ([], 0), (["frequency_ratio=0.45"], 0), (["force_ratio=0.25"], 1),
                    (["frequency_ratio=1.4", "force_ratio=0.3"], 1)):
         fig = quicklook.draw(d, "orbit", sel)
         ax, plane = fig.axes
@@ -517,7 +517,7 @@ def test_orbit_in_seconds_and_metres_where_the_cube_holds_them(ds):
     d = ds["rig"]
     natural = math.sqrt(STIFFNESS / MASS) / (2.0 * math.pi)  # f_n [Hz]
     for k in (0, 1):
-        fig = quicklook.draw(d, "orbit", [f"history={k}"])
+        fig = quicklook.draw(d, "orbit", [f"history_point={k}"])
         ax, plane = fig.axes
         t = d["history_time"].values[k]
         ok = np.isfinite(t)
@@ -540,7 +540,7 @@ def test_orbit_in_seconds_and_metres_where_the_cube_holds_them(ds):
 
 def test_orbit_of_a_force_draws_the_force_on_its_own_axis(ds):
     d = ds["force_event"]
-    fig = quicklook.draw(d, "orbit", ["history=0"])
+    fig = quicklook.draw(d, "orbit", ["history_point=0"])
     ax, plane, twin = fig.axes
     assert ax.get_ylabel() == "displacement $x/(F_0/k)$" and twin.get_ylabel() == "force $F/F_0$"
     np.testing.assert_array_equal(line(twin, "history_excitation").get_ydata(),
@@ -560,10 +560,10 @@ def test_orbit_of_a_force_draws_the_force_on_its_own_axis(ds):
     ("curves", ["force_ratio=nan"], "must be finite"),
     ("curves", ["frequency_ratio=1"], "does not apply to --kind curves (it applies to force_ratio)"),
     ("map", ["force_ratio=0.2"], "does not apply to --kind map (it draws the whole cube)"),
-    ("orbit", ["history=1.5"], "is not a whole number"),
-    ("orbit", ["history=3"], "the cube holds histories 0..2"),
-    ("orbit", ["history=2"], "history 2 (r = 1, beta = 0.2, unbounded) holds no steady orbit"),
-    ("orbit", ["history=0", "force_ratio=0.2"], "picks the orbit by itself"),
+    ("orbit", ["history_point=1.5"], "is not a whole number"),
+    ("orbit", ["history_point=3"], "the cube holds histories 0..2"),
+    ("orbit", ["history_point=2"], "history 2 (r = 1, beta = 0.2, unbounded) holds no steady orbit"),
+    ("orbit", ["history_point=0", "force_ratio=0.2"], "picks the orbit by itself"),
     ("orbit", ["force_ratio=0.2", "force_ratio=0.6"], "draws one orbit"),
 ])
 def test_bad_selections_are_refused(ds, kind, sel, words):

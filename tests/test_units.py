@@ -310,8 +310,8 @@ def test_the_cube_carries_physical_coordinates_and_variables_with_cf_units(tmp_p
     np.testing.assert_array_equal(ds["peak_displacement"].values, ds["peak_transmissibility"].values * 1e-3)
     # time in seconds: one forcing period of the history point (r = 0.5) lasts 1 / (0.5 f_n)
     f_n = math.sqrt(40_000.0 / 2.0) / TWO_PI
-    t = ds["history_physical_time"].isel(history=0).values
-    np.testing.assert_allclose(t, ds["history_time"].isel(history=0).values / (0.5 * f_n), rtol=1e-14)
+    t = ds["history_physical_time"].isel(history_point=0).values
+    np.testing.assert_allclose(t, ds["history_time"].isel(history_point=0).values / (0.5 * f_n), rtol=1e-14)
     assert ds["history_physical_time"].attrs["units"] == "s"
     # the file reads back as the Dataset the API builds from the same parts
     info = CliRunner().invoke(main, ["info", str(out)])

@@ -68,7 +68,7 @@ class Problem:
 
 #: every coordinate a cube may have: the grid's, the physical ones of a spec with a system, the scalar ones
 #: (the scene's effects, the system's constants)
-_COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS, **schema.SCALAR_COORDS}
+_COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS, **schema.SCALAR_COORDS, **schema.HISTORY_COORDS}
 
 
 def provenance(ds: xr.Dataset) -> list[Problem]:
@@ -196,7 +196,8 @@ def _values(ds, name, var, spec) -> list[Problem]:
     if spec.integral and floating:
         with np.errstate(invalid="ignore"):
             report(finite & ~outside & (values != np.round(values)), "are not whole numbers")
-    if is_coord and values.ndim == 1 and values.size > 1:
+    if is_coord and values.ndim == 1 and values.size > 1 and name not in schema.HISTORY_COORDS:
+        # (the time-history points lie where the spec lists them, in its order)
         # among values that are numbers (a NaN is reported above, once)
         known = ~np.isnan(values) if floating else np.ones(values.shape, dtype=bool)
         with np.errstate(invalid="ignore"):
@@ -233,7 +234,7 @@ def _range(lo: float, hi: float) -> str:
 
 def _location(p: Problem) -> str:
     """ " at frequency_ratio=..., force_ratio=..." ((r, beta), as points are named elsewhere), or
-    " at history[i], sample[j]" on dims without coordinates."""
+    " at history_point[i], sample[j]" on dims without coordinates."""
     named = dict(p.where)
     dims_text = []
     for dim, i in sorted(zip(p.dims, p.index, strict=True), key=lambda d: d[0] != "frequency_ratio"):

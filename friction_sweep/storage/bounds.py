@@ -14,7 +14,7 @@ variable's values in an external file (a FIFO there blocks the reader forever), 
   than a cube can hold (MAX_DATASETS), or more bytes in all than MAX_CUBE_BYTES;
 * a dataset that declares values it does not store: every variable a run writes is written whole, so
   its allocated storage holds all its bytes (compressed: some bytes); only the netCDF dimension scales
-  of dims without a coordinate (history, sample) are left unwritten, as netCDF itself does;
+  of dims without a coordinate (history_point, sample) are left unwritten, as netCDF itself does;
 * compressed (filtered) datasets that would expand to more than MAX_COMPRESSION times the file's size
   (plus COMPRESSION_SLACK; a 982 kB file expanded to 555 MB): what a reader loads stays a small multiple
   of the file's size;
@@ -31,16 +31,17 @@ import numpy as np
 
 from friction_sweep.spec.grid import MAX_POINTS
 from friction_sweep.spec.model import MAX_HISTORY_SAMPLES
-from friction_sweep.storage.schema import COORDS, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES
+from friction_sweep.storage.schema import COORDS, HISTORY_COORDS, HISTORY_DIM, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES
 
 #: the most values one array of a cube holds: its grid's points, or a time history's samples
 MAX_VALUES = max(MAX_POINTS, MAX_HISTORY_SAMPLES)
 #: every variable and coordinate the schema knows, and a dimension scale for each dim it names
-MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + 8
+MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + len(HISTORY_COORDS) + 8
 #: the largest cube a run can write: every schema variable at its largest (grid variables at MAX_POINTS
 #: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
-MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if "history" in v.dims else MAX_POINTS)
-                     for v in (*VARIABLES.values(), *COORDS.values(), *PHYSICAL_COORDS.values()))
+MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if HISTORY_DIM in v.dims else MAX_POINTS)
+                     for v in (*VARIABLES.values(), *COORDS.values(), *PHYSICAL_COORDS.values(),
+                               *HISTORY_COORDS.values()))
 #: the most bytes a file's compressed (filtered) variables may expand to per byte of the file. fsweep writes
 #: its cubes compressed (storage.encoding), a few times smaller than their values (the paper's planes 3-4
 #: times: a grid's varied floats barely compress, its flags and constant variables do), so a reader loads at

@@ -26,7 +26,17 @@ from friction_sweep.printable import escape
 from friction_sweep.storage import atomic, provenance
 from friction_sweep.storage.encoding import COMPRESSION, encoding, h5netcdf_options
 from friction_sweep.storage.outputs import file_kind
-from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES, cube_dims
+from friction_sweep.storage.schema import (
+    CONVENTIONS,
+    COORDS,
+    HISTORY_COORDS,
+    HISTORY_DIM,
+    LEGACY_HISTORY_DIM,
+    PHYSICAL_COORDS,
+    SCALAR_COORDS,
+    VARIABLES,
+    cube_dims,
+)
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -49,7 +59,8 @@ def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, t
     """The given arrays, each labelled and given CF attributes from the schema table; `physical`: the
     physical coordinates (storage.physical) beside the grid's; `physical_dims`: a cube at constant base
     acceleration, whose dims are the physical coordinates (schema.cube_dims); `scalars`: the scalar
-    coordinates (schema.SCALAR_COORDS: the scene's effects, the system's constants) by name."""
+    coordinates (schema.SCALAR_COORDS: the scene's effects, the system's constants) by name. The arrays
+    named in schema.HISTORY_COORDS (where each time history lies) become coordinates on its dim."""
     coords: Entries = {}
     for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio),
                          *(physical or {}).items(), *(scalars or {}).items()):
@@ -58,9 +69,10 @@ def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, t
         coords[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     data_vars: Entries = {}
     for name, values in arrays.items():
-        var = VARIABLES[name]  # KeyError here means a method produced an undeclared variable
+        var = HISTORY_COORDS.get(name) or VARIABLES[name]  # KeyError: a method produced an undeclared variable
         dims = cube_dims(name, var.dims, physical_dims)
-        data_vars[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+        (coords if name in HISTORY_COORDS else data_vars)[name] = (dims, np.asarray(values, dtype=var.dtype),
+                                                                   var.attrs(excitation))
     return CubeParts(coords, data_vars, {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
 
 
@@ -166,12 +178,23 @@ class UnsoundCube(FsweepError):
         super().__init__(f"{escape(path)}: {problems[0]}{more}")
 
 
+def legacy_names(ds: xr.Dataset) -> xr.Dataset:
+    """`ds` with a cube's names from before issue 33 mapped to today's: the time-history dim `history`
+    (which shadowed the CF global attribute `history`) is schema.HISTORY_DIM, and the histories' frequency and
+    force ratios, then data variables, are coordinates on it. A cube of today's names is returned as it is."""
+    if LEGACY_HISTORY_DIM not in ds.dims or HISTORY_DIM in ds.dims:
+        return ds
+    ds = ds.rename_dims({LEGACY_HISTORY_DIM: HISTORY_DIM})
+    return ds.set_coords([name for name in HISTORY_COORDS if name in ds.data_vars])
+
+
 def open_cube(path) -> xr.Dataset:
     """The result cube at `path`, loaded into memory (the file closed), audited: the one reader of
     `fsweep info`, `check`, `plot` and the Python API. FsweepError where `path` is not a regular file or
     cannot be read, the file is one no reader may load (storage.bounds: checked on its metadata before a
     value is read), it is not a friction_sweep cube, and UnsoundCube where it holds values or provenance
-    attributes no run writes (storage.audit, storage.attributes)."""
+    attributes no run writes (storage.audit, storage.attributes). A cube written before issue 33 is read
+    with today's names (legacy_names)."""
     import h5py
     import xarray as xr
 
@@ -198,7 +221,8 @@ def open_cube(path) -> xr.Dataset:
             fh.seek(0)
             # phony_dims: a dataset without dimension scales gets named dims (the audit refuses them) quietly
             with xr.open_dataset(fh, engine=ENGINE, phony_dims="access") as ds:
-                ds = with_encoding(ds.load())  # the file's own (an older cube's: uncompressed) is not handed on
+                ds = with_encoding(legacy_names(ds.load()))  # the file's own encoding (an older cube's:
+                # uncompressed) is not handed on
         except bounds.Refused as err:
             raise FsweepError(f"{shown} is not a cube fsweep reads: {escape(err)}") from None
         except Exception as err:  # any reader failure means: not a cube we can read
@@ -214,5 +238,5 @@ def open_cube(path) -> xr.Dataset:
 
 
 __all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "with_encoding",
-           "netcdf_bytes",
+           "netcdf_bytes", "legacy_names",
            "write_atomic", "open_cube", "provenance"]

@@ -19,8 +19,18 @@ GRID_DIMS = ("force_ratio", "frequency_ratio")
 #: the dims of a cube at constant base acceleration (spec/system.py): the physical axes, since beta grows
 #: with f^2 along the sweep; frequency_ratio is then a coordinate on `frequency`, force_ratio a 2-D one
 ACCELERATION_DIMS = {"force_ratio": "friction_force", "frequency_ratio": "frequency"}
-HISTORY_DIMS = ("history", "sample")
+#: the dim of the time-history points (outputs: time_history): not `history`, which would shadow the CF
+#: global attribute of that name (`ds.history` would be the dim's coordinate, not the provenance line);
+#: not `orbit`, since an unbounded or unsettled point's history holds no orbit
+HISTORY_DIM = "history_point"
+#: the name a cube written before issue 33 gave that dim (storage.cube.open_cube maps it)
+LEGACY_HISTORY_DIM = "history"
+HISTORY_DIMS = (HISTORY_DIM, "sample")
 CONVENTIONS = "CF-1.10"
+#: No variable has a CF standard_name or axis. The standard-name table holds none of these quantities but
+#: `time`, which CF then wants in units "since an epoch" (a history's time is elapsed from a section), and
+#: axis X/Y/Z mark space (the CF checker then asks for latitude/longitude units). tests/test_names.py runs
+#: the checker on every kind of cube.
 
 
 # Valid values (friction_sweep.storage.audit checks a cube against them, for `fsweep info` to refuse a cube
@@ -74,12 +84,18 @@ class Variable:
     valid_range: tuple[float, float] | None = None
     #: the valid values are whole numbers
     integral: bool = False
+    #: what the short `long_name` leaves out (cases, definitions, conventions): CF `comment`. A long_name is
+    #: one line of at most ~60 characters, since xarray labels a plot's axis "long_name [units]"
+    comment: str = ""
 
     def attrs(self, excitation: str) -> dict:
         force, energy = _force_energy_references(excitation)
-        attrs = {"long_name": self.long_name.format(ref=_reference(excitation), force_ref=force, energy_ref=energy),
-                 "units": self.units}
+        refs = {"ref": _reference(excitation), "force_ref": force, "energy_ref": energy}
+        attrs = {"long_name": self.long_name.format(**refs), "units": self.units}
         attrs.update(self.extra)
+        comment = "; ".join(c for c in (self.comment.format(**refs), self.extra.get("comment", "")) if c)
+        if comment:
+            attrs["comment"] = comment
         return attrs
 
     @property
@@ -108,9 +124,10 @@ COORDS = {
     "force_ratio": Variable(
         ("force_ratio",),
         np.float64,
-        "force ratio beta = friction force / amplitude of the spring or external force",
+        "force ratio beta = F_mu / ({force_ref})",
         "1",
         valid_range=NONNEGATIVE,
+        comment="friction force over the amplitude of the spring force (k Y) or of the external force (F0)",
     ),
 }
 
@@ -121,6 +138,16 @@ PHYSICAL_COORDS = {
     "friction_force": Variable(("force_ratio",), np.float64, "friction force F_mu = beta F_k", "N",
                                valid_range=NONNEGATIVE),
 }
+
+#: coordinates on the time-history points' dim: where each history lies (a method writes them beside the
+#: history_* variables)
+HISTORY_COORDS = {
+    "history_frequency_ratio": Variable((HISTORY_DIM,), np.float64, "frequency ratio r of the time-history point",
+                                        "1", valid_range=POSITIVE),
+    "history_force_ratio": Variable((HISTORY_DIM,), np.float64, "force ratio beta of the time-history point", "1",
+                                    valid_range=NONNEGATIVE),
+}
+
 
 def _effect(name: str, long_name: str) -> Variable:
     """An effect's scalar coordinate: its value, in the range the catalogue gives it."""
@@ -151,18 +178,19 @@ VARIABLES = {
     "transmissibility": Variable(
         GRID_DIMS,
         np.float64,
-        "first-harmonic displacement transmissibility |X(r)|/|Y(r)| (response amplitude at the "
-        "forcing frequency over {ref})",
+        "first-harmonic transmissibility |X| / {ref}",
         "1",
         valid_range=AMPLITUDE_VALID,
+        comment="displacement transmissibility |X(r)|/|Y(r)|: the response's amplitude at the forcing frequency "
+        "over {ref}",
     ),
     "peak_transmissibility": Variable(
-        GRID_DIMS, np.float64, "peak displacement transmissibility max|x| / {ref}", "1", valid_range=AMPLITUDE_VALID
+        GRID_DIMS, np.float64, "peak transmissibility max|x| / {ref}", "1", valid_range=AMPLITUDE_VALID
     ),
     "phase": Variable(
         GRID_DIMS,
         np.float64,
-        "first-harmonic phase lag of the response behind the excitation",
+        "first-harmonic phase lag of the response",
         "degree",
         _PHASE_NOTE,
         valid_range=PHASE_VALID,
@@ -170,7 +198,7 @@ VARIABLES = {
     "peak_phase": Variable(
         GRID_DIMS,
         np.float64,
-        "phase lag between the maxima of excitation and response",
+        "phase lag between the maxima",
         "degree",
         _PHASE_NOTE,
         valid_range=PHASE_VALID,
@@ -185,45 +213,49 @@ VARIABLES = {
     "stops_per_period": Variable(
         GRID_DIMS,
         np.float64,
-        "number of stops (slip to stick transitions) per forcing period; NaN where unknown",
+        "stops per forcing period",
         "1",
         valid_range=COUNT_VALID,  # not whole: a period-k orbit averages its stops over k periods
+        comment="number of stops (slip to stick transitions) per forcing period; NaN where unknown",
     ),
     "slips_per_period": Variable(
         GRID_DIMS,
         np.float64,
-        "slips of the contact's slider per forcing period (effect contact_stiffness: a reversal is a slip, a "
-        "short stick and a slip the other way); NaN without friction",
+        "slider slips per forcing period",
         "1",
         valid_range=COUNT_VALID,
+        comment="slips of the contact's slider per forcing period (effect contact_stiffness: a reversal is a "
+        "slip, a short stick and a slip the other way); NaN without friction",
     ),
     "floquet_multiplier": Variable(
         GRID_DIMS,
         np.float64,
-        "output stability: largest modulus among the multipliers of the steady orbit's period map over its "
+        "largest Floquet multiplier of the steady orbit",
+        "1",
+        valid_range=NONNEGATIVE,
+        comment="output stability: largest modulus among the multipliers of the steady orbit's period map over its "
         "orbit_period periods (below 1: attracting); NaN where undefined: at rest (regime stuck, or a Jenkins "
         "slider that never slips: a continuum of rest states), on the r = 1/(2n) family (steady_state family), "
         "without a periodic steady state (regime unbounded or unsettled, steady_state aperiodic), and where the "
         "period map is not smooth at the orbit (a grazing stop or band exit, a period that starts held by static "
         "friction alone: regime stick_slip or continuous with steady_state converged), and where method auto "
         "took the theory (steady_state not_simulated)",
-        "1",
-        valid_range=NONNEGATIVE,
     ),
     "continuous_limit": Variable(
         ("frequency_ratio",),
         np.float64,
-        "largest force ratio with continuous (non-stop) motion, Den Hartog's beta*(r) in the "
-        "scene's force-ratio convention",
+        "continuous-motion limit beta*(r)",
         "1",
         valid_range=NONNEGATIVE,
+        comment="largest force ratio with continuous (non-stop) motion, Den Hartog's beta*(r) in the scene's "
+        "force-ratio convention",
     ),
-    "stuck_fraction": Variable(GRID_DIMS, np.float64, "fraction of the steady-state period spent stuck", "1",
+    "stuck_fraction": Variable(GRID_DIMS, np.float64, "fraction of the period spent stuck", "1",
+                               comment="fraction of the steady-state period spent stuck",
                                valid_range=FRACTION_VALID),
-    "periods": Variable(GRID_DIMS, np.float64,
-                        "forcing periods integrated for the point, all told: marched, shooting's evaluations, measured",
-                        "1",
-                        valid_range=COUNT_VALID),  # not whole: method paper records where a failed solve stopped
+    "periods": Variable(GRID_DIMS, np.float64, "forcing periods integrated for the point", "1",
+                        valid_range=COUNT_VALID,  # not whole: method paper records where a failed solve stopped
+                        comment="all told: marched, shooting's evaluations, measured"),
     "steady_state": Variable(
         GRID_DIMS,
         np.int8,
@@ -232,17 +264,19 @@ VARIABLES = {
         codes.flags(SteadyState),
     ),
     "orbit_period": Variable(
-        GRID_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, k subharmonic)", "1",
-        valid_range=(1.0, COUNT_MAX), integral=True,
+        GRID_DIMS, np.float64, "period of the steady orbit in forcing periods", "1",
+        valid_range=(1.0, COUNT_MAX), integral=True, comment="1: harmonic, k: subharmonic",
     ),
     # design quantities (docs/equations.md §6, "Energy balance" and "Transmitted force")
     "friction_energy": Variable(
-        GRID_DIMS, np.float64, "energy dissipated by friction per forcing period (friction force x sliding "
-        "distance) / ({energy_ref}); 0 when stuck, NaN without a steady state", "1", valid_range=NONNEGATIVE,
+        GRID_DIMS, np.float64, "friction energy per forcing period / ({energy_ref})", "1", valid_range=NONNEGATIVE,
+        comment="energy dissipated by friction per forcing period (friction force x sliding distance) / "
+        "({energy_ref}); 0 when stuck, NaN without a steady state",
     ),
     "transmitted_force": Variable(
-        GRID_DIMS, np.float64, "first-harmonic amplitude of the force that spring, friction and dashpot together "
-        "exert on the supports / ({force_ref})", "1", valid_range=NONNEGATIVE,
+        GRID_DIMS, np.float64, "force transmitted to the supports / ({force_ref})", "1", valid_range=NONNEGATIVE,
+        comment="first-harmonic amplitude of the force that spring, friction and dashpot together exert on the "
+        "supports / ({force_ref})",
     ),
     "method_used": Variable(
         GRID_DIMS,
@@ -252,14 +286,10 @@ VARIABLES = {
         codes.flags(MethodUsed),
     ),
     # time histories of selected points (outputs: time_history), on their own dims
-    "history_frequency_ratio": Variable(("history",), np.float64, "frequency ratio of the time-history point", "1",
-                                        valid_range=POSITIVE),
-    "history_force_ratio": Variable(("history",), np.float64, "force ratio of the time-history point", "1",
-                                    valid_range=NONNEGATIVE),
-    "history_orbit_period": Variable(("history",), np.float64, "period of the stored orbit in forcing periods", "1",
+    "history_orbit_period": Variable((HISTORY_DIM,), np.float64, "period of the stored orbit in forcing periods", "1",
                                      valid_range=COUNT_VALID, integral=True),  # 0: no steady state
     "history_regime": Variable(
-        ("history",),
+        (HISTORY_DIM,),
         np.int8,
         "motion regime of the time-history point",
         "1",
@@ -273,12 +303,12 @@ VARIABLES = {
                                    "excitation (force or base displacement) / its amplitude", "1",
                                    valid_range=(-1.0, 1.0)),
     "history_relative_displacement": Variable(
-        HISTORY_DIMS, np.float64, "displacement in the equation of motion (x; z = x - y for joined) / {ref}", "1",
-        valid_range=DISPLACEMENT_VALID,
+        HISTORY_DIMS, np.float64, "displacement in the equation of motion / {ref}", "1",
+        valid_range=DISPLACEMENT_VALID, comment="x; z = x - y for joined",
     ),
     "history_relative_velocity": Variable(
-        HISTORY_DIMS, np.float64, "velocity in the equation of motion, in {ref} per 1/omega_n", "1",
-        valid_range=DISPLACEMENT_VALID,
+        HISTORY_DIMS, np.float64, "velocity in the equation of motion / ({ref} omega_n)", "1",
+        valid_range=DISPLACEMENT_VALID, comment="dx/dt; dz/dt for joined; in {ref} per 1/omega_n",
     ),
     # joined base-wall excitation only: the relative motion z = x - y (paper Sect. 4)
     "relative_peak_amplitude": Variable(
@@ -288,7 +318,7 @@ VARIABLES = {
     "relative_peak_phase": Variable(
         GRID_DIMS,
         np.float64,
-        "phase lag phi_yz of the relative motion z behind the base motion y, between maxima (Eq. 33)",
+        "phase lag phi_yz of z behind y, between maxima",
         "degree",
         _PHASE_NOTE,
         valid_range=PHASE_VALID,
@@ -296,7 +326,7 @@ VARIABLES = {
     "peak_phase_xz": Variable(
         GRID_DIMS,
         np.float64,
-        "phase lag phi_xz of the relative motion z behind the absolute motion x, between maxima (Eq. 43)",
+        "phase lag phi_xz of z behind x, between maxima",
         "degree",
         _PHASE_NOTE,
         valid_range=PHASE_VALID,
@@ -306,14 +336,15 @@ VARIABLES = {
 #: physical variables: each a dimensionless one times the length scale L (Y, or F0/k for force) or, for time,
 #: forcing periods over the frequency (storage/physical.py says which)
 VARIABLES.update({
-    "displacement_amplitude": Variable(GRID_DIMS, np.float64, "first-harmonic displacement amplitude |X| "
-                                       "(transmissibility times {ref})", "m", valid_range=(0.0, math.inf)),
-    "peak_displacement": Variable(GRID_DIMS, np.float64, "peak displacement max|x| (peak transmissibility times "
-                                  "{ref})", "m", valid_range=(0.0, math.inf)),
-    "dissipated_energy": Variable(GRID_DIMS, np.float64, "energy dissipated by friction per forcing period "
-                                  "(friction_energy times {energy_ref})", "J", valid_range=NONNEGATIVE),
-    "force_amplitude": Variable(GRID_DIMS, np.float64, "first-harmonic amplitude of the force transmitted to the "
-                                "supports (transmitted_force times {force_ref})", "N", valid_range=NONNEGATIVE),
+    "displacement_amplitude": Variable(GRID_DIMS, np.float64, "first-harmonic displacement amplitude |X|", "m",
+                                       valid_range=(0.0, math.inf), comment="transmissibility times {ref}"),
+    "peak_displacement": Variable(GRID_DIMS, np.float64, "peak displacement max|x|", "m",
+                                  valid_range=(0.0, math.inf), comment="peak_transmissibility times {ref}"),
+    "dissipated_energy": Variable(GRID_DIMS, np.float64, "energy dissipated by friction per period", "J",
+                                  valid_range=NONNEGATIVE, comment="friction_energy times {energy_ref}"),
+    "force_amplitude": Variable(GRID_DIMS, np.float64, "force transmitted to the supports", "N",
+                                valid_range=NONNEGATIVE,
+                                comment="first-harmonic amplitude; transmitted_force times {force_ref}"),
     "history_physical_time": Variable(HISTORY_DIMS, np.float64, "time from a steady-state section", "s",
                                       valid_range=NONNEGATIVE),
     "history_physical_displacement": Variable(HISTORY_DIMS, np.float64, "response displacement x", "m",
@@ -332,15 +363,16 @@ STATE_VARIABLES = ("transmissibility", "peak_transmissibility", "phase", "peak_p
 for _name in STATE_VARIABLES:
     _v = VARIABLES[_name]
     VARIABLES[_name + MOVING_SUFFIX] = replace(
-        _v, long_name=_v.long_name + ", of the state reached from a moving start (the orbit kinetic friction "
-        "alone sustains)")
+        _v, long_name=_v.long_name + ", moving start",
+        comment="; ".join(c for c in ("of the state reached from a moving start (the orbit kinetic friction alone "
+                                      "sustains)", _v.comment) if c))
 VARIABLES["steady_states"] = Variable(
     GRID_DIMS,
     np.int8,
-    "number of distinct steady states reached from the starts (rest, moving): a lower bound",
+    "number of distinct steady states (a lower bound)",
     "1",
-    {"comment": "two states are one when both are stuck, both unbounded, both aperiodic, or both move with "
-     "the same regime and stops per period and first-harmonic transmissibilities within 1e-5 relative; "
-     "an unsettled result counts as no state"},
+    {"comment": "reached from the starts (rest, moving); two states are one when both are stuck, both unbounded, "
+     "both aperiodic, or both move with the same regime and stops per period and first-harmonic "
+     "transmissibilities within 1e-5 relative; an unsettled result counts as no state"},
     valid_range=(0.0, 2.0),  # two starts at most
 )
