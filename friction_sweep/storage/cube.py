@@ -22,7 +22,15 @@ from friction_sweep.errors import FsweepError
 from friction_sweep.printable import escape
 from friction_sweep.storage import atomic, provenance
 from friction_sweep.storage.outputs import file_kind
-from friction_sweep.storage.schema import CONVENTIONS, COORDS, PHYSICAL_COORDS, VARIABLES, cube_dims
+from friction_sweep.storage.schema import (
+    CONVENTIONS,
+    COORDS,
+    PHYSICAL_COORDS,
+    STRUCTURE_COORDS,
+    STRUCTURE_VARIABLES,
+    VARIABLES,
+    cube_dims,
+)
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -56,6 +64,21 @@ def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, t
         dims = cube_dims(name, var.dims, physical_dims)
         data_vars[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     return CubeParts(coords, data_vars, {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
+
+
+def structure_cube_parts(arrays: dict, *, coords: dict, excitation: str, title: str, attrs: dict,
+                         history: str) -> CubeParts:
+    """A structure cube's parts: `coords` (friction_scale, frequency, dof, contact) and `arrays` labelled and
+    given CF attributes from the schema's structure table (schema.STRUCTURE_VARIABLES)."""
+    labelled: list[Entries] = []
+    for table, given in ((STRUCTURE_COORDS, coords), (STRUCTURE_VARIABLES, arrays)):
+        entries: Entries = {}
+        for name, values in given.items():
+            var = table[name]  # KeyError here means an undeclared variable
+            entries[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+        labelled.append(entries)
+    return CubeParts(labelled[0], labelled[1],
+                     {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
 
 
 def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
@@ -188,5 +211,5 @@ def open_cube(path) -> xr.Dataset:
     return ds
 
 
-__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "netcdf_bytes",
-           "write_atomic", "open_cube", "provenance"]
+__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "structure_cube_parts", "build_dataset", "as_dataset",
+           "netcdf_bytes", "write_atomic", "open_cube", "provenance"]
