@@ -76,6 +76,8 @@ WORKER_START_SECONDS = {"processes": 0.2, "dask": 2.5}
 #: seconds to compile a family of kernels that numba's cache does not hold (first run of a version):
 #: CPU seconds of the first call with an empty NUMBA_CACHE_DIR, on the 2-core reference machine
 COMPILE_SECONDS = {"steady": 26.0, "jenkins_steady": 59.0}
+#: a point of a 2-mass structure with one contact (structure_point_seconds scales it)
+STRUCTURE_POINT_SECONDS = 1e-4
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
@@ -161,6 +163,10 @@ def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, sc
     """The cost of running `spec` with `jobs` workers on `executor` (dask: on a LocalCluster, or on
     `scheduler`), with the run's `settings` (those `accuracy:` chose included; default: the spec's).
     cache: look at numba's cache for the kernels the run calls (False: count them as compiled)."""
+    from friction_sweep.spec.structure import StructureSpec
+
+    if isinstance(spec, StructureSpec):
+        return _structure_estimate(spec, settings, jobs=jobs, executor=executor, scheduler=scheduler)
     r, n_beta = spec.frequency_ratio, spec.force_count
     knobs = {**METHODS[spec.method].defaults, **(spec.settings if settings is None else settings)}
     joined = spec.scene.excitation == "joined"
@@ -196,6 +202,31 @@ def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, sc
                     bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * solves + history,
                     workers=n_workers, compile=compiling, jobs=jobs,
                     why_fewer=capped(executor, jobs, n_workers, len(parts), scheduler))
+
+
+def structure_point_seconds(n: int, m: int) -> float:
+    """Typical seconds of one point of a structure of n masses and m contacts (the engine's flow works on
+    states of 2n + 3: its matrix products grow like n^3, its events like m)."""
+    return STRUCTURE_POINT_SECONDS * max(1.0, (n / 2.0) ** 3) * max(1.0, m / 1.0)
+
+
+def _structure_estimate(spec, settings: dict | None, *, jobs: int, executor: str, scheduler: str | None) -> Estimate:
+    """The cost of a structure spec (spec.structure): its points at structure_point_seconds, a worst case of
+    work_budget events a point, tiles of frequencies by every friction scale."""
+    n, m = len(spec.structure.masses), len(spec.structure.contacts)
+    knobs = {**METHODS["event"].defaults, **(spec.settings if settings is None else settings)}
+    n_f, n_s = spec.frequency.size, spec.friction_scale.size
+    points = n_f * n_s
+    n_tiles = len(layout(n_f, n_s))
+    serial = KERNEL_LOAD_SECONDS + points * structure_point_seconds(n, m)
+    worst = serial + points * 0.3e-6 * knobs["work_budget"] * max(1.0, (n / 2.0) ** 2)
+    n_workers = local_workers(executor, jobs, n_tiles, scheduler)
+    own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)
+    processes = n_workers if own else 0
+    start = processes * WORKER_START_SECONDS.get(executor, 0.0) / min(max(processes, 1), cores())
+    return Estimate(points=points, seconds=serial / n_workers + start, worst=worst / n_workers + start,
+                    bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * (n + m),
+                    workers=n_workers, jobs=jobs, why_fewer=capped(executor, jobs, n_workers, n_tiles, scheduler))
 
 
 def _two_starts(spec, knobs: dict) -> bool:
