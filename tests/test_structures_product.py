@@ -114,6 +114,12 @@ def test_the_cube_is_the_same_whatever_the_executor(cube, spec_file, jobs, execu
     _same(fs.sweep(spec_file, jobs=jobs, executor=executor), cube)
 
 
+@pytest.mark.slow
+def test_the_cube_is_the_same_on_dask(cube, spec_file):
+    pytest.importorskip("dask.distributed")
+    _same(fs.sweep(spec_file, jobs=2, executor="dask"), cube)
+
+
 def test_run_writes_the_cube_the_api_returns_and_info_shows_the_structure(cube, spec_file, tmp_path):
     runner = CliRunner()
     with in_dir(tmp_path):
