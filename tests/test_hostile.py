@@ -488,6 +488,9 @@ output: out.h5
 STRUCTURE_BASE = STRUCTURE.replace("{excitation: force}", "{excitation: base}").replace("  forcing: {blade: 1.0}\n",
                                                                                         "  base_amplitude: 0.5\n")
 
+#: the same on a small plane (4 x 8 points), for cubes
+SMALL_STRUCTURE = STRUCTURE.replace("num: 561", "num: 8")
+
 
 def _structure(*edits: tuple[str, str], base: bool = False) -> str:
     text = STRUCTURE_BASE if base else STRUCTURE
@@ -1183,6 +1186,21 @@ CASES = [
                     words=("unknown setting 'starts' for a structure",)),
     Case("structure: validate refuses as run does", _structure(("damper: 0.1}", "damper: 0}")),
          args=("validate", "{spec}"), words=("spec.yaml:3:32: structure.masses.damper: a mass must be > 0",)),
+    # a structure cube: audited against its own table; the commands that read 1-DoF cubes refuse it
+    *(Case(f"structure: {command} a structure cube", SMALL_STRUCTURE, args=(command, "{d}/c.h5"), setup=hc.sound,
+           words=(f"c.h5 is a structure cube (several masses and contacts): fsweep {command} reads the 1-DoF cubes",),
+           absent=("c.png",)) for command in ("check", "plot")),
+    Case("structure: info on a regime code no run writes", SMALL_STRUCTURE, args=("info", "{d}/c.h5"),
+         setup=hc.value("regime", (0, 1, 1), 9),
+         words=("regime: 1 of 64 values are not valid regime codes (e.g. 9 at friction_scale=0.25, frequency=0.6, "
+                "contact=root)",)),
+    Case("structure: info on a negative amplitude", SMALL_STRUCTURE, args=("info", "{d}/c.h5"),
+         setup=hc.value("amplitude", (1, 0, 0), -1.0), words=("amplitude: 1 of 64 values lie outside the valid range",)),
+    Case("structure: info on a mass named twice", SMALL_STRUCTURE, args=("info", "{d}/c.h5"),
+         setup=hc.value("dof", 1, "blade"), words=("dof: names one entry twice",)),
+    Case("structure: info on a structure nested 100 deep", SMALL_STRUCTURE, args=("info", "{d}/c.h5"),
+         setup=hc.edited(lambda f: f.attrs.update(structure="[" * 100 + "]" * 100)),
+         words=("attribute structure nests deeper than 8 levels",)),
 ]
 
 
