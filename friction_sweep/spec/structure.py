@@ -471,4 +471,5 @@ class StructureSpec(_Sourced):
 
 #: the settings a structure run takes: the event method's steady-state search knobs (catalogue: their
 #: defaults and ranges), which the engine reads
-STRUCTURE_SETTINGS = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget")
+STRUCTURE_SETTINGS = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after",
+                      "shoot_every")
