@@ -219,3 +219,18 @@ def test_a_1dof_spec_with_a_numpy_frequency_axis_is_read_as_before():
         spec_of_dict(data)
     assert [(p.key, "a number without a unit" in p.reason) for p in err.value.errors] == \
         [("grid.frequency[0]", True), ("grid.frequency[1]", True)]
+
+
+def test_the_estimate_counts_the_engine_compile_only_where_numba_has_not_cached_it(cube, spec_file, monkeypatch,
+                                                                                    tmp_path):
+    """One compilation serves every structure: after a run (the `cube` fixture) the estimate adds none; with
+    an empty numba cache it adds the engine's measured compile."""
+    from friction_sweep.batch.estimate import COMPILE_SECONDS, STRUCTURE_KERNEL, estimate
+    from friction_sweep.spec import load_spec
+
+    spec = load_spec(spec_file)
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    assert estimate(spec, jobs=1, executor="threads").compile == 0.0
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    cold = estimate(spec, jobs=1, executor="threads")
+    assert cold.compile == COMPILE_SECONDS[STRUCTURE_KERNEL[0]] and cold.seconds > cold.compile
