@@ -234,3 +234,11 @@ def test_the_estimate_counts_the_engine_compile_only_where_numba_has_not_cached_
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
     cold = estimate(spec, jobs=1, executor="threads")
     assert cold.compile == COMPILE_SECONDS[STRUCTURE_KERNEL[0]] and cold.seconds > cold.compile
+
+
+def test_a_base_excited_structure_records_the_base_amplitude():
+    text = SPEC.replace("{excitation: force}", "{excitation: base}").replace(
+        "  forcing: {blade: 1.0}\n", "  base_amplitude: 0.5\n").replace("num: 40", "num: 3")
+    ds = fs.sweep_yaml(text)
+    assert ds.attrs["excitation"] == "base" and json.loads(ds.attrs["structure"])["base_amplitude"] == 0.5
+    assert "forcing" not in text and dict(ds.sizes) == {"friction_scale": 2, "frequency": 3, "dof": 2, "contact": 2}

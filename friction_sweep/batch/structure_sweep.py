@@ -33,7 +33,7 @@ def structure_def(spec: StructureSpec):
                                 static_friction_ratio=c.static_friction_ratio) for c in st.contacts)
     return StructureDef(excitation=spec.scene.excitation, masses=dict(st.masses), springs=tuple(st.springs),
                         dampers=tuple(st.dampers), contacts=contacts, forcing=dict(st.forcing or {}),
-                        base_amplitude=1.0 if st.base_amplitude is None else st.base_amplitude)
+                        base_amplitude=st.base_motion)
 
 
 def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -133,8 +133,7 @@ def structure_attribute(spec: StructureSpec) -> str:
     return json.dumps({
         "masses": st.masses, "springs": [list(e) for e in st.springs], "dampers": [list(e) for e in st.dampers],
         "contacts": [c.model_dump(mode="json") for c in st.contacts], "forcing": st.forcing or {},
-        **({"base_amplitude": 1.0 if st.base_amplitude is None else st.base_amplitude}
-           if spec.scene.excitation == "base" else {}),
+        **({"base_amplitude": st.base_motion} if spec.scene.excitation == "base" else {}),
     })
 
 

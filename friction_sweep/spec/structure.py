@@ -63,6 +63,8 @@ OUTPUT_GROUPS = {
 DEFAULT_OUTPUTS = ("amplitude", "phase", "regime")
 #: a static over kinetic friction ratio: measured ratios are 1-2 (the 1-DoF effect's bounds)
 STATIC_RATIO = (1.0, 100.0)
+#: the base's amplitude where a base excitation gives none (amplitudes are then transmissibilities as they are)
+DEFAULT_BASE_AMPLITUDE = 1.0
 #: the kind of a problem with a mapping's key (a mass's name, a forced mass): located at the key, not its value
 KEY_PROBLEM = "key_problem"
 #: the most masses, and the most contacts, a structure has (a cube's `dof` and `contact` names)
@@ -291,6 +293,11 @@ class Structure(_Model):
                        f"{', '.join(map(repr, moving))} (a rigid-body motion): connect it to ground or base by a "
                        "spring or a contact",
                        ("masses", moving[0]))]
+
+    @property
+    def base_motion(self) -> float:
+        """The base's amplitude under base excitation: as given, else DEFAULT_BASE_AMPLITUDE."""
+        return DEFAULT_BASE_AMPLITUDE if self.base_amplitude is None else self.base_amplitude
 
     def describe(self) -> list[str]:
         """The structure in a few lines (fsweep validate and info)."""
