@@ -11,7 +11,8 @@ that starts at zero):
   unloads at once to +-mu (p jumps), dissipating (mus^2 - mu^2) / (2 kt);
 - a rigid contact that stops, or whose constraint force reaches +-mus, is resolved with every rigid
   contact at zero relative velocity (stuck ones, and slipping ones within stop_tol of zero) together:
-  the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in the issue's tests), the first
+  the present statuses with the switching contact's change are kept where they are consistent
+  (below); otherwise the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in the issue's tests), the first
   consistent one with the most stuck contacts, contacts in lexical order: every stuck force within its
   static band |lambda_j| <= mus_j, every released contact accelerating in its slip direction
   (sig u'' > 0, under kinetic friction), and a contact breaking away slips. Their relative velocities are
@@ -172,9 +173,34 @@ def _project(z, Z, nz, Minv, W, cp, omega, R):
 
 
 @jit
-def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
-    """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way),
-    chosen by enumeration (module docstring); projects z and fills R; False where nothing works."""
+def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L):
+    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): stuck forces
+    beyond their static bands, released contacts not accelerating in their slip direction."""
+    n = W.shape[1]
+    N = z.shape[0]
+    if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
+        return np.inf
+    bad = 0.0
+    for a in range(nz):
+        j = Z[a]
+        if trial[j] == STUCK:
+            bad += max(0.0, abs(L[j] @ z) - cp[j, CP_MUS])
+        else:
+            acc = cp[j, CP_EY] * omega * omega * z[N - 3]
+            for i in range(n):
+                acc += W[j, i] * (A[n + i] @ z)
+            bad += max(0.0, -trial[j] * acc)
+            if trial[j] * acc <= 0.0:
+                bad += 1e-300
+    return bad
+
+
+@jit
+def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
+    """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way;
+    j0 < 0: the start), projecting z and filling R; False where the projection fails. First the present
+    statuses with j0's switch (stuck, or slipping sig0), if consistent; else the enumeration of the module
+    docstring (each trial costs one unit of budget)."""
     m = W.shape[0]
     n = W.shape[1]
     N = z.shape[0]
@@ -192,6 +218,11 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
             Z[nz] = j
             nz += 1
     trial = st.copy()
+    if j0 >= 0:
+        trial[j0] = STUCK if sig0 == 0 else sig0
+        if _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L) == 0.0:
+            st[:] = trial
+            return _project(z, Z, nz, Minv, W, cp, omega, R)
     best = st.copy()
     best_bad = np.inf
     found = False
@@ -212,21 +243,8 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
                 continue
             if sig0 != 0 and trial[j0] != sig0:
                 continue
-            if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
-                continue
-            bad = 0.0
-            for a in range(nz):
-                j = Z[a]
-                if trial[j] == STUCK:
-                    lam = L[j] @ z
-                    bad += max(0.0, abs(lam) - cp[j, CP_MUS])
-                else:
-                    acc = cp[j, CP_EY] * omega * omega * z[N - 3]
-                    for i in range(n):
-                        acc += W[j, i] * (A[n + i] @ z)
-                    bad += max(0.0, -trial[j] * acc)
-                    if trial[j] * acc <= 0.0:
-                        bad += 1e-300
+            budget[0] -= 1
+            bad = _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L)
             if bad == 0.0:
                 best[:] = trial
                 found = True
@@ -234,7 +252,7 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
             if bad < best_bad:
                 best_bad = bad
                 best[:] = trial
-        if found:
+        if found or budget[0] < 0:
             break
     st[:] = best
     return _project(z, Z, nz, Minv, W, cp, omega, R)
@@ -445,7 +463,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     mc[j, MC_HELD] = 0.0
                     mc[j, MC_SIGN] = -old
             else:
-                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R):
+                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
                     return FAILED
         else:
             sig = 1 if fired % 2 == 0 else -1
@@ -466,7 +484,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     mu = cp[j, CP_MU]
                     mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
             else:
-                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R):
+                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
                     return FAILED
         if meas:
             for q in range(m):
