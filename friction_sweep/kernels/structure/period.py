@@ -25,8 +25,9 @@ f-/f+: the fields before and after). A switch where c . f- vanishes (a touch) is
 Measurement (meas): the first harmonic of every x_i by 8-point Gauss-Legendre quadrature on each step
 (exact to rounding: the integrand's Taylor series on a step falls like 2^-k / k!), max |x_i| at the
 nodes and at every zero of v_i (refined on its Taylor polynomial), and per contact its stops (rigid:
-slip to stick; Jenkins: a stick during which the relative velocity reverses, the contact holding the
-mass), slips (Jenkins: slider slip phases), stuck time and friction energy (mu x sliding distance, plus
+slip to stick; Jenkins: a stick during which the relative velocity returns to zero, the contact then
+holding the mass, as the 1-DoF Jenkins kernel labels it, without its creep rule yet), slips (Jenkins:
+slider slip phases), stuck time (Jenkins: the time held) and friction energy (mu x sliding distance, plus
 the unloading loss above).
 """
 
@@ -331,12 +332,29 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F)
         if st[j] == INACTIVE:
             continue
         if st[j] == STUCK:
-            mc[j, MC_STUCK] += s
-            if cp[j, CP_KT] > 0.0 and mc[j, MC_HELD] == 0.0:
+            if cp[j, CP_KT] <= 0.0 or mc[j, MC_HELD] == 1.0:
+                mc[j, MC_STUCK] += s
+            else:
+                # a Jenkins stick holds the mass from where u' returns to zero (its sign after the stick
+                # was MC_SIGN); that instant is refined on u's Taylor polynomial over the step
                 u1 = rel_velocity(zend, W, cp, j, n, N, omega)
-                if mc[j, MC_SIGN] != 0.0 and u1 * mc[j, MC_SIGN] > 0.0:
+                if mc[j, MC_SIGN] != 0.0 and u1 * mc[j, MC_SIGN] <= 0.0:
+                    lo = 0.0
+                    hi = s
+                    for _ in range(60):
+                        mid = 0.5 * (lo + hi)
+                        um = 0.0
+                        c = 1.0
+                        for k in range(K1):
+                            um += c * (cp[j, CP_EY] * omega * zk[k, N - 2] + W[j] @ zk[k, n:2 * n])
+                            c *= mid / (k + 1)
+                        if um * mc[j, MC_SIGN] > 0.0:
+                            lo = mid
+                        else:
+                            hi = mid
                     mc[j, MC_HELD] = 1.0
                     mc[j, MC_STOPS] += 1.0
+                    mc[j, MC_STUCK] += s - hi
         else:
             if cp[j, CP_KT] > 0.0:
                 slot = 2 * n + int(cp[j, CP_SLOT])
@@ -460,6 +478,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 st[j] = STUCK
                 R[:, :] = np.eye(N)
                 if meas:
+                    # right after the stick u' has the sign opposite to the slip's (it decelerated to zero)
                     mc[j, MC_HELD] = 0.0
                     mc[j, MC_SIGN] = -old
             else:
