@@ -184,3 +184,15 @@ def test_a_structure_nothing_holds_is_refused():
     d = StructureDef("force", {"a": 1.0, "b": 1.0}, (("a", "b", 1.0),), (), (), {"a": 1.0})
     with pytest.raises(ValueError, match="unrestrained"):
         assemble(d)
+
+
+def test_floquet_multiplier_of_one_mass_is_the_1dof_kernels():
+    """The saltation monodromy's largest multiplier against the 1-DoF event kernel's (its own monodromy)."""
+    a = assemble(one_mass("base", 1.0, zeta=0.05))
+    r = np.array([0.5, 0.9, 1.5, 2.5])
+    beta = np.full(r.size, 0.4)
+    got = solve_points(a, r, beta, outputs=("amplitude", "stability"))
+    ref = event.solve_flat("base", r, beta, _effects(0.05, None, 1.0, "base"), stability=1)
+    np.testing.assert_allclose(got["floquet_multiplier"], ref[:, one_dof.OUT["floquet_multiplier"]], rtol=1e-8)
+    plain = solve_points(a, r, beta)
+    assert np.isnan(plain["floquet_multiplier"]).all()
