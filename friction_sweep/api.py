@@ -36,6 +36,7 @@ from friction_sweep.spec.base import show
 from friction_sweep.spec.errors import SpecProblem
 from friction_sweep.spec.load import MAX_DEPTH, MAX_SPEC_BYTES, KeyPath, format_key, parse_yaml
 from friction_sweep.spec.parse import spec_of_document
+from friction_sweep.spec.structure import StructureSpec
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -44,6 +45,8 @@ if TYPE_CHECKING:
 DICT_SOURCE = "<dict>"
 #: where a dict may hold a numpy array (or a long list of numbers) checked as a whole
 ARRAY_AXES: tuple[KeyPath, ...] = (("grid", "frequency_ratio"), ("grid", "force_ratio"))
+#: the same in a structure spec (a dict with `structure:`), whose grid.frequency is dimensionless
+STRUCTURE_ARRAY_AXES: tuple[KeyPath, ...] = (("grid", "frequency"), ("grid", "friction_scale"))
 
 
 def sweep(spec: str | bytes | os.PathLike | Mapping[str, Any], *, jobs: int = 1,
@@ -69,16 +72,18 @@ def sweep_yaml(text: str, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR) ->
     return run(parse_spec_text(text), jobs=jobs, executor=executor)
 
 
-def run(spec: Spec, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR) -> xr.Dataset:
-    """Run a validated spec and return its cube (FsweepError where `accuracy:` finds no setting)."""
-    from friction_sweep.batch import pipeline
+def run(spec: Spec | StructureSpec, *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR) -> xr.Dataset:
+    """Run a validated spec (1-DoF or structure) and return its cube (FsweepError where `accuracy:` finds no
+    setting)."""
+    from friction_sweep.batch import pipeline, structure_sweep
 
     jobs, executor = run_options(jobs, executor)
-    if not isinstance(spec, Spec):
+    if not isinstance(spec, (Spec, StructureSpec)):
         raise FsweepError(f"run: spec must be a validated Spec (got {_kind(spec)}); fs.sweep takes a path or dict")
+    flow: Any = structure_sweep if isinstance(spec, StructureSpec) else pipeline
     settings, extra = accuracy_settings(spec)
-    arrays = pipeline.compute(spec, settings, jobs=jobs, executor=executor)
-    return pipeline.dataset(spec, arrays, settings, f"friction_sweep.batch({spec.source_path!r})", extra)
+    arrays = flow.compute(spec, settings, jobs=jobs, executor=executor)
+    return flow.dataset(spec, arrays, settings, f"friction_sweep.batch({spec.source_path!r})", extra)
 
 
 def peak(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: str = "transmissibility",
@@ -130,6 +135,9 @@ def _design_problem(spec: Any, variable: Any, r_tol: Any):
     else:
         parsed = load_spec(path_argument(spec, "spec", "a spec file's path (str, bytes or os.PathLike) or a dict"))
     where = parsed.source_path
+    if not isinstance(parsed, Spec):
+        raise FsweepError(f"{where}: structure: the resonance peak and the optimum are built for the 1-DoF "
+                          "scenes; a structure's are not yet")
     if parsed.method not in METHODS:
         raise FsweepError(f"{where}: method: the resonance peak is built on methods {', '.join(METHODS)} "
                           f"(got {parsed.method!r})")
@@ -202,24 +210,29 @@ def _shown(value: Any) -> str:
         return f"a {type(value).__name__}"
 
 
-def accuracy_settings(spec: Spec) -> tuple[dict[str, Any], dict[str, Any]]:
+def accuracy_settings(spec: Spec | StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
     """The run's settings and the attributes recording what `accuracy:` chose; FsweepError if nothing can."""
     from friction_sweep.batch.pipeline import run_settings
 
+    if isinstance(spec, StructureSpec):  # no `accuracy:`: the spec's settings
+        from friction_sweep.batch import structure_sweep
+
+        return structure_sweep.run_settings(spec)
     try:
         return run_settings(spec)
     except LookupError as err:
         raise FsweepError(f"{spec.source_path}: accuracy: {err}") from None
 
 
-def spec_of_dict(data: Mapping[str, Any]) -> Spec:
+def spec_of_dict(data: Mapping[str, Any]) -> Spec | StructureSpec:
     """A spec given as a dict: written as YAML (the cube records that text) and validated as a file is;
     problems carry the dict's keys, not the lines of that text. numpy values become plain numbers; a grid
     axis given as an array (or a long list of numbers) is written into the text as a flow list but
     validated as a whole array (spec/model.py), never through a YAML parser or number by number."""
     arrays: dict[str, np.ndarray] = {}
     budget = [MAX_SPEC_BYTES]
-    plain = _plain(data, (), arrays, budget)
+    axes = STRUCTURE_ARRAY_AXES if "structure" in data else ARRAY_AXES
+    plain = _plain(data, (), arrays, budget, axes)
     text = _dump(plain)
     size = len(text.encode("utf-8", "surrogatepass"))
     if size > MAX_SPEC_BYTES:
@@ -244,7 +257,8 @@ def _too_large(size: int | None) -> str:
             "as numpy arrays at grid.frequency_ratio / grid.force_ratio, or as {start, stop, num})")
 
 
-def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: list[int]) -> Any:
+def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: list[int],
+           axes: tuple[KeyPath, ...] = ARRAY_AXES) -> Any:
     """numpy arrays and scalars as lists and numbers, tuples as lists, keys as they are; an array of numbers
     at a grid axis (ARRAY_AXES) replaced by a marker string (its float64 values in `arrays`). SpecError
     where the dict nests deeper than a spec may (a dict holding itself does) or holds more than a spec
@@ -254,7 +268,7 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
                                "hold itself?)", key=format_key(path[:MAX_DEPTH]))
     if isinstance(value, np.ma.MaskedArray):  # np.asarray would drop the mask: a masked value would be run
         value = _unmasked(value, path)
-    if path in ARRAY_AXES and (array := _number_array(value)) is not None:
+    if path in axes and (array := _number_array(value)) is not None:
         mark = f"fsweep-array-{len(arrays)}-{id(value):x}"
         arrays[mark] = array
         return mark
@@ -264,13 +278,13 @@ def _plain(value: Any, path: KeyPath, arrays: dict[str, np.ndarray], budget: lis
     if budget[0] < 0:
         raise SpecError.single(DICT_SOURCE, _too_large(None))
     if isinstance(value, Mapping):
-        return {k: _plain(v, (*path, str(k)), arrays, budget) for k, v in value.items()}
+        return {k: _plain(v, (*path, str(k)), arrays, budget, axes) for k, v in value.items()}
     if isinstance(value, np.ndarray):
         if 2 * value.size > budget[0]:  # each value at least two bytes of YAML; refused before listing it
             raise SpecError.single(DICT_SOURCE, _too_large(None))
         value = list(value)  # each element a numpy scalar, read as one below
     if isinstance(value, (list, tuple)):
-        return [_plain(v, (*path, i), arrays, budget) for i, v in enumerate(value)]
+        return [_plain(v, (*path, i), arrays, budget, axes) for i, v in enumerate(value)]
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > _MAX_INTEGER_BITS:
         raise SpecError.single(DICT_SOURCE, f"{show(value)} is beyond any number a spec holds (a double holds at "
                                "most 1.8e308)", key=format_key(path))
@@ -344,7 +358,7 @@ def _dump(plain: Any) -> str:
 
 def _put_arrays(data: dict, arrays: dict[str, np.ndarray]) -> None:
     """The marker strings at the grid axes replaced by their arrays."""
-    for parent, name in ARRAY_AXES:
+    for parent, name in (*ARRAY_AXES, *STRUCTURE_ARRAY_AXES):
         holder = data.get(parent)
         if isinstance(holder, dict) and isinstance(holder.get(name), str) and holder[name] in arrays:
             holder[name] = arrays[holder[name]]

@@ -153,6 +153,17 @@ def validate(spec: Path, output: str | None, overwrite: bool, jobs: int, yes: bo
     `fsweep run` with the same options would give, and the settings `accuracy:` chooses."""
     plan = _plan(spec, output, overwrite, resume, jobs, executor, scheduler, yes, for_run=False)
     s, out = plan.spec, plan.out
+    if _is_structure(s):
+        n_s, n_f = s.friction_scale.size, s.frequency.size
+        click.echo(f"{escape(spec)}: ok: structure of {len(s.structure.masses)} masses and "
+                   f"{len(s.structure.contacts)} contacts, excitation {s.scene.excitation}, method {s.method}, "
+                   f"{n_s} friction scales x {n_f} frequencies = {n_s * n_f} points, outputs {', '.join(s.outputs)}, "
+                   f"output {escape(out)}")
+        for line in s.structure.describe():
+            click.echo(f"  {escape(line)}")
+        click.echo(f"  settings: {json.dumps(plan.recorded)}")
+        click.echo(f"  estimate: {plan.cost.describe()}")
+        return
     n_r, n_b = s.frequency_ratio.size, s.force_count
     click.echo(
         f"{escape(spec)}: ok: excitation {s.scene.excitation}, method {s.method}, "
@@ -256,18 +267,34 @@ class _Plan:
     store: Any
 
 
+def _is_structure(s) -> bool:
+    """Whether a validated spec is a structure spec (spec.structure: several masses and contacts)."""
+    from friction_sweep.spec.structure import StructureSpec
+
+    return isinstance(s, StructureSpec)
+
+
+def _flow(s):
+    """The pipeline of a validated spec: batch.pipeline for a 1-DoF spec, batch.structure_sweep for a
+    structure (the same functions, by name)."""
+    from friction_sweep.batch import pipeline, structure_sweep
+
+    return structure_sweep if _is_structure(s) else pipeline
+
+
 def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: int, executor: str,
           scheduler: str | None, yes: bool, *, for_run: bool) -> _Plan:
     """Every refusal `run` gives, in run's order. For run (`for_run`), what runs killed while writing this
     output left is removed first, whatever this one does next, and the checkpoint's state is left to run,
     which judges it holding the output's lock (a live run's checkpoint is that run's, not an interrupted
     one); `validate` writes nothing and reads the checkpoint's state as it is."""
-    from friction_sweep.batch import checkpoint, pipeline
+    from friction_sweep.batch import checkpoint
     from friction_sweep.batch import estimate as cost_model
 
     if scheduler is not None:  # even "": refused below as no scheduler address, not ignored
         executor = "dask"
     s = _load(spec)
+    flow = _flow(s)
     out = _output_path(spec, s, output)
     if resume and overwrite:
         fail("give --resume (finish an interrupted run) or --overwrite (compute afresh), not both")
@@ -287,11 +314,11 @@ def _plan(spec: Path, output: str | None, overwrite: bool, resume: bool, jobs: i
         fail(f"{spec}: grid: {cost.points} points with method {s.method} would take {cost.describe()}; "
               f"pass --yes to run it")
     _check_writable(out)
-    store = checkpoint.Checkpoint(out, pipeline.checkpoint_key(s, settings, extra), pipeline.tile_grids(s))
+    store = checkpoint.Checkpoint(out, flow.checkpoint_key(s, settings, extra), flow.tile_grids(s))
     reason = None if for_run else _checkpoint_refusal(store, out, resume)
     if reason is not None:
         fail(reason)
-    return _Plan(s, out, executor, settings, extra, pipeline.recorded_settings(s, settings), cost, store)
+    return _Plan(s, out, executor, settings, extra, flow.recorded_settings(s, settings), cost, store)
 
 
 def _checkpoint_refusal(store, out: Path, resume: bool) -> str | None:
@@ -351,7 +378,7 @@ def _refuse_destroying_spec(out: Path, spec: Path) -> None:
 
 def _refuse_replacing_calibration(s, out: Path) -> None:
     """Exit 2 where the run would replace the calibration its `accuracy:` reads (an input, like the spec)."""
-    if s.accuracy is None:
+    if _is_structure(s) or s.accuracy is None:
         return
     from friction_sweep.bench.workprecision import calibration_path
     from friction_sweep.storage.outputs import refuse_replacing
@@ -376,10 +403,11 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     """The part of `run` that holds the output's lock: checkpoint, compute, write, clean up. Kernels that
     numba's cache does not hold (the estimate's `compile_seconds`) are compiled first, on a line of their
     own, unless a remote Dask cluster's workers compute (they compile for themselves)."""
-    from friction_sweep.batch import checkpoint, pipeline
+    from friction_sweep.batch import checkpoint
     from friction_sweep.batch.estimate import COMPILING
     from friction_sweep.storage import cube
 
+    flow = _flow(s)
     reason = _checkpoint_refusal(store, out, resume)  # first: it refuses a folder that is not provably fsweep's
     if reason is not None:
         fail(reason)
@@ -391,14 +419,14 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
         fail(str(err), EXIT_RUNTIME)
     for name, why in dropped:
         click.echo(f"fsweep: warning: {store.dir / name} {why}; its tile is computed again", err=True)
-    r = s.frequency_ratio
+    total = s.frequency.size * s.friction_scale.size if _is_structure(s) else s.frequency_ratio.size * s.force_count
     start = time.perf_counter()
     try:
         if compile_seconds > 0 and scheduler is None:
             with Step(quiet, COMPILING, compile_seconds):
-                pipeline.compile_kernels(s, settings)
-        with ProgressBar(quiet, r.size * s.force_count) as advance:
-            arrays = pipeline.compute(s, settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
+                flow.compile_kernels(s, settings)
+        with ProgressBar(quiet, total) as advance:
+            arrays = flow.compute(s, settings, jobs=jobs, executor=executor, scheduler=scheduler, done=done,
                                       on_done=store.save, on_tile=advance)
     except _Terminated:
         _stopped(store, "terminated", EXIT_TERMINATED)
@@ -411,7 +439,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     elapsed = time.perf_counter() - start
 
     command = "fsweep run " + " ".join(shlex.quote(a) for a in [str(spec), "-o", str(out)])
-    parts = pipeline.cube(s, arrays, settings, command, extra_attrs)
+    parts = flow.cube(s, arrays, settings, command, extra_attrs)
     if done:  # tiles read back from disk: a tampered or damaged one must not reach the result
         from friction_sweep.storage import audit
 
@@ -430,6 +458,15 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
 
     store.remove()
     click.echo(f"wrote {escape(out)}")
+    if _is_structure(s):
+        n_s, n_f = s.friction_scale.size, s.frequency.size
+        click.echo(f"  structure of {len(s.structure.masses)} masses and {len(s.structure.contacts)} contacts, "
+                   f"{s.scene.excitation} excitation, method {s.method}: {n_s} friction scales x {n_f} frequencies "
+                   f"= {n_s * n_f} points in {elapsed:.2f} s")
+        _echo_contact_regimes({name: (dims, values) for name, (dims, values, _) in parts.data_vars.items()},
+                              parts.coords)
+        return
+    r = s.frequency_ratio
     click.echo(
         f"  {s.scene.excitation} excitation, method {s.method}: {s.force_count} force ratios x "
         f"{r.size} frequency ratios = {s.force_count * r.size} points in {elapsed:.2f} s"
@@ -483,6 +520,17 @@ def _echo_regimes(arrays) -> None:
         click.echo("  regimes from a moving start: " + _regime_summary(arrays["regime_moving"]))
 
 
+def _echo_contact_regimes(arrays, coords) -> None:
+    """A structure cube's regime counts, one line per contact. arrays: name -> (dims, values); coords as
+    storage.cube.CubeParts holds them (name -> (dims, values, attributes))."""
+    if "regime" not in arrays:
+        return
+    dims, values = arrays["regime"]
+    axis = list(dims).index("contact")
+    for j, name in enumerate(coords["contact"][1].tolist()):
+        click.echo(f"  regimes at contact {escape(name)}: " + _regime_summary(np.take(values, j, axis=axis)))
+
+
 def _regime_summary(values) -> str:
     return ", ".join(f"{name} {n}" for name, n in codes.counts(values).items())
 
@@ -503,6 +551,9 @@ def info(result: Path | None, show_methods: bool):
         fail("give a RESULT to describe, or --methods")
     ds = _open_result(result, every_problem=True)
     a = {str(k): escape(v) for k, v in ds.attrs.items()}  # a cube's text is data: nothing a terminal acts on
+    if _structure_cube(ds):
+        _info_structure(result, ds, a)
+        return
     click.echo(escape(result))
     click.echo("  dims: " + ", ".join(f"{escape(k)} {v}" for k, v in ds.sizes.items()))
     for name in ("frequency_ratio", "force_ratio", "frequency", "friction_force"):
@@ -531,6 +582,73 @@ def info(result: Path | None, show_methods: bool):
                            f"({finite.sum()} finite of {v.size})")
 
 
+def _structure_cube(ds) -> bool:
+    from friction_sweep.storage.schema import is_structure
+
+    return is_structure(ds.attrs)
+
+
+def _refuse_structure_cube(ds, result: Path, command: str) -> None:
+    """Exit 2 for a structure cube where `command` reads 1-DoF cubes only (for now)."""
+    if _structure_cube(ds):
+        fail(f"{escape(result)} is a structure cube (several masses and contacts): fsweep {command} reads the "
+             "1-DoF cubes of (force_ratio, frequency_ratio) only; fsweep info describes it, xarray reads it")
+
+
+def _info_structure(result: Path, ds, a: dict) -> None:
+    """`fsweep info` of a structure cube: its plane, the structure it solved, its variables, the regimes
+    per contact. `a`: its attributes, escaped."""
+    from friction_sweep.storage import attributes
+
+    click.echo(escape(result))
+    click.echo("  dims: " + ", ".join(f"{escape(k)} {v}" for k, v in ds.sizes.items()))
+    for name in ("friction_scale", "frequency"):
+        v = ds[name].values
+        click.echo(f"  {name}: {v.min():g} .. {v.max():g}")
+    click.echo(f"  excitation: {a.get('excitation')}, method: {a.get('method')}")
+    try:
+        st = attributes.read_json(ds.attrs, "structure")
+    except attributes.BadAttribute as err:  # open_cube refuses such a cube; a Dataset from elsewhere not
+        st = None
+        click.echo(f"  structure: unreadable ({escape(err)})")
+    if isinstance(st, dict):
+        masses = st.get("masses")
+        masses = masses if isinstance(masses, dict) else {}
+        click.echo("  masses: " + ", ".join(f"{escape(k)} {escape(v)}" for k, v in masses.items()))
+        for key in ("springs", "dampers"):
+            if st.get(key):
+                click.echo(f"  {key}: " + ", ".join(escape(" ".join(map(str, e))) for e in st[key]))
+        for c in st.get("contacts") or []:
+            if isinstance(c, dict):
+                kind = "rigid" if c.get("stiffness") is None else f"Jenkins, stiffness {c.get('stiffness')}"
+                ends = " and ".join(map(str, c.get("between") or ()))
+                click.echo(f"  contact {escape(c.get('name'))}: between {escape(ends)}, friction "
+                           f"{escape(c.get('friction'))}, {escape(kind)}, static friction ratio "
+                           f"{escape(c.get('static_friction_ratio'))}")
+        forcing = st.get("forcing")
+        if isinstance(forcing, dict) and forcing:
+            click.echo("  forcing: " + ", ".join(f"{escape(k)} {escape(v)}" for k, v in forcing.items()))
+        if "base_amplitude" in st:
+            click.echo(f"  base amplitude: {escape(st['base_amplitude'])}")
+    click.echo(f"  variables: {', '.join(map(escape, ds.data_vars))}")
+    click.echo(f"  history: {a.get('history')}")
+    click.echo("  versions: " + ", ".join(f"{k[: -len('_version')]} {v}" for k, v in a.items()
+                                          if k.endswith("_version")))
+    click.echo(f"  spec: {a.get('spec_path')}")
+    if "regime" in ds:
+        regime = ds["regime"]
+        for name in ds["contact"].values.tolist():
+            click.echo(f"  regimes at contact {escape(name)}: {_regime_summary(regime.sel(contact=name).values)}")
+    for name in ("amplitude", "peak_amplitude"):
+        if name in ds:
+            for dof in ds["dof"].values.tolist():
+                v = ds[name].sel(dof=dof).values
+                finite = np.isfinite(v)
+                if finite.any():
+                    click.echo(f"  {name} of {escape(dof)}: {v[finite].min():.6g} .. {v[finite].max():.6g} "
+                               f"({finite.sum()} finite of {v.size})")
+
+
 def _echo_physical(attrs) -> None:
     """The physical meaning of (r, beta) that a cube of a spec with `system:` recorded."""
     from friction_sweep.storage import physical
@@ -557,6 +675,7 @@ def check(result: Path, as_json: bool):
     from friction_sweep import consistency
 
     ds = _open_result(result, every_problem=True)  # rules on values no run writes would say nothing true
+    _refuse_structure_cube(ds, result, "check")
     try:
         findings = consistency.check(ds)
     except consistency.CubeError as err:
@@ -606,6 +725,7 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
     if reason is not None:
         fail(reason)
     ds = _open_result(result)
+    _refuse_structure_cube(ds, result, "plot")
     try:
         fig = quicklook.draw(ds, kind, selections, yscale)
     except quicklook.PlotError as err:

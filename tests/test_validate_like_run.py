@@ -19,6 +19,23 @@ output: out.h5
 """
 HUGE = SPEC.replace("method: theory", "method: rk4\nsettings: {steps_per_period: 65536}").replace(
     "num: 40", "num: 200000")
+#: issue 30: a structure spec (two masses, two contacts), and one of 20 masses in a chain, too large to run
+#: without --yes
+STRUCTURE = """\
+scene: {excitation: force}
+structure:
+  masses: {blade: 1.0, damper: 0.1}
+  springs: [[ground, blade, 1.0], [blade, damper, 2.0]]
+  contacts: [{name: platform, between: [damper, ground], friction: 0.3}]
+  forcing: {blade: 1.0}
+grid: {frequency: [0.5, 1.0, 2.0], friction_scale: [0.5, 1.0]}
+output: out.h5
+"""
+CHAIN = "".join(f", m{i}: 1" for i in range(1, 20))
+HUGE_STRUCTURE = STRUCTURE.replace("damper: 0.1}", "damper: 0.1" + CHAIN + "}").replace(
+    "[blade, damper, 2.0]]", "[blade, damper, 2.0], [damper, m1, 1]" + "".join(
+        f", [m{i}, m{i + 1}, 1]" for i in range(1, 19)) + "]").replace(
+    "[0.5, 1.0, 2.0]", "{start: 0.1, stop: 3.0, num: 100000}")
 
 
 def _cube(d: Path) -> None:
@@ -41,6 +58,12 @@ CASES = [
     ("a huge grid without --yes", HUGE, None, [], "pass --yes"),
     ("the output is the spec", SPEC, None, ["-o", "spec.yaml", "--overwrite"], "is the spec"),
     ("-j 0", SPEC, None, ["-j", "0"], "Invalid value for '-j'"),
+    ("structure: an unknown mass", STRUCTURE.replace("[damper, ground]", "[dampr, ground]"), None, [],
+     "structure.contacts[0].between[0]: 'dampr' is no mass"),
+    ("structure: existing output", STRUCTURE, _cube, [], "exists; pass --overwrite"),
+    ("structure: --resume on a complete output", STRUCTURE, _cube, ["--resume"], "nothing to resume"),
+    ("structure: a checkpoint of another sweep", STRUCTURE, _foreign_checkpoint, [], "rm -r"),
+    ("structure: a huge grid without --yes", HUGE_STRUCTURE, None, [], "pass --yes"),
 ]
 
 

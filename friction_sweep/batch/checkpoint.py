@@ -66,7 +66,9 @@ def fingerprint(**parts) -> str:
     return h.hexdigest()
 
 
-#: the entries of a tile's .npz that prove where it belongs (not variables)
+#: the entries of a tile's .npz that prove where it belongs (not variables): the key, the index, and the
+#: tile's grid values, `fsweep_<axis>` for each axis of the grid (these are a 1-DoF grid's; a structure's
+#: are fsweep_frequency and fsweep_friction_scale)
 PROOF = ("fsweep_key", "fsweep_index", "fsweep_frequency_ratio", "fsweep_force_ratio")
 #: the names fsweep gives the entries of a checkpoint folder, and their temporaries (storage.atomic)
 _OWN_NAME = re.compile(r"manifest\.json|tile-\d{5}\.npz")
@@ -299,7 +301,7 @@ class Checkpoint:
             raise ValueError("was damaged") from None
         if not 0 <= index < self.n_tiles:
             raise ValueError("is not a tile of this sweep (its index is outside the grid)")
-        proof = {k: tile.pop(k, None) for k in PROOF}
+        proof = {k: tile.pop(k, None) for k in (*PROOF[:2], *(f"fsweep_{name}" for name in self.grids[index]))}
         if any(v is None for v in proof.values()) or str(proof["fsweep_key"]) != self.key:
             raise ValueError("does not carry this sweep's fingerprint")
         if proof["fsweep_index"].shape != () or int(proof["fsweep_index"]) != index:

@@ -11,6 +11,8 @@ Seconds on one core, summed over the run's tiles (fixed blocks of frequency rati
                     x3 with static above kinetic friction and two starts (three solves)
     rk4             per point: 1.2 us x steps_per_period
     paper           per point: 5.7 us per right-hand side, up to max_evaluations, + 0.2 us a sample
+    structure       per point: 2.5 ms x max(1, (n/2)^3) x m for n masses and m contacts (the engine on
+                    the issue's 2-mass, 2-contact spec: 12.2 CPU s for its 2,244 points, loaded 2 cores)
 
 Measured on 2 cores, each column's mean over 151 force ratios (the event rows again after issue 16's
 shooting, which made them 10-30x cheaper), and checked on the paper plane (74,896 points, serial).
@@ -76,10 +78,15 @@ WORKER_BYTES = 120 * 2**20
 WORKER_START_SECONDS = {"processes": 0.2, "dask": 2.5}
 #: seconds to compile a family of kernels that numba's cache does not hold (first run of a version):
 #: CPU seconds of the first call with an empty NUMBA_CACHE_DIR on the 2-core reference machine (make bench's
-#: "The first run on a machine" measures them; here from runs under load scaled by main's quiet 25 s, 59 s)
-COMPILE_SECONDS = {"steady": 10.0, "jenkins_steady": 37.0}
+#: "The first run on a machine" measures them; here from runs under load scaled by main's quiet 25 s, 59 s;
+#: the structure engine's 100 s was measured under load, an upper bound)
+COMPILE_SECONDS = {"steady": 10.0, "jenkins_steady": 37.0, "structure.steady": 100.0}
 #: what a run says while it compiles them (fsweep run)
 COMPILING = "compiling the simulation kernels (first run on this machine; cached afterwards)"
+#: the structure engine's compiled entry point (kernel module, function): every structure calls it
+STRUCTURE_KERNEL = ("structure.steady", "solve_batch")
+#: a point of a structure of 2 masses, per contact (structure_point_seconds scales it; measured above)
+STRUCTURE_POINT_SECONDS = 2.5e-3
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
@@ -165,6 +172,10 @@ def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, sc
     """The cost of running `spec` with `jobs` workers on `executor` (dask: on a LocalCluster, or on
     `scheduler`), with the run's `settings` (those `accuracy:` chose included; default: the spec's).
     cache: look at numba's cache for the kernels the run calls (False: count them as compiled)."""
+    from friction_sweep.spec.structure import StructureSpec
+
+    if isinstance(spec, StructureSpec):
+        return _structure_estimate(spec, settings, jobs=jobs, executor=executor, scheduler=scheduler, cache=cache)
     r, n_beta = spec.frequency_ratio, spec.force_count
     knobs = {**METHODS[spec.method].defaults, **(spec.settings if settings is None else settings)}
     joined = spec.scene.excitation == "joined"
@@ -200,6 +211,39 @@ def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, sc
                     bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * solves + history,
                     workers=n_workers, compile=compiling, jobs=jobs,
                     why_fewer=capped(executor, jobs, n_workers, len(parts), scheduler))
+
+
+def structure_point_seconds(n: int, m: int) -> float:
+    """Typical seconds of one point of a structure of n masses and m contacts (the engine's flow works on
+    states of 2n + 3: its matrix products grow like n^3, its events like m)."""
+    return STRUCTURE_POINT_SECONDS * max(1.0, (n / 2.0) ** 3) * max(1.0, m / 1.0)
+
+
+def _structure_estimate(spec, settings: dict | None, *, jobs: int, executor: str, scheduler: str | None,
+                        cache: bool) -> Estimate:
+    """The cost of a structure spec (spec.structure): its points at structure_point_seconds, a worst case of
+    work_budget events a point, tiles of frequencies by every friction scale, and the engine's compile where
+    numba's cache does not hold it (one compilation serves every structure)."""
+    from friction_sweep.batch import kernel_cache
+
+    n, m = len(spec.structure.masses), len(spec.structure.contacts)
+    knobs = {**METHODS["event"].defaults, **(spec.settings if settings is None else settings)}
+    n_f, n_s = spec.frequency.size, spec.friction_scale.size
+    points = n_f * n_s
+    n_tiles = len(layout(n_f, n_s))
+    serial = KERNEL_LOAD_SECONDS + points * structure_point_seconds(n, m)
+    worst = serial + points * 0.3e-6 * knobs["work_budget"] * max(1.0, (n / 2.0) ** 2)
+    n_workers = local_workers(executor, jobs, n_tiles, scheduler)
+    own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)
+    processes = n_workers if own else 0
+    start = processes * WORKER_START_SECONDS.get(executor, 0.0) / min(max(processes, 1), cores())
+    module, entry = STRUCTURE_KERNEL
+    compiling = COMPILE_SECONDS[module] if cache and not kernel_cache.warm(module, entry) else 0.0
+    return Estimate(points=points, seconds=serial / n_workers + start + compiling,
+                    worst=worst / n_workers + start + compiling,
+                    bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * (n + m),
+                    workers=n_workers, compile=compiling, jobs=jobs,
+                    why_fewer=capped(executor, jobs, n_workers, n_tiles, scheduler))
 
 
 def _two_starts(spec, knobs: dict) -> bool:

@@ -23,19 +23,20 @@ KERNELS = Path(__file__).resolve().parent.parent / "kernels"
 
 
 def warm(module: str, function: str, last: tuple[str, ...] = ()) -> bool:
-    """Whether a first call of `function` of friction_sweep.kernels.`module` finds it compiled: numba's
-    cache holds it for this numba and this source, for a signature whose last argument types are named
-    `last` (numba's names: "none", "bool"), or numba compiles nothing (NUMBA_DISABLE_JIT). Any doubt:
-    False, so that an estimate counts the compile rather than misses it."""
+    """Whether a first call of `function` of friction_sweep.kernels.`module` (dotted: a module of a kernel
+    package too, as structure.steady) finds it compiled: numba's cache holds it for this numba and this
+    source, for a signature whose last argument types are named `last` (numba's names: "none", "bool"; any
+    signature where empty), or numba compiles nothing (NUMBA_DISABLE_JIT). Any doubt: False, so that an
+    estimate counts the compile rather than misses it."""
     if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
         return True  # pure Python: nothing is compiled
-    source = KERNELS / f"{module}.py"
+    source = KERNELS.joinpath(*module.split(".")).with_suffix(".py")
     try:
         version = importlib.metadata.version("numba")
         stamp = hashlib.sha256(source.read_bytes()).digest()
     except (OSError, importlib.metadata.PackageNotFoundError):
         return False
-    pattern = f"{module}.{function}-*.py{sys.version_info.major}{sys.version_info.minor}.nbi"
+    pattern = f"{source.stem}.{function}-*.py{sys.version_info.major}{sys.version_info.minor}.nbi"
     for folder in _folders(source):
         try:
             indexes = sorted(folder.glob(pattern))

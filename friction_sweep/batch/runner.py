@@ -21,7 +21,7 @@ from friction_sweep.storage.schema import VARIABLES
 
 log = logging.getLogger("friction_sweep")
 
-__all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_grid", "tiles", "warm_up"]
+__all__ = ["TILE_FORCES", "TILE_FREQUENCIES", "compute_tile", "layout", "run_grid", "run_tiles", "tiles", "warm_up"]
 
 
 def compute_tile(args):
@@ -90,17 +90,29 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
             on_tile((s.stop - s.start) * (r.size if sweep else n_beta))
 
     done = {i: tile for i, tile in (done or {}).items() if _fits(tile, parts[i], r.size, n_beta, sweep)}
-    for i, tile in done.items():
-        place(parts[i], tile)
     todo = [i for i in range(len(parts)) if i not in done]
-    if done:
-        log.info("resuming: %d of %d tiles already done", len(done), len(parts))
     if todo and executor in ("processes", "threads") and jobs > 1:
         # compile (or load from the cache) once here, before workers start: no compile storm
         warm_up(method_name, excitation, r, beta, outputs, effects=effects, settings=settings, sweep=sweep)
     log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
              sum((r.size if sweep else n_beta) * (parts[i].stop - parts[i].start) for i in todo), executor, jobs)
-    with execute(compute_tile, [work[i] for i in todo], executor, jobs, scheduler) as running:
+    run_tiles(compute_tile, work, lambda i, tile: place(parts[i], tile), done=done, executor=executor, jobs=jobs,
+              scheduler=scheduler, on_done=on_done)
+    return results
+
+
+def run_tiles(fn: Callable, work: list, place: Callable[[int, dict], None], *, done: dict[int, dict],
+              executor: str, jobs: int, scheduler: str | None, on_done: Callable[[int, dict], None] | None) -> None:
+    """Place every tile: those `done` (read back from a checkpoint, already judged to fit), then each of the
+    others as `fn(work[i])` finishes on `executor` (handed to on_done first, to checkpoint it). Stopped
+    (Ctrl-C, SIGTERM, a lost cluster), every finished tile is still handed to on_done before the error goes
+    on. ValueError where the tiles hold different variables (a checkpoint of another run's outputs)."""
+    for i, tile in done.items():
+        place(i, tile)
+    todo = [i for i in range(len(work)) if i not in done]
+    if done:
+        log.info("resuming: %d of %d tiles already done", len(done), len(work))
+    with execute(fn, [work[i] for i in todo], executor, jobs, scheduler) as running:
         saving = None
         try:
             for k, tile in running:
@@ -108,7 +120,7 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
                 if on_done is not None:
                     on_done(todo[k], tile)
                 saving = None
-                place(parts[todo[k]], tile)
+                place(todo[k], tile)
         except BaseException as err:
             # stopped (Ctrl-C, SIGTERM, a lost cluster): keep every tile that was finished, the one
             # being saved when a signal came too; not where the save itself failed (it would again).
@@ -123,7 +135,6 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
     if len({frozenset(t) for t in done.values()} | ({frozenset(tile)} if todo else set())) > 1:
         raise ValueError("the checkpoint's tiles hold other variables than this run computes: clear the "
                          "checkpoint folder and run again")
-    return results
 
 
 def _fits(tile: dict, part: slice, n_r: int, n_beta: int, sweep: str | None) -> bool:

@@ -306,6 +306,11 @@ def parse_calibration_text(text: str, source: str = "<string>") -> CalibrationSp
     doc = parse_yaml(text, source)
     if not isinstance(doc.data, dict):
         raise SpecError.single(source, "the calibration spec must be a mapping of keys", line=1, column=1)
+    if "structure" in doc.data:  # issue 30's structures are swept, not yet calibrated (issue 31)
+        line, column = doc.locate(("structure",), key=True)
+        raise SpecError.single(source, "a structure (several masses and contacts) is not calibrated yet: fsweep "
+                               "calibrate fits the 1-DoF scenes; sweep it with fsweep run", key="structure",
+                               line=line, column=column)
     try:
         spec = CalibrationSpec.model_validate(doc.data)
     except _ValidationError as e:

@@ -453,14 +453,7 @@ class Spec(_Sourced):
     @field_validator("output", mode="before")
     @classmethod
     def _output_path(cls, v: Any) -> Any:
-        if v is not None and (not isinstance(v, str) or not v.strip()):
-            raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
-        problem = name_problem(v) if isinstance(v, str) else None
-        if problem is not None:  # the one rule for names (storage.outputs), said as the spec is read
-            raise _error("output_path", f"{show(v)} {problem}")
-        if isinstance(v, str) and v.endswith("/"):
-            raise _error("output_path", f"names a folder: name the file to write (got {show(v)})")
-        return v
+        return checked_output_path(v)
 
     @field_validator("settings")
     @classmethod
@@ -647,6 +640,18 @@ class Spec(_Sourced):
     def physical(self) -> PhysicalMap | None:
         """The physical values beside (r, beta), where the spec has a `system:`."""
         return self._physical
+
+
+def checked_output_path(v: Any) -> Any:
+    """A spec's `output:` as given, or a problem: it must name a file fsweep may write."""
+    if v is not None and (not isinstance(v, str) or not v.strip()):
+        raise _error("output_path", f"must be a non-empty file path (got {show(v)})")
+    problem = name_problem(v) if isinstance(v, str) else None
+    if problem is not None:  # the one rule for names (storage.outputs), said as the spec is read
+        raise _error("output_path", f"{show(v)} {problem}")
+    if isinstance(v, str) and v.endswith("/"):
+        raise _error("output_path", f"names a folder: name the file to write (got {show(v)})")
+    return v
 
 
 def setting_problems(method: str, settings: dict[str, Any]) -> list[PydanticCustomError]:

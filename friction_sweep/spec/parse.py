@@ -13,6 +13,8 @@ from .errors import SpecError, SpecProblem
 from .grid import FORCE_RATIO_NOTE, FREQUENCY_RATIO_NOTE, MAX_POINTS
 from .load import Document, KeyPath, format_key, parse_yaml, read_text
 from .model import AXIS_TAGS, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
+from .structure import KEY_PROBLEM, Contact, ScaleRange, Structure, StructureGrid, StructureScene, StructureSpec
+from .structure import FrequencyRange as StructureFrequencyRange
 from .system import System
 
 # Which model a mapping at a given key path is validated by, to list the keys it allows.
@@ -25,28 +27,43 @@ _MODELS: dict[KeyPath, type[BaseModel]] = {
     ("grid", "frequency_ratio"): FrequencyRange,
     ("grid", "force_ratio"): ForceRange,
 }
+#: the same for a structure spec (a spec with `structure:`)
+_STRUCTURE_MODELS: dict[KeyPath, type[BaseModel]] = {
+    (): StructureSpec,
+    ("scene",): StructureScene,
+    ("structure",): Structure,
+    ("structure", "contacts", "*"): Contact,
+    ("grid",): StructureGrid,
+    ("grid", "frequency"): StructureFrequencyRange,
+    ("grid", "friction_scale"): ScaleRange,
+}
+#: the grid axes whose union tags (model.AXIS_TAGS) pydantic puts in an error's location
+_TAGGED_AXES = ("frequency_ratio", "force_ratio", "frequency", "friction_scale")
 
 
-def load_spec(path: str | os.PathLike[str]) -> Spec:
+def load_spec(path: str | os.PathLike[str]) -> Spec | StructureSpec:
     """Read and validate the spec file at `path`."""
     return parse_spec_text(read_text(path), source=os.fspath(path))
 
 
-def parse_spec_text(text: str, source: str = "<string>") -> Spec:
+def parse_spec_text(text: str, source: str = "<string>") -> Spec | StructureSpec:
     """Validate spec YAML `text`; `source` names it in error messages and `spec.source_path`."""
     return spec_of_document(parse_yaml(text, source), text)
 
 
-def spec_of_document(doc: Document, text: str) -> Spec:
-    """Validate a parsed spec; `text` is what the spec records as its own (spec.text)."""
+def spec_of_document(doc: Document, text: str) -> Spec | StructureSpec:
+    """Validate a parsed spec; `text` is what the spec records as its own (spec.text). A spec with a
+    `structure:` key is a structure spec (spec.structure), any other a 1-DoF one."""
     if not isinstance(doc.data, dict):
         got = "an empty document" if doc.data is None else f"a {type(doc.data).__name__}"
         reason = f"the spec must be a mapping of keys (got {got})"
         raise SpecError.single(doc.source, reason, line=1, column=1)
+    model, models = (StructureSpec, _STRUCTURE_MODELS) if "structure" in doc.data else (Spec, _MODELS)
     try:
-        spec = Spec.model_validate(doc.data)
+        spec = model.model_validate(doc.data)
     except ValidationError as e:
-        raise SpecError(problems_of(e, doc)) from None
+        raise SpecError(problems_of(e, doc, models)) from None
+    assert isinstance(spec, (Spec, StructureSpec))
     spec._source_path = doc.source
     spec._text = text
     return spec
@@ -62,9 +79,9 @@ def problems_of(exc: ValidationError, doc: Document,
         loc = err["loc"]
         # a union tag follows the axis it belongs to; a key the user named "<range>" stays a key
         path = tuple(p for i, p in enumerate(loc)
-                     if not (p in AXIS_TAGS and i and loc[i - 1] in ("frequency_ratio", "force_ratio")))
+                     if not (p in AXIS_TAGS and i and loc[i - 1] in _TAGGED_AXES))
         path += tuple((err.get("ctx") or {}).get("at", ()))
-        line, column = doc.locate(path, key=err["type"] in ("extra_forbidden", "unknown_key"))
+        line, column = doc.locate(path, key=err["type"] in ("extra_forbidden", "unknown_key", KEY_PROBLEM))
         problems.append(SpecProblem(doc.source, line, column, format_key(path), _reason(err, path, models)))
     # File order reads best; problems without a line (missing top-level keys) go last.
     return sorted(problems, key=lambda p: (p.line is None, p.line or 0, p.column or 0))
@@ -74,7 +91,7 @@ def _reason(err: ErrorDetails, path: KeyPath, models: dict[KeyPath, type[BaseMod
     kind, value, ctx = err["type"], err.get("input"), err.get("ctx") or {}
     got = f" (got {show(value)})"
     if kind == "extra_forbidden":
-        model = models.get(path[:-1])
+        model = models.get(path[:-1]) or models.get(tuple("*" if isinstance(p, int) else p for p in path[:-1]))
         allowed = f" (allowed: {', '.join(model.model_fields)})" if model else ""
         return f"unknown key {show(path[-1])}{allowed}"
     if kind == "missing":

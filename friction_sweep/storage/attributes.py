@@ -27,7 +27,7 @@ MAX_JSON_CHARS = 65_536
 #: the deepest nesting read: method_settings -> effects -> an effect's {ratio, to} is three levels
 MAX_JSON_DEPTH = 8
 #: the attributes that hold JSON
-JSON_ATTRIBUTES = ("method_settings", "physical_system", "accuracy_choice")
+JSON_ATTRIBUTES = ("method_settings", "physical_system", "accuracy_choice", "structure")
 #: keys of method_settings besides the method's settings and algorithm notes: the effects, a sweep's direction
 SWEEP_DIRECTIONS = ("up", "down")
 

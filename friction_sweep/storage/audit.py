@@ -132,17 +132,24 @@ def together(ds: xr.Dataset) -> list[Problem]:
 def audit(ds: xr.Dataset) -> list[Problem]:
     """Every problem found in the cube `ds` (an empty list: none), in the order of its variables."""
     problems: list[Problem] = []
+    # a structure cube has its own table (schema.STRUCTURE_VARIABLES), and its coordinates all
+    structure = schema.is_structure(ds.attrs)
+    coords, variables = (schema.STRUCTURE_COORDS, schema.STRUCTURE_VARIABLES) if structure else \
+        (_COORDS, schema.VARIABLES)
     # a cube at constant base acceleration has the physical dims (schema.ACCELERATION_DIMS)
-    physical_dims = set(schema.ACCELERATION_DIMS.values()) <= set(map(str, ds.dims))
-    for name in schema.COORDS:
+    physical_dims = not structure and set(schema.ACCELERATION_DIMS.values()) <= set(map(str, ds.dims))
+    for name in schema.STRUCTURE_COORDS if structure else schema.COORDS:
         if name not in ds.variables:
             problems.append(Problem(name, "is missing: every result cube has this coordinate"))
     for key, var in ds.variables.items():
         name = str(key)
-        spec = _COORDS.get(name) if name in ds.coords else schema.VARIABLES.get(name)
+        spec = coords.get(name) if name in ds.coords else variables.get(name)
         if spec is None:
             where = "coordinate" if name in ds.coords else "variable"
             problems.append(Problem(name, f"is not a {where} of the result cube schema"))
+            continue
+        if spec.dtype is str:  # the names of masses or contacts
+            problems.extend(_names(name, var))
             continue
         expected = schema.cube_dims(name, spec.dims, physical_dims)
         if tuple(var.dims) != expected:
@@ -155,6 +162,18 @@ def audit(ds: xr.Dataset) -> list[Problem]:
     return problems
 
 
+def _names(name: str, var) -> list[Problem]:
+    """A coordinate of names (a structure's masses or contacts): on its own dim, text, each name once."""
+    if tuple(var.dims) != (name,):
+        return [Problem(name, f"has dims ({', '.join(map(str, var.dims))}); the schema says ({name})")]
+    values = np.asarray(var.values)
+    if values.dtype.kind not in "UO" or not all(isinstance(v, str) and v for v in values.tolist()):
+        return [Problem(name, "holds values that are not names")]
+    if len(set(values.tolist())) != values.size:
+        return [Problem(name, "names one entry twice")]
+    return []
+
+
 def _values(ds, name, var, spec) -> list[Problem]:
     """Value problems of one variable, each kind of fault reported once with its count."""
     values = np.asarray(var.values)
@@ -163,7 +182,7 @@ def _values(ds, name, var, spec) -> list[Problem]:
     if values.dtype.kind == "f" and values.dtype.itemsize < 8:  # float16/32: compared with float64 ranges
         values = values.astype(np.float64)
     found = []
-    is_coord = name in _COORDS and name in ds.coords
+    is_coord = name in ds.coords  # every coordinate the schema knows (audit)
 
     def report(bad, what):
         n = int(np.count_nonzero(bad))
@@ -239,7 +258,8 @@ def _location(p: Problem) -> str:
     dims_text = []
     for dim, i in sorted(zip(p.dims, p.index, strict=True), key=lambda d: d[0] != "frequency_ratio"):
         if dim in named:
-            dims_text.append(f"{dim}={named[dim]:.12g}")
+            value = named[dim]  # a number, or a structure cube's mass or contact name
+            dims_text.append(f"{dim}={value}" if isinstance(value, str) else f"{dim}={value:.12g}")
         else:
             dims_text.append(f"{dim}[{i}]")
     return " at " + ", ".join(dims_text) if dims_text else ""

@@ -8,7 +8,9 @@ variable's values in an external file (a FIFO there blocks the reader forever), 
 
 * anything at the root but datasets reached by hard links (groups, soft or external links);
 * a dataset with external storage or a virtual layout, an extensible shape, or values that are not
-  plain numbers (strings, compounds, references: no cube variable holds them);
+  plain numbers (strings, compounds, references: no cube variable holds them), but for a structure
+  cube's names (its `dof` and `contact` coordinates: one dimension of at most spec.structure.MAX_NAMES
+  variable-length strings, whose bytes a file stores in itself: reading them costs at most its size);
 * a dataset of more values than the largest array fsweep writes (MAX_VALUES: a grid of
   spec.grid.MAX_POINTS, or a time history of spec.model.MAX_HISTORY_SAMPLES samples), more datasets
   than a cube can hold (MAX_DATASETS), or more bytes in all than MAX_CUBE_BYTES;
@@ -31,12 +33,23 @@ import numpy as np
 
 from friction_sweep.spec.grid import MAX_POINTS
 from friction_sweep.spec.model import MAX_HISTORY_SAMPLES
-from friction_sweep.storage.schema import COORDS, HISTORY_COORDS, HISTORY_DIM, PHYSICAL_COORDS, SCALAR_COORDS, VARIABLES
+from friction_sweep.spec.structure import MAX_NAMES
+from friction_sweep.storage.schema import (
+    COORDS,
+    HISTORY_COORDS,
+    HISTORY_DIM,
+    PHYSICAL_COORDS,
+    SCALAR_COORDS,
+    STRUCTURE_COORDS,
+    STRUCTURE_VARIABLES,
+    VARIABLES,
+)
 
 #: the most values one array of a cube holds: its grid's points, or a time history's samples
 MAX_VALUES = max(MAX_POINTS, MAX_HISTORY_SAMPLES)
 #: every variable and coordinate the schema knows, and a dimension scale for each dim it names
-MAX_DATASETS = len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + len(HISTORY_COORDS) + 8
+MAX_DATASETS = max(len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + len(HISTORY_COORDS),
+                   len(STRUCTURE_VARIABLES) + len(STRUCTURE_COORDS)) + 8
 #: the largest cube a run can write: every schema variable at its largest (grid variables at MAX_POINTS
 #: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
 MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if HISTORY_DIM in v.dims else MAX_POINTS)
@@ -96,15 +109,25 @@ def expands_too_far(expanded: int, size: int) -> bool:
     return expanded > MAX_COMPRESSION * size + COMPRESSION_SLACK
 
 
+#: the coordinates of names (a structure cube's masses and contacts)
+_NAMES = tuple(name for name, v in STRUCTURE_COORDS.items() if v.dtype is str)
+
+
 def _dataset(name: str, ds) -> tuple[int, int]:
     """The bytes the dataset `ds` makes a reader load, all and those it decompresses (Refused where it must
     not be read)."""
+    import h5py
+
     if ds.is_virtual:
         raise Refused(f"variable {name!r} is a virtual dataset (its values live in other files)")
     if ds.external:
         raise Refused(f"variable {name!r} keeps its values in an external file ({ds.external[0][0]!r}); a cube "
                       "holds its own values")
     dtype = ds.dtype
+    if name in _NAMES and ds.ndim == 1 and ds.shape[0] <= MAX_NAMES and ds.maxshape == ds.shape \
+            and h5py.check_string_dtype(dtype) is not None and h5py.check_string_dtype(dtype).length is None:
+        _attributes(ds, f"variable {name!r}")
+        return 0, 0  # a structure's names: their bytes are in the file, read at most once
     if dtype.kind not in "iuf" or dtype.itemsize > 8 or dtype.fields is not None or dtype.subdtype is not None:
         raise Refused(f"variable {name!r} holds {_kind(dtype)}, not numbers")
     if ds.shape is None:

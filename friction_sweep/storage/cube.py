@@ -34,6 +34,8 @@ from friction_sweep.storage.schema import (
     LEGACY_HISTORY_DIM,
     PHYSICAL_COORDS,
     SCALAR_COORDS,
+    STRUCTURE_COORDS,
+    STRUCTURE_VARIABLES,
     VARIABLES,
     cube_dims,
 )
@@ -74,6 +76,21 @@ def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, t
         (coords if name in HISTORY_COORDS else data_vars)[name] = (dims, np.asarray(values, dtype=var.dtype),
                                                                    var.attrs(excitation))
     return CubeParts(coords, data_vars, {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
+
+
+def structure_cube_parts(arrays: dict, *, coords: dict, excitation: str, title: str, attrs: dict,
+                         history: str) -> CubeParts:
+    """A structure cube's parts: `coords` (friction_scale, frequency, dof, contact) and `arrays` labelled and
+    given CF attributes from the schema's structure table (schema.STRUCTURE_VARIABLES)."""
+    labelled: list[Entries] = []
+    for table, given in ((STRUCTURE_COORDS, coords), (STRUCTURE_VARIABLES, arrays)):
+        entries: Entries = {}
+        for name, values in given.items():
+            var = table[name]  # KeyError here means an undeclared variable
+            entries[name] = (var.dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
+        labelled.append(entries)
+    return CubeParts(labelled[0], labelled[1],
+                     {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
 
 
 def build_dataset(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, title: str, attrs: dict,
@@ -237,6 +254,5 @@ def open_cube(path) -> xr.Dataset:
     return ds
 
 
-__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "build_dataset", "as_dataset", "with_encoding",
-           "netcdf_bytes", "legacy_names",
-           "write_atomic", "open_cube", "provenance"]
+__all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "structure_cube_parts", "build_dataset", "as_dataset",
+           "with_encoding", "netcdf_bytes", "legacy_names", "write_atomic", "open_cube", "provenance"]

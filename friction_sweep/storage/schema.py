@@ -91,7 +91,9 @@ class Variable:
     def attrs(self, excitation: str) -> dict:
         force, energy = _force_energy_references(excitation)
         refs = {"ref": _reference(excitation), "force_ref": force, "energy_ref": energy}
-        attrs = {"long_name": self.long_name.format(**refs), "units": self.units}
+        attrs = {"long_name": self.long_name.format(**refs)}
+        if self.units:  # a coordinate of names has none
+            attrs["units"] = self.units
         attrs.update(self.extra)
         comment = "; ".join(c for c in (self.comment.format(**refs), self.extra.get("comment", "")) if c)
         if comment:
@@ -376,3 +378,62 @@ VARIABLES["steady_states"] = Variable(
      "transmissibilities within 1e-5 relative; an unsettled result counts as no state"},
     valid_range=(0.0, 2.0),  # two starts at most
 )
+
+# ---- structure cubes (several masses and contacts: a spec with `structure:`, DESIGN §7) -------------------
+# The 1-DoF names above keep their meaning; a structure cube has its own dims and table, chosen by its
+# `structure` attribute (is_structure): the plane (friction_scale, frequency), with a mass's variables
+# along `dof` and a contact's along `contact`.
+
+#: the global attribute holding the solved structure (JSON: masses, springs, dampers, contacts, forcing,
+#: base_amplitude), which marks a cube as a structure cube
+STRUCTURE_ATTRIBUTE = "structure"
+STRUCTURE_DIMS = ("friction_scale", "frequency")
+DOF_DIMS = (*STRUCTURE_DIMS, "dof")
+CONTACT_DIMS = (*STRUCTURE_DIMS, "contact")
+_STRUCTURE_UNITS = {"comment": "in the structure's own units: force excitation, its length unit; base excitation, "
+                    "over base_amplitude (a transmissibility)"}
+
+STRUCTURE_COORDS = {
+    "friction_scale": Variable(("friction_scale",), np.float64, "factor on every contact's friction force", "1",
+                               valid_range=NONNEGATIVE),
+    "frequency": Variable(("frequency",), np.float64, "angular frequency omega of the excitation", "1",
+                          {"comment": "radians per the structure's time unit"}, valid_range=POSITIVE),
+    "dof": Variable(("dof",), str, "mass (degree of freedom) of the structure", ""),
+    "contact": Variable(("contact",), str, "friction contact of the structure", ""),
+}
+
+STRUCTURE_VARIABLES = {
+    "amplitude": Variable(DOF_DIMS, np.float64, "first-harmonic amplitude of the mass's absolute displacement", "1",
+                          _STRUCTURE_UNITS, valid_range=AMPLITUDE_VALID),
+    "peak_amplitude": Variable(DOF_DIMS, np.float64, "peak absolute displacement max|x| of the mass over the steady "
+                               "orbit", "1", _STRUCTURE_UNITS, valid_range=AMPLITUDE_VALID),
+    "phase": Variable(DOF_DIMS, np.float64, "first-harmonic phase lag of the mass's displacement behind the "
+                      "excitation", "degree", _PHASE_NOTE, valid_range=PHASE_VALID),
+    "regime": Variable(CONTACT_DIMS, np.int8, "motion regime of the contact in the steady state", "1",
+                       codes.flags(Regime)),
+    "stops_per_period": Variable(CONTACT_DIMS, np.float64, "stops of the contact (slip to stick) per forcing period; "
+                                 "NaN where unknown", "1", valid_range=COUNT_VALID),
+    "slips_per_period": Variable(CONTACT_DIMS, np.float64, "slips of the Jenkins contact's slider per forcing period; "
+                                 "NaN for a rigid contact", "1", valid_range=COUNT_VALID),
+    "stuck_fraction": Variable(CONTACT_DIMS, np.float64, "fraction of the steady-state period the contact spends "
+                               "stuck", "1", valid_range=FRACTION_VALID),
+    "friction_energy": Variable(CONTACT_DIMS, np.float64, "energy the contact's friction dissipates per forcing "
+                                "period (friction force x sliding distance), in the structure's units; NaN without "
+                                "a steady state", "1", valid_range=NONNEGATIVE),
+    "steady_state": Variable(STRUCTURE_DIMS, np.int8, "why the steady-state search stopped", "1",
+                             codes.flags(SteadyState)),
+    "orbit_period": Variable(STRUCTURE_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, "
+                             "k subharmonic)", "1", valid_range=(1.0, COUNT_MAX), integral=True),
+    "periods": Variable(STRUCTURE_DIMS, np.float64, "forcing periods integrated for the point, all told", "1",
+                        valid_range=COUNT_VALID),
+    "floquet_multiplier": Variable(STRUCTURE_DIMS, np.float64, "output stability: largest modulus among the "
+                                   "multipliers of the steady orbit's period map over its orbit_period periods "
+                                   "(below 1: attracting); NaN where undefined (at rest, without a periodic steady "
+                                   "state, where the period map is not smooth at the orbit)", "1",
+                                   valid_range=NONNEGATIVE),
+}
+
+
+def is_structure(attrs) -> bool:
+    """Whether a cube with these global attributes is a structure cube (its table: STRUCTURE_VARIABLES)."""
+    return STRUCTURE_ATTRIBUTE in attrs

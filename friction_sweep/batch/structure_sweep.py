@@ -1,0 +1,174 @@
+"""A structure spec (spec.structure) from its grid to its labelled cube: the pieces batch.pipeline has for a
+1-DoF spec, with the same names, for `fsweep run` (around its checkpoint and lock) and the Python API.
+
+Tiles are fixed blocks of TILE_FREQUENCIES frequencies by every friction scale (batch.layout), each solved by
+the engine (friction_sweep.structures.solve_points) as one flat batch of points, friction_scale-major. A
+point's result depends only on its own inputs (the engine's contract), so the cube is the same bit for bit
+whatever the executor, the number of workers, or which tiles a resumed run read back.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+import friction_sweep
+from friction_sweep.batch.executors import DEFAULT_EXECUTOR
+from friction_sweep.spec.structure import METHOD, STRUCTURE_SETTINGS, StructureSpec
+from friction_sweep.storage.schema import STRUCTURE_ATTRIBUTE, STRUCTURE_VARIABLES
+
+log = logging.getLogger("friction_sweep")
+
+
+def structure_def(spec: StructureSpec):
+    """The engine's description of the spec's structure (friction_sweep.structures.StructureDef)."""
+    from friction_sweep.structures import ContactDef, StructureDef
+
+    st = spec.structure
+    contacts = tuple(ContactDef(name=c.name, between=c.between, friction=c.friction, stiffness=c.stiffness,
+                                static_friction_ratio=c.static_friction_ratio) for c in st.contacts)
+    return StructureDef(excitation=spec.scene.excitation, masses=dict(st.masses), springs=tuple(st.springs),
+                        dampers=tuple(st.dampers), contacts=contacts, forcing=dict(st.forcing or {}),
+                        base_amplitude=st.base_motion)
+
+
+def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The run's settings (the spec's: a structure has no `accuracy:`), and no attributes recording a choice."""
+    return dict(spec.settings), {}
+
+
+def recorded_settings(spec: StructureSpec, settings: dict[str, Any]) -> dict[str, Any]:
+    """The settings the numbers came from, for the cube's method_settings: the engine's defaults (the event
+    method's, catalogue) with the run's over them."""
+    from friction_sweep.catalogue import METHODS
+
+    defaults = METHODS[METHOD].defaults
+    return {**{k: defaults[k] for k in STRUCTURE_SETTINGS}, **settings}
+
+
+def checkpoint_key(spec: StructureSpec, settings: dict[str, Any], extra_attrs: dict[str, Any]) -> str:
+    """The fingerprint of every input that changes a number of the run (batch.pipeline.checkpoint_key's
+    rule): the spec as parsed, the grid's values and tiles, the settings, the version and the code."""
+    from friction_sweep.batch import checkpoint
+    from friction_sweep.batch.layout import TILE_FREQUENCIES
+    from friction_sweep.batch.pipeline import code_version
+
+    return checkpoint.fingerprint(
+        spec=spec.model_dump(mode="json", exclude={"output"}), frequency=np.asarray(spec.frequency, dtype=float),
+        friction_scale=np.asarray(spec.friction_scale, dtype=float), tile=TILE_FREQUENCIES, settings=settings,
+        recorded=recorded_settings(spec, settings), accuracy=extra_attrs, version=friction_sweep.__version__,
+        code=code_version())
+
+
+def tile_grids(spec: StructureSpec) -> list[dict[str, np.ndarray]]:
+    """Each tile's grid values, which a checkpoint tile must carry to be used again."""
+    from friction_sweep.batch.layout import tiles
+
+    frequency, scale = spec.frequency, spec.friction_scale
+    return [{"frequency": np.ascontiguousarray(frequency[s]), "friction_scale": np.ascontiguousarray(scale)}
+            for s in tiles(frequency.size)]
+
+
+def compute_tile(args) -> dict[str, np.ndarray]:
+    """One tile: a pure function of its arguments (picklable for processes and Dask). Each variable comes
+    back as (friction_scale, frequency[, dof or contact]) arrays in the schema's dtype."""
+    from friction_sweep.structures import assemble, solve_points
+
+    definition, frequency, scale, variables, outputs, settings = args
+    n_s, n_f = scale.size, frequency.size
+    f = np.tile(frequency, n_s)  # friction_scale-major: point k is (scale[k // n_f], frequency[k % n_f])
+    s = np.repeat(scale, n_f)
+    solved = solve_points(assemble(definition), f, s, settings, outputs)
+    return {name: np.asarray(solved[name], dtype=STRUCTURE_VARIABLES[name].dtype).reshape(
+        (n_s, n_f, *np.shape(solved[name])[1:])) for name in variables}
+
+
+def compile_kernels(spec: StructureSpec, settings: dict[str, Any]) -> None:
+    """Have numba compile (or load from its cache) the structure engine, by solving the spec's first point in
+    this process (as batch.pipeline.compile_kernels does for a 1-DoF spec): fsweep run says so meanwhile."""
+    frequency, scale = spec.frequency[:1], spec.friction_scale[:1]
+    compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings)))
+
+
+def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,
+            scheduler: str | None = None, done: dict | None = None,
+            on_done: Callable[[int, dict], None] | None = None,
+            on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
+    """Every variable of the spec's cube on the whole plane (done/on_done/on_tile as batch.runner.run_grid:
+    a checkpoint's tiles, saving each new one, progress in points)."""
+    from friction_sweep.batch.layout import tiles
+    from friction_sweep.batch.runner import run_tiles
+
+    frequency, scale = spec.frequency, spec.friction_scale
+    definition = structure_def(spec)
+    sizes = {"dof": len(spec.structure.masses), "contact": len(spec.structure.contacts)}
+    parts = tiles(frequency.size)
+    work = [(definition, frequency[p], scale, spec.variables, spec.outputs, dict(settings)) for p in parts]
+    results: dict[str, np.ndarray] = {
+        name: np.empty((scale.size, frequency.size, *[sizes[d] for d in STRUCTURE_VARIABLES[name].dims[2:]]),
+                       dtype=STRUCTURE_VARIABLES[name].dtype) for name in spec.variables}
+
+    def fits(i: int, tile: dict) -> bool:
+        """A checkpoint's tile holding exactly this run's variables, each of its place's shape and dtype."""
+        n = parts[i].stop - parts[i].start
+        return set(tile) == set(results) and all(
+            np.asarray(v).dtype == results[k].dtype and np.shape(v) == (scale.size, n, *results[k].shape[2:])
+            for k, v in tile.items())
+
+    def place(i: int, tile: dict) -> None:
+        for name, values in tile.items():
+            results[name][:, parts[i]] = values
+        if on_tile is not None:
+            on_tile((parts[i].stop - parts[i].start) * scale.size)
+
+    done = {i: t for i, t in (done or {}).items() if fits(i, t)}
+    todo = [i for i in range(len(parts)) if i not in done]
+    log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
+             sum(parts[i].stop - parts[i].start for i in todo) * scale.size, executor, jobs)
+    run_tiles(compute_tile, work, place, done=done, executor=executor, jobs=jobs, scheduler=scheduler,
+              on_done=on_done)
+    return results
+
+
+def structure_attribute(spec: StructureSpec) -> str:
+    """The solved structure as the cube's `structure` attribute (JSON)."""
+    st = spec.structure
+    return json.dumps({
+        "masses": st.masses, "springs": [list(e) for e in st.springs], "dampers": [list(e) for e in st.dampers],
+        "contacts": [c.model_dump(mode="json") for c in st.contacts], "forcing": st.forcing or {},
+        **({"base_amplitude": st.base_motion} if spec.scene.excitation == "base" else {}),
+    })
+
+
+def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
+         extra_attrs: dict[str, Any] | None = None):
+    """The parts of the labelled cube of a run's arrays (storage.cube.CubeParts), with its provenance (as a
+    1-DoF cube's) and the structure it solved."""
+    from friction_sweep.storage import cube as cubes
+    from friction_sweep.storage import provenance
+
+    excitation = spec.scene.excitation
+    coords = {"friction_scale": spec.friction_scale, "frequency": spec.frequency,
+              "dof": np.array(list(spec.structure.masses), dtype=str),
+              "contact": np.array([c.name for c in spec.structure.contacts], dtype=str)}
+    n, m = len(spec.structure.masses), len(spec.structure.contacts)
+    return cubes.structure_cube_parts(
+        arrays, coords=coords, excitation=excitation,
+        title=f"friction_sweep: structure of {n} masses and {m} contacts, {excitation} excitation, method {METHOD}",
+        history=provenance.history_line(command),
+        attrs={**provenance.attributes(spec_text=spec.text, spec_path=spec.source_path, excitation=excitation,
+                                       method=METHOD, settings=recorded_settings(spec, settings)),
+               STRUCTURE_ATTRIBUTE: structure_attribute(spec), **(extra_attrs or {})},
+    )
+
+
+def dataset(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
+            extra_attrs: dict[str, Any] | None = None):
+    """The labelled cube of a run's arrays as an xarray Dataset."""
+    from friction_sweep.storage.cube import as_dataset
+
+    return as_dataset(cube(spec, arrays, settings, command, extra_attrs))

@@ -1,0 +1,482 @@
+"""A structure spec: several masses, springs, dashpots and friction contacts (DESIGN §7), swept over the
+(friction_scale, frequency) plane. A spec with a `structure:` key is one of these; every other spec is a
+1-DoF sweep (spec.model.Spec), which this module leaves as it was.
+
+    scene: {excitation: force}                 # force | base
+    structure:
+      masses: {blade: 1.0, damper: 0.1}        # named degrees of freedom, in the cube's dof order
+      springs: [[ground, blade, 1.0], ...]     # [a, b, stiffness]; a, b: a mass, ground or base
+      dampers: [[ground, blade, 0.004]]        # optional viscous dashpots, same form
+      contacts: [{name: platform, between: [damper, ground], friction: 0.3}, ...]
+      forcing: {blade: 1.0}                    # force excitation; base excitation: base_amplitude
+    grid: {frequency: {start: 0.2, stop: 3.0, num: 561}, friction_scale: [0.5, 1.0]}
+
+Refused, each at its key (`file:line:column: key: reason`): a mass, spring, dashpot or contact end that
+names no mass (nor ground, nor base); an element or contact between a mass and itself, or between two
+supports (ground and base hold no mass between them); a mass that is not positive; a stiffness, damping
+or friction that is negative (a Jenkins contact's stiffness must be positive: zero is no contact spring);
+a static friction ratio outside [1, 100]; two contacts of one name, a mass named `ground` or `base`, a
+name no cube may hold; `forcing` under base excitation, `base_amplitude` under force excitation (where the
+base holds still, as ground does), base excitation with nothing connected to the base, force excitation
+without a nonzero force; no masses or no contacts; and a structure with an unrestrained rigid-body motion.
+
+The restraint rule: with every contact stuck (a Jenkins contact as its spring k_t, a rigid contact as a
+rigid link w_jᵀx = 0), the stiffness must hold every motion: K_stuck restricted to the motions the rigid
+links allow, Nᵀ K_stuck N, is positive definite (its least eigenvalue above 1e-12 of its largest).
+Otherwise some motion meets no force at all, stuck or slipping, and drifts without bound. A mass held only
+by a contact is restrained (it moves only while that contact slips, against a constant friction force:
+the engine's singular-stiffness case), and damping restrains nothing.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Annotated, Any
+
+import numpy as np
+from pydantic import BeforeValidator, Field, PrivateAttr, Strict, field_validator, model_validator
+
+from friction_sweep.printable import name_problem
+
+from . import grid as g
+from .base import Model as _Model
+from .base import Sourced as _Sourced
+from .base import problem as _error
+from .base import raise_all as _raise_all
+from .base import show
+from .model import _array_axis, _axis, _axis_size, _axis_values, _bound_problem, _Range, checked_output_path
+
+#: the two supports an element may connect a mass to: `base` moves under base excitation, `ground` never
+SUPPORTS = ("ground", "base")
+EXCITATIONS = ("force", "base")
+#: the one method that solves a structure (friction_sweep.structures, the exact event-driven engine)
+METHOD = "event"
+#: output groups a structure spec may ask for, and the cube variables each brings (storage.schema's
+#: STRUCTURE_VARIABLES); `slips_per_period` only where a contact is a Jenkins element
+OUTPUT_GROUPS = {
+    "amplitude": ("amplitude", "peak_amplitude"),
+    "phase": ("phase",),
+    "regime": ("regime", "stops_per_period", "slips_per_period", "stuck_fraction", "periods", "steady_state",
+               "orbit_period"),
+    "friction_energy": ("friction_energy",),
+    "stability": ("floquet_multiplier",),
+}
+DEFAULT_OUTPUTS = ("amplitude", "phase", "regime")
+#: a static over kinetic friction ratio: measured ratios are 1-2 (the 1-DoF effect's bounds)
+STATIC_RATIO = (1.0, 100.0)
+#: the base's amplitude where a base excitation gives none (amplitudes are then transmissibilities as they are)
+DEFAULT_BASE_AMPLITUDE = 1.0
+#: the kind of a problem with a mapping's key (a mass's name, a forced mass): located at the key, not its value
+KEY_PROBLEM = "key_problem"
+#: the most masses, and the most contacts, a structure has (a cube's `dof` and `contact` names)
+MAX_NAMES = 1024
+#: the stiffness left to a motion with every contact stuck, relative to the largest, below which it is free
+RESTRAINT_RTOL = 1e-12
+
+Finite = Annotated[float, Strict(), Field(allow_inf_nan=False)]
+PositiveNumber = Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0)]
+NonNegativeNumber = Annotated[float, Strict(), Field(allow_inf_nan=False, ge=0)]
+
+
+def _number_problem(value: Any, *, positive: bool) -> str | None:
+    """Why `value` is no stiffness, damping or friction (positive: no mass), or None."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return f"must be a number (got {show(value)})"
+    if not np.isfinite(float(value)):
+        return f"must be a finite number (got {show(value)})"
+    if positive and value <= 0:
+        return f"must be > 0 (got {show(value)})"
+    if value < 0:
+        return f"must be >= 0 (got {show(value)})"
+    return None
+
+
+def _name_problem(value: Any) -> str | None:
+    if not isinstance(value, str) or not value:
+        return f"must be a non-empty name (got {show(value)})"
+    problem = name_problem(value)
+    return None if problem is None else f"{show(value)} {problem}"
+
+
+def _elements(what: str, unit: str):
+    """A list of [a, b, value] (a spring's stiffness, a dashpot's damping), each checked for its form and
+    value here; whether a and b name masses is the structure's check."""
+
+    def read(v: Any) -> Any:
+        if v is None:  # `dampers:` left empty
+            return ()
+        if not isinstance(v, list):
+            raise _error("elements_type", f"must be a list of [a, b, {unit}] (got {show(v)})")
+        problems = []
+        out = []
+        for i, item in enumerate(v):
+            if not isinstance(item, list) or len(item) != 3:
+                problems.append(_error("element_form", f"a {what} is [a, b, {unit}]: a list of two ends (a mass, "
+                                       f"ground or base) and a number (got {show(item)})", (i,)))
+                continue
+            for k in (0, 1):
+                if (reason := _name_problem(item[k])) is not None:
+                    problems.append(_error("element_end", reason, (i, k)))
+            if (reason := _number_problem(item[2], positive=False)) is not None:
+                problems.append(_error("element_value", f"a {what}'s {unit} {reason}", (i, 2)))
+            out.append(tuple(item))
+        _raise_all(what, problems)
+        return tuple((a, b, float(x)) for a, b, x in out)
+
+    return Annotated[tuple[tuple[str, str, float], ...], BeforeValidator(read)]
+
+
+if TYPE_CHECKING:  # what pydantic builds from _elements, as a type checker can read it
+    Springs = tuple[tuple[str, str, float], ...]
+    Dampers = tuple[tuple[str, str, float], ...]
+else:
+    Springs = _elements("spring", "stiffness")
+    Dampers = _elements("dashpot", "damping")
+
+
+class StructureScene(_Model):
+    excitation: str
+
+    @field_validator("excitation", mode="before")
+    @classmethod
+    def _known(cls, v: Any) -> Any:
+        if not isinstance(v, str) or v not in EXCITATIONS:
+            raise _error("unknown_excitation", f"a structure's excitation is one of: {', '.join(EXCITATIONS)} "
+                         f"(got {show(v)}; the 1-DoF `joined` scene is a structure whose spring and contact both "
+                         "go to base)")
+        return v
+
+
+class Contact(_Model):
+    """A Coulomb contact between two ends: rigid, or a Jenkins element where `stiffness` is given."""
+
+    name: str
+    between: tuple[str, str]
+    friction: NonNegativeNumber
+    stiffness: PositiveNumber | None = None
+    static_friction_ratio: Annotated[float, Strict(), Field(allow_inf_nan=False, ge=STATIC_RATIO[0],
+                                                            le=STATIC_RATIO[1])] = 1.0
+
+    @field_validator("name", mode="before")
+    @classmethod
+    def _name(cls, v: Any) -> Any:
+        if (reason := _name_problem(v)) is not None:
+            raise _error("contact_name", reason)
+        return v
+
+    @field_validator("between", mode="before")
+    @classmethod
+    def _ends(cls, v: Any) -> Any:
+        if not isinstance(v, list) or len(v) != 2:
+            raise _error("contact_ends", f"must be [a, b]: the contact's two ends, each a mass, ground or base "
+                         f"(got {show(v)})")
+        _raise_all("between", [_error("contact_end", reason, (k,)) for k in (0, 1)
+                               if (reason := _name_problem(v[k])) is not None])
+        return tuple(v)
+
+
+def _masses(v: Any) -> Any:
+    if not isinstance(v, dict):
+        raise _error("masses_type", f"must be a mapping of mass names to masses (got {show(v)})")
+    if not v:
+        raise _error("masses_empty", "a structure needs at least one mass")
+    if len(v) > MAX_NAMES:
+        raise _error("masses_many", f"{len(v)} masses; a structure has at most {MAX_NAMES}")
+    problems = []
+    for name, m in v.items():
+        if name in SUPPORTS:
+            problems.append(_error(KEY_PROBLEM, f"{name!r} names a support (ground, base), not a mass: name the "
+                                   "mass otherwise", (name,)))
+        elif (reason := _name_problem(name)) is not None:
+            problems.append(_error(KEY_PROBLEM, reason, (name,)))
+        elif (reason := _number_problem(m, positive=True)) is not None:
+            problems.append(_error("mass_value", f"a mass {reason}", (name,)))
+    _raise_all("masses", problems)
+    return {str(k): float(x) for k, x in v.items()}
+
+
+class Structure(_Model):
+    """`structure:` of a spec (the module's docstring says what is refused, and the restraint rule)."""
+
+    masses: Annotated[dict[str, float], BeforeValidator(_masses)]
+    springs: Springs = ()
+    dampers: Dampers = ()
+    contacts: tuple[Contact, ...]
+    forcing: dict[str, Finite] | None = None
+    base_amplitude: PositiveNumber | None = None
+
+    @field_validator("contacts", mode="before")
+    @classmethod
+    def _some_contacts(cls, v: Any) -> Any:
+        if v is None or v == []:
+            raise _error("contacts_empty", "a structure needs at least one contact: without friction it is linear, "
+                         "X = (K - omega^2 M + i omega C)^-1 F, and friction_scale sweeps nothing")
+        if isinstance(v, list) and len(v) > MAX_NAMES:
+            raise _error("contacts_many", f"{len(v)} contacts; a structure has at most {MAX_NAMES}")
+        return v
+
+    @model_validator(mode="after")
+    def _connected(self) -> Structure:
+        problems = list(self._end_problems())
+        names: dict[str, int] = {}
+        for j, c in enumerate(self.contacts):
+            if c.name in names:
+                problems.append(_error("contact_duplicate", f"contact name {c.name!r} is given twice (first as "
+                                       f"contacts[{names[c.name]}])", ("contacts", j, "name")))
+            names.setdefault(c.name, j)
+        for name in self.forcing or {}:
+            if name not in self.masses:
+                problems.append(_error(KEY_PROBLEM, f"{show(name)} is no mass (masses: "
+                                       f"{', '.join(self.masses)})", ("forcing", name)))
+        _raise_all("structure", problems)
+        _raise_all("structure", self._restraint_problems())
+        return self
+
+    def _end_problems(self):
+        ends = set(self.masses) | set(SUPPORTS)
+        known = f"a mass ({', '.join(self.masses)}), ground or base"
+        items = [("springs", i, (a, b), (i,)) for i, (a, b, _) in enumerate(self.springs)]
+        items += [("dampers", i, (a, b), (i,)) for i, (a, b, _) in enumerate(self.dampers)]
+        items += [("contacts", j, c.between, (j, "between")) for j, c in enumerate(self.contacts)]
+        for key, _, (a, b), at in items:
+            bad = False
+            for k, end in enumerate((a, b)):
+                if end not in ends:
+                    bad = True
+                    yield _error("unknown_end", f"{show(end)} is no mass: an end is {known}", (key, *at, k))
+            if bad:
+                continue
+            what = {"springs": "a spring", "dampers": "a dashpot", "contacts": "a contact"}[key]
+            if a == b:
+                yield _error("same_ends", f"{what} between {a!r} and itself acts on nothing: its two ends must "
+                             "differ", (key, *at, 1))
+            elif a in SUPPORTS and b in SUPPORTS:
+                yield _error("no_mass", f"{what} between {a} and {b} holds no mass: one end must be a mass",
+                             (key, *at, 1))
+
+    def _restraint_problems(self):
+        n = len(self.masses)
+        index = {name: i for i, name in enumerate(self.masses)}
+
+        def direction(a: str, b: str) -> np.ndarray:
+            w = np.zeros(n)
+            if a in index:
+                w[index[a]] += 1.0
+            if b in index:
+                w[index[b]] -= 1.0
+            return w
+
+        K = np.zeros((n, n))
+        for a, b, k in self.springs:
+            w = direction(a, b)
+            K += k * np.outer(w, w)
+        rigid = []
+        for c in self.contacts:
+            w = direction(*c.between)
+            if c.stiffness is None:
+                rigid.append(w)
+            else:
+                K += c.stiffness * np.outer(w, w)
+        N = np.eye(n)
+        if rigid:  # the motions the stuck rigid contacts allow: the null space of their directions
+            _, s, vt = np.linalg.svd(np.array(rigid), full_matrices=True)
+            rank = int(np.count_nonzero(s > 1e-12 * s.max()))
+            N = vt[rank:].T
+        if N.shape[1] == 0:
+            return []
+        held, vectors = np.linalg.eigh(N.T @ K @ N)
+        scale = float(np.abs(K).max())
+        if held[0] > RESTRAINT_RTOL * scale and scale > 0:
+            return []
+        motion = N @ vectors[:, 0]
+        moving = [name for name, x in zip(self.masses, motion, strict=True) if abs(x) > 1e-6 * np.abs(motion).max()]
+        return [_error(KEY_PROBLEM, f"unrestrained: with every contact stuck, nothing holds the motion of "
+                       f"{', '.join(map(repr, moving))} (a rigid-body motion): connect it to ground or base by a "
+                       "spring or a contact",
+                       ("masses", moving[0]))]
+
+    @property
+    def base_motion(self) -> float:
+        """The base's amplitude under base excitation: as given, else DEFAULT_BASE_AMPLITUDE."""
+        return DEFAULT_BASE_AMPLITUDE if self.base_amplitude is None else self.base_amplitude
+
+    def describe(self) -> list[str]:
+        """The structure in a few lines (fsweep validate and info)."""
+        lines = ["masses: " + ", ".join(f"{k} {v:g}" for k, v in self.masses.items())]
+        if self.springs:
+            lines.append("springs: " + ", ".join(f"{a}-{b} {k:g}" for a, b, k in self.springs))
+        if self.dampers:
+            lines.append("dampers: " + ", ".join(f"{a}-{b} {c:g}" for a, b, c in self.dampers))
+        for c in self.contacts:
+            kind = "rigid" if c.stiffness is None else f"Jenkins, stiffness {c.stiffness:g}"
+            static = f", static ratio {c.static_friction_ratio:g}" if c.static_friction_ratio != 1.0 else ""
+            lines.append(f"contact {c.name}: {c.between[0]}-{c.between[1]}, friction {c.friction:g}, {kind}{static}")
+        if self.forcing:
+            lines.append("forcing: " + ", ".join(f"{k} {v:g}" for k, v in self.forcing.items()))
+        return lines
+
+
+class FrequencyRange(_Range):
+    start: PositiveNumber
+    stop: PositiveNumber
+
+
+class ScaleRange(_Range):
+    start: NonNegativeNumber
+    stop: NonNegativeNumber
+
+
+def _positive(values):
+    return values > 0
+
+
+def _nonnegative(values):
+    return values >= 0
+
+
+if TYPE_CHECKING:
+    FrequencyAxis = float | list[float] | np.ndarray | FrequencyRange
+    ScaleAxis = float | list[float] | np.ndarray | ScaleRange
+else:
+    FrequencyAxis = _axis(PositiveNumber, FrequencyRange, _array_axis(
+        _positive, "> 0", "the angular frequency of the excitation, in the structure's units"))
+    ScaleAxis = _axis(NonNegativeNumber, ScaleRange, _array_axis(
+        _nonnegative, ">= 0", "a factor on every contact's friction"))
+
+
+class StructureGrid(_Model):
+    """The plane: angular frequencies of the excitation (the structure's units) by friction scales (a
+    factor on every contact's friction; absent: 1, the friction as given)."""
+
+    frequency: FrequencyAxis
+    friction_scale: ScaleAxis = 1.0
+    _values: dict[str, np.ndarray] = PrivateAttr(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _build(self):
+        nf, ns = _axis_size(self.frequency), _axis_size(self.friction_scale)
+        if nf * ns > g.MAX_POINTS:
+            raise _error("too_many_points", f"grid has {nf * ns} points ({ns} x {nf}); at most {g.MAX_POINTS} "
+                         "are allowed")
+        for name in ("frequency", "friction_scale"):
+            axis = getattr(self, name)
+            values = _axis_values(axis)
+            if isinstance(axis, _Range) and (g.first_not_increasing(values) is not None or values[-1] > axis.stop):
+                raise _error("grid_too_fine", f"spacing is finer than {g.SIGNIFICANT_DIGITS} significant digits: "
+                             "values collide", (name,))
+            values.flags.writeable = False
+            self._values[name] = values
+        return self
+
+    def values(self, name: str) -> np.ndarray:
+        values = self._values[name]
+        values.flags.writeable = False  # re-set after unpickling
+        return values
+
+
+class StructureSpec(_Sourced):
+    """A validated structure spec. Grid values: `frequency`, `friction_scale` (read-only float64)."""
+
+    scene: StructureScene
+    structure: Structure
+    grid: StructureGrid
+    method: str = METHOD
+    outputs: tuple[str, ...] = DEFAULT_OUTPUTS
+    output: str | None = None
+    settings: dict[str, Any] = Field(default_factory=dict)
+
+    @field_validator("method", mode="before")
+    @classmethod
+    def _event_only(cls, v: Any) -> Any:
+        if v != METHOD:
+            raise _error("structure_method", f"a structure is solved by method {METHOD!r}, the exact event-driven "
+                         f"engine (got {show(v)})")
+        return v
+
+    @field_validator("outputs", mode="before")
+    @classmethod
+    def _outputs(cls, v: Any) -> Any:
+        known = ", ".join(OUTPUT_GROUPS)
+        if not isinstance(v, (list, tuple)):
+            raise _error("outputs_type", f"must be a list of output names (got {show(v)})")
+        if not v:
+            raise _error("outputs_empty", f"must not be empty (choose from: {known})")
+        for i, name in enumerate(v):
+            if not isinstance(name, str) or name not in OUTPUT_GROUPS:
+                raise _error("unknown_output", f"unknown output {show(name)} for a structure (known: {known})", (i,))
+            if name in v[:i]:
+                raise _error("duplicate_output", f"output {name!r} is listed twice", (i,))
+        return tuple(sorted(v, key=list(OUTPUT_GROUPS).index))
+
+    @field_validator("output", mode="before")
+    @classmethod
+    def _output_path(cls, v: Any) -> Any:
+        return checked_output_path(v)  # the one rule for where a result goes
+
+    @field_validator("settings", mode="before")
+    @classmethod
+    def _settings(cls, v: Any) -> Any:
+        from friction_sweep.catalogue import METHODS
+
+        if v is None:  # `settings:` left empty
+            return {}
+        if not isinstance(v, dict):
+            raise _error("settings_type", f"must be a mapping of settings (got {show(v)})")
+        known = METHODS[METHOD].settings
+        problems = []
+        for key, value in v.items():
+            if key not in STRUCTURE_SETTINGS:
+                problems.append(_error("unknown_setting", f"unknown setting {show(key)} for a structure (allowed: "
+                                       f"{', '.join(STRUCTURE_SETTINGS)})", (key,)))
+            elif (reason := _bound_problem(known[key].kind, known[key], value)) is not None:
+                problems.append(_error("setting_range", reason, (key,)))
+        _raise_all("settings", problems)
+        return v
+
+    @model_validator(mode="after")
+    def _excitation(self):
+        _raise_all("Spec", list(self._excitation_problems()))
+        return self
+
+    def _excitation_problems(self):
+        st, excitation = self.structure, self.scene.excitation
+        elements = [("springs", i, (a, b)) for i, (a, b, _) in enumerate(st.springs)]
+        elements += [("dampers", i, (a, b)) for i, (a, b, _) in enumerate(st.dampers)]
+        elements += [("contacts", j, c.between) for j, c in enumerate(st.contacts)]
+        if excitation == "force":
+            if st.base_amplitude is not None:
+                yield _error("amplitude_force", "a force excitation's amplitudes are `forcing: {mass: force}`; "
+                             "base_amplitude is for excitation base", ("structure", "base_amplitude"))
+            if st.forcing is None:
+                yield _error("forcing_missing", "a force excitation needs `forcing: {mass: amplitude}`",
+                             ("structure",))
+            elif not any(st.forcing.values()):
+                yield _error("forcing_zero", "every forcing amplitude is 0: nothing drives the structure",
+                             ("structure", "forcing"))
+        else:
+            if st.forcing is not None:
+                yield _error("forcing_base", "forcing is for excitation force: under base excitation the base's "
+                             "motion (base_amplitude) drives the structure", ("structure", "forcing"))
+            if not any("base" in ends for _, _, ends in elements):
+                yield _error("base_unconnected", "nothing connects to base, so the base's motion drives nothing: "
+                             "connect a spring, dashpot or contact to base", ("structure",))
+
+    @property
+    def frequency(self) -> np.ndarray:
+        return self.grid.values("frequency")
+
+    @property
+    def friction_scale(self) -> np.ndarray:
+        return self.grid.values("friction_scale")
+
+    @property
+    def variables(self) -> tuple[str, ...]:
+        """The cube's variables, in output order (slips_per_period only with a Jenkins contact)."""
+        jenkins = any(c.stiffness is not None for c in self.structure.contacts)
+        return tuple(name for group in self.outputs for name in OUTPUT_GROUPS[group]
+                     if name != "slips_per_period" or jenkins)
+
+
+#: the settings a structure run takes: the event method's steady-state search knobs (catalogue: their
+#: defaults and ranges), which the engine reads
+STRUCTURE_SETTINGS = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after",
+                      "shoot_every")
