@@ -147,6 +147,16 @@ def test_commands_that_read_1dof_cubes_refuse_a_structure_cube_in_one_line(spec_
     assert not (tmp_path / "s.png").exists()
 
 
+@pytest.mark.parametrize("command", ["peak", "optimize"])
+def test_the_design_commands_refuse_a_structure_spec_in_one_line(spec_file, tmp_path, command):
+    """fsweep peak / optimize (issue 32) are built for the 1-DoF scenes: a structure spec is refused at its
+    structure key before anything is computed (it failed with an AttributeError traceback)."""
+    with in_dir(tmp_path):
+        line = one_error_line(CliRunner().invoke(main, [command, str(spec_file), "-o", "p.nc"]), 2)
+    assert "structure: the resonance peak and the optimum are built for the 1-DoF scenes" in line
+    assert not (tmp_path / "p.nc").exists()
+
+
 def test_validate_accepts_the_spec_and_shows_the_structure(spec_file, tmp_path):
     res = CliRunner().invoke(main, ["validate", str(spec_file), "-o", str(tmp_path / "v.h5")])
     assert res.exit_code == 0, res.output
