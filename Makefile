@@ -62,6 +62,7 @@ coverage: $(STAMP)
 # measures speed, scaling and what accuracy costs; the calibration `accuracy:` would read, measured here
 bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
+	$(BIN)/python benchmarks/structures.py
 	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.h5 --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)
