@@ -45,6 +45,7 @@ RTOL, ATOL = 1e-11, 1e-15
 STICK_MIN = 1e-10
 #: relative velocity (of the structure's velocity scale) below which a slipping contact counts as at rest
 VTOL = 1e-9
+TRACE = False
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 
 
@@ -234,7 +235,7 @@ class Automaton:
                 options.append((0, 1, -1))
         for combo in itertools.product(*options):
             trial = modes.copy()
-            for j, s in zip(rest, combo):
+            for j, s in zip(rest, combo, strict=True):
                 trial[j] = s
             # the released ones start from rest: zero their relative velocity with the stuck ones'
             rest_modes = trial.copy()
@@ -243,7 +244,7 @@ class Automaton:
             a, lam, _, _ = self.forces(t, x, v0, p, trial)
             udd = md.W @ a + md.g * self.base(t)[2]
             ok = True
-            for j, s in zip(rest, combo):
+            for j, s in zip(rest, combo, strict=True):
                 if s == 0:
                     ok &= abs(lam[j]) <= md.mus[j] * (1 + 1e-12)
                 elif forced and forced[0] == j:
@@ -310,7 +311,9 @@ class Automaton:
                             return md.W[j] @ s[n:2 * n] + md.g[j] * self.base(tt)[1]
                         ud0 = md.W[j] @ v + md.g[j] * self.base(t)[1]
                         a0 = self.udd(t, x, v, p, mo)[j]
-                        ev.terminal, ev.direction = True, -np.sign(ud0 if ud0 != 0 else a0)
+                        # the return to zero, not the zero it starts from (a stick begun at a stop)
+                        ev.terminal = True
+                        ev.direction = -np.sign(ud0 if abs(ud0) > VTOL * self.vscale else a0)
                         events.append(ev)
                         kinds.append(("turn", j, 0))
             for j in range(m):
@@ -339,10 +342,14 @@ class Automaton:
                 continue
             k = next(i for i, te in enumerate(sol.t_events) if te.size)
             kind, j, e = kinds[k]
+            if TRACE and log is not None:
+                print("event", kind, j, e, t, log["window"](t), modes, log["state"], log["anchor"])
             if kind == "driven":
                 log["anchor"][j] = False
                 continue
             if kind == "turn":
+                if tn - sol.t[0] <= 1e-12 * self.T:
+                    continue  # the zero the stick began from, seen again through rounding
                 log["state"][j] = 2  # held
                 log["stops"][j] += log["window"](t)
                 continue
@@ -501,7 +508,7 @@ class Automaton:
         fric = np.zeros(m)
         for plo, phi, sol, mo in log["pieces"]:
             ts = np.asarray(sol.ts)
-            for s0, s1 in zip(ts[:-1], ts[1:]):
+            for s0, s1 in zip(ts[:-1], ts[1:], strict=True):
                 s0, s1 = max(s0, plo), min(s1, phi)
                 if s1 <= s0:
                     continue
@@ -531,8 +538,7 @@ class Automaton:
         lag = (np.degrees(np.arctan2(b, a)) + 90.0) % 360.0 - 90.0
         stops = log["stops"] / k
         slips = np.where(self.rigid, np.nan, log["slips"] / k)
-        moved = np.array([fric[j] > 0 or log["slips"][j] > 0 if not self.rigid[j] else
-                          any(plo < phi and mo[j] != 0 for plo, phi, _, mo in log["pieces"]) for j in range(m)])
+        moved = np.array([any(plo < phi and mo[j] != 0 for plo, phi, _, mo in log["pieces"]) for j in range(m)])
         regime = np.where(~moved, 0, np.where(stops > 0, 1, 2))
         return {"amplitude": amplitude, "phase": lag, "stops_per_period": stops, "slips_per_period": slips,
                 "stuck_fraction": log["stuck"] / hi, "regime": regime, "friction_energy": fric / k,
