@@ -290,6 +290,9 @@ class Automaton:
             events, kinds = [], []
             for j in range(m):
                 if mo[j] != 0:
+                    if (j, 0) in skip:
+                        continue
+
                     def ev(tt, s, j=j):
                         return md.W[j] @ s[n:2 * n] + md.g[j] * self.base(tt)[1]
                     ev.terminal, ev.direction = True, -mo[j]
@@ -342,8 +345,8 @@ class Automaton:
                 continue
             k = next(i for i, te in enumerate(sol.t_events) if te.size)
             kind, j, e = kinds[k]
-            if TRACE and log is not None:
-                print("event", kind, j, e, t, log["window"](t), modes, log["state"], log["anchor"])
+            if TRACE:
+                print("event", kind, j, e, t, modes, log and (log["window"](t), log["state"], log["anchor"]))
             if kind == "driven":
                 log["anchor"][j] = False
                 continue
@@ -377,6 +380,12 @@ class Automaton:
                         self._unstick(log, i, t)
                     if self.rigid[i] and old[i] != 0 and modes[i] == 0:
                         log["since"][i] = t
+            ud = md.W @ v + md.g * self.base(t)[1]
+            for i in range(m):
+                if self.rigid[i] and modes[i] != 0 and abs(ud[i]) <= VTOL * self.vscale:
+                    # released from rest, maybe tangentially (the force just reached the band): its velocity
+                    # is rounding at first, so its stop event waits a moment
+                    skip.add((i, 0))
             if kind == "stop" and not self.rigid[j]:
                 # the slider just stuck on the edge it slipped against: the first moments without that event
                 lam = self.forces(t, x, v, p, modes)[1]
@@ -422,7 +431,7 @@ class Automaton:
         n = self.md.n
         return max(1e-300, float(np.max(np.abs(z[:n]))), float(np.max(np.abs(z[n:2 * n]))) / self.w)
 
-    def steady(self, march=80, kmax=4, tol=1e-10, z=None, modes=None):
+    def steady(self, march=80, kmax=4, tol=1e-12, z=None, modes=None):
         """The steady orbit's section state, modes and period k: march from rest (or z, modes) until the
         state repeats k <= kmax periods back; from the 5th period on, Newton shooting (k = 1) from any state
         whose section modes repeated, every 8th period."""
