@@ -200,17 +200,20 @@ class Automaton:
         a = self.forces(t, x, v, p, modes)[0]
         return self.md.W @ a + self.md.g * self.base(t)[2]
 
-    def project(self, t, x, v, p, modes):
+    def project(self, t, x, v, p, modes, hold=None):
         """The state on the mode's manifold: stuck rigid contacts at zero relative velocity (an impulse
-        through their directions), slipping sliders at their edge."""
+        through their directions) and, given hold (u_j of every contact, used where stuck), back where they
+        stuck (the integration's drift along a constraint removed); slipping sliders at their edge."""
         md = self.md
         S = self.rigid & (modes == 0)
         v = v.copy()
         if S.any():
-            yd = self.base(t)[1]
+            y, yd, _ = self.base(t)
             WS = md.W[S]
             G = (WS * self.minv) @ WS.T
             v -= self.minv * (WS.T @ np.linalg.solve(G, WS @ v + md.g[S] * yd))
+            if hold is not None:
+                x = x - self.minv * (WS.T @ np.linalg.solve(G, WS @ x + md.g[S] * y - hold[S]))
         p = p.copy()
         js = (~self.rigid) & (modes != 0)
         u = md.W @ x + md.g * self.base(t)[0]
@@ -227,12 +230,16 @@ class Automaton:
         if not rest:
             return modes, v
         best = None
-        options = []
-        for j in rest:
-            if forced and forced[0] == j:
-                options.append((forced[1],))
-            else:
-                options.append((0, 1, -1))
+        edge = {}
+        if forced:
+            # a break-away releases every stuck contact whose force is at its band's edge at that instant (two
+            # of a symmetric structure together), towards its force, whatever its acceleration (zero at first)
+            edge[forced[0]] = forced[1]
+            lam = self.forces(t, x, v, p, modes)[1]
+            for j in rest:
+                if modes[j] == 0 and abs(lam[j]) >= md.mus[j] * (1 - 1e-9):
+                    edge[j] = int(np.sign(lam[j]))
+        options = [(edge[j],) if j in edge else (0, 1, -1) for j in rest]
         for combo in itertools.product(*options):
             trial = modes.copy()
             for j, s in zip(rest, combo, strict=True):
@@ -247,7 +254,7 @@ class Automaton:
             for j, s in zip(rest, combo, strict=True):
                 if s == 0:
                     ok &= abs(lam[j]) <= md.mus[j] * (1 + 1e-12)
-                elif forced and forced[0] == j:
+                elif j in edge:
                     pass  # the force reached the band: it leaves it (the acceleration may start at zero)
                 else:
                     ok &= s * udd[j] > 0
@@ -266,6 +273,7 @@ class Automaton:
         modes = modes.copy()
         x, v, p = z[:n], z[n:2 * n], z[2 * n:]
         x, v, p = self.project(t, x, v, p, modes)
+        hold = md.W @ x + md.g * self.base(t)[0]  # where each rigid contact sticks (kept where stuck)
         skip = set()
         while t < t1 - 1e-13 * self.T:
             mo = modes.copy()
@@ -339,6 +347,7 @@ class Automaton:
             s = sol.y[:, -1]
             x, v, p = s[:n].copy(), s[n:2 * n].copy(), s[2 * n:].copy()
             t = tn
+            x, v, p = self.project(t, x, v, p, mo, hold)
             self.vscale = max(self.vscale, float(np.max(np.abs(v))))
             skip = set()
             if sol.status != 1:
@@ -355,6 +364,8 @@ class Automaton:
                     continue  # the zero the stick began from, seen again through rounding
                 log["state"][j] = 2  # held
                 log["stops"][j] += log["window"](t)
+                if log["window"](t):
+                    log["times"][j].append(t)
                 continue
             if kind == "stop" and not self.rigid[j]:
                 modes[j] = 0
@@ -374,6 +385,8 @@ class Automaton:
             old = modes.copy()
             modes, v = self.decide(t, x, v, p, modes, forced=(j, e) if kind == "break" and self.rigid[j] else None)
             x, v, p = self.project(t, x, v, p, modes)
+            u = md.W @ x + md.g * self.base(t)[0]
+            hold = np.where(self.rigid & (old != 0) & (modes == 0), u, hold)
             if log is not None:
                 for i in range(m):
                     if self.rigid[i] and old[i] == 0 and modes[i] != 0:
@@ -404,6 +417,8 @@ class Automaton:
         start = log["since"][i]
         if start is not None and t - start > STICK_MIN * self.T:
             log["stops"][i] += log["window"](start)
+            if log["window"](start):
+                log["times"][i].append(start)
         log["since"][i] = None
 
     # ---- periods, steady state, measurement ----------------------------------------------------------------
@@ -497,12 +512,12 @@ class Automaton:
         # one period before the window sets the Jenkins hold labels and the rigid sticks in progress
         log = {"pieces": [], "lo": lo, "hi": hi, "stuck": np.zeros(m), "stops": np.zeros(m), "slips": np.zeros(m),
                "jump": np.zeros(m), "since": [None] * m, "state": np.zeros(m, dtype=int),
-               "anchor": np.zeros(m, dtype=bool), "window": lambda t: 0}
+               "anchor": np.zeros(m, dtype=bool), "window": lambda t: 0, "times": [[] for _ in range(m)]}
         for j in range(m):
             if modes[j] == 0:
                 log["since"][j] = -np.inf if self.rigid[j] else None
         t, zp, mp = self.run(-k * self.T, z, modes, 0.0, log)  # the orbit's previous k periods, not measured
-        log.update({"pieces": [], "window": lambda t: 1 if lo <= t < hi else 0})
+        log.update({"pieces": [], "window": lambda t: 1 if lo <= t < hi else 0, "times": [[] for _ in range(m)]})
         log["stops"][:] = log["slips"][:] = log["jump"][:] = log["stuck"][:] = 0
         for j in range(m):
             if self.rigid[j] and mp[j] == 0 and log["since"][j] is not None and log["since"][j] < lo:
@@ -515,7 +530,11 @@ class Automaton:
         a, b = np.zeros(n), np.zeros(n)
         work = viscous = 0.0
         fric = np.zeros(m)
+        slide = np.zeros(m)  # the distance each slipping contact slides (u is monotone within a slip piece)
         for plo, phi, sol, mo in log["pieces"]:
+            if phi > plo:
+                du = md.W @ (sol(phi)[:n] - sol(plo)[:n]) + md.g * (self.base(phi)[0] - self.base(plo)[0])
+                slide += np.where(mo != 0, np.abs(du), 0.0)
             ts = np.asarray(sol.ts)
             for s0, s1 in zip(ts[:-1], ts[1:], strict=True):
                 s0, s1 = max(s0, plo), min(s1, phi)
@@ -551,7 +570,8 @@ class Automaton:
         regime = np.where(~moved, 0, np.where(stops > 0, 1, 2))
         return {"amplitude": amplitude, "phase": lag, "stops_per_period": stops, "slips_per_period": slips,
                 "stuck_fraction": log["stuck"] / hi, "regime": regime, "friction_energy": fric / k,
-                "work": work / k, "viscous": viscous / k, "orbit_period": k, "end": (z1, m1)}
+                "work": work / k, "viscous": viscous / k, "slide": slide / k, "stop_times": log["times"],
+                "orbit_period": k, "end": (z1, m1)}
 
     def _base_force(self, X, V, y, yd, lam):
         """Q_y, the elements' generalized force on the base coordinate y: springs -dE/dy, dashpots, contacts
