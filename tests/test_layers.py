@@ -20,7 +20,7 @@ LAYERS = {
     "theory": 2,
     "kernels": 3,
     "storage": 4,
-    "methods": 5,
+    "methods": 5, "structures": 5,
     "bench": 6, "consistency": 6, "quicklook": 6, "measured": 6,
     "batch": 7, "calibration": 7,
     "api": 8, "cli": 8, "validation": 8, "__main__": 8,

@@ -1,0 +1,270 @@
+"""One mode of a structure: its augmented matrix, its contact forces, its event functions, its exact flow.
+
+The state is z = (x, v, p, cos wt, sin wt, 1): n absolute displacements x, their velocities v, the
+positions p of the Jenkins sliders (one slot per contact with a stiffness), and the forcing written as an
+oscillator. Contact j acts on u_j = w_j.x - ey_j cos wt (ey_j: the base amplitude where its other end is
+the base), with force lambda_j on it (the masses feel -w_j lambda_j):
+
+- slipping in direction sig (st = +-1): lambda = sig mu (kinetic), a constant;
+- stuck Jenkins (st = 0, stiffness kt): lambda = kt (u - p), p' = 0; slipping Jenkins: p' = u';
+- stuck rigid (st = 0): u'' = 0, lambda the constraint force: with f = F(z) the other forces and the
+  stuck set S, G = W_S M^-1 W_S^T, lambda_S = G^-1 (W_S M^-1 f + ey_S w^2 cos wt), linear in z;
+- without friction (st = INACTIVE): no force, no event.
+
+Then M v' = f - W_S^T lambda_S, so z' = A z with a constant A (rows of x: v; of v: the accelerations;
+of p: u' for a slipping slider; cos, sin: the rotation; 1: zero), and z(t) = exp(A t) z(0) exactly: at
+resonance, with a singular stiffness, with or without damping (nothing divides by K - w^2 M).
+exp(A h) is the Taylor series on steps short against every rate of A (|A| h <= 1/2 in the mode's scale,
+so the series converges like 2^-k / k! and is exact to rounding); longer times are products or squares.
+
+Event functions (2 slots per contact, g >= 0 while the mode holds): slipping, g = sig u'; stuck,
+g = mus - lambda and g = mus + lambda.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from friction_sweep.kernels.jit import jit
+
+#: contact status codes (st): stuck 0, slipping +1 / -1, and no friction
+STUCK = 0
+INACTIVE = 2
+#: columns of a contact's parameter row
+CP_EY, CP_MU, CP_MUS, CP_KT, CP_SLOT = 0, 1, 2, 3, 4
+CP_SIZE = 5
+#: Taylor terms kept for an event function on one step (|A h| <= 1/2: the next term is below 2^-17/17!)
+KT = 16
+#: the step against the mode's fastest rate
+STEP_RATE = 0.5
+
+
+@jit
+def solve_small(G, B, X):
+    """X = G^-1 B by Gaussian elimination with partial pivoting (G s x s, B s x N); False where G is
+    singular to rounding (dependent stuck contacts), X untouched then."""
+    s = G.shape[0]
+    N = B.shape[1]
+    a = G.copy()
+    b = B.copy()
+    scale = 0.0
+    for i in range(s):
+        for k in range(s):
+            scale = max(scale, abs(a[i, k]))
+    if scale == 0.0:
+        return False
+    for c in range(s):
+        piv = c
+        for i in range(c + 1, s):
+            if abs(a[i, c]) > abs(a[piv, c]):
+                piv = i
+        if abs(a[piv, c]) <= 1e-12 * scale:
+            return False
+        if piv != c:
+            for k in range(s):
+                a[c, k], a[piv, k] = a[piv, k], a[c, k]
+            for k in range(N):
+                b[c, k], b[piv, k] = b[piv, k], b[c, k]
+        for i in range(c + 1, s):
+            f = a[i, c] / a[c, c]
+            if f != 0.0:
+                for k in range(c, s):
+                    a[i, k] -= f * a[c, k]
+                for k in range(N):
+                    b[i, k] -= f * b[c, k]
+    for c in range(s - 1, -1, -1):
+        for k in range(N):
+            acc = b[c, k]
+            for i in range(c + 1, s):
+                acc -= a[c, i] * X[i, k]
+            X[c, k] = acc / a[c, c]
+    return True
+
+
+@jit
+def build_mode(st, Minv, K, C, W, F, cp, omega, A, L):
+    """Fill A (N x N) and the contact-force rows L (m x N, lambda_j = L_j . z) of mode st; False where
+    the stuck rigid directions are dependent."""
+    n = K.shape[0]
+    m = W.shape[0]
+    N = A.shape[0]
+    V0 = n
+    P0 = 2 * n
+    IC = N - 3
+    IS = N - 2
+    I1 = N - 1
+    A[:, :] = 0.0
+    L[:, :] = 0.0
+    Fz = np.zeros((n, N))
+    for i in range(n):
+        for k in range(n):
+            Fz[i, k] = -K[i, k]
+            Fz[i, V0 + k] = -C[i, k]
+        Fz[i, IC] = F[0, i]
+        Fz[i, IS] = F[1, i]
+    ns = 0
+    for j in range(m):
+        s = st[j]
+        if s == INACTIVE:
+            continue
+        kt = cp[j, CP_KT]
+        if s != STUCK:
+            f = s * cp[j, CP_MU]
+            L[j, I1] = f
+            for i in range(n):
+                Fz[i, I1] -= f * W[j, i]
+        elif kt > 0.0:
+            slot = P0 + int(cp[j, CP_SLOT])
+            ey = cp[j, CP_EY]
+            for i in range(n):
+                L[j, i] = kt * W[j, i]
+                for k in range(n):
+                    Fz[i, k] -= kt * W[j, i] * W[j, k]
+                Fz[i, IC] += kt * ey * W[j, i]
+                Fz[i, slot] += kt * W[j, i]
+            L[j, IC] = -kt * ey
+            L[j, slot] = -kt
+        else:
+            ns += 1
+    MF = Minv @ Fz
+    if ns > 0:
+        idx = np.empty(ns, dtype=np.int64)
+        c = 0
+        for j in range(m):
+            if st[j] == STUCK and cp[j, CP_KT] <= 0.0:
+                idx[c] = j
+                c += 1
+        WS = np.empty((ns, n))
+        for a in range(ns):
+            WS[a, :] = W[idx[a], :]
+        MW = Minv @ WS.T
+        G = WS @ MW
+        rhs = WS @ MF
+        for a in range(ns):
+            rhs[a, IC] += cp[idx[a], CP_EY] * omega * omega
+        lam = np.empty((ns, N))
+        if not solve_small(G, rhs, lam):
+            return False
+        MF -= MW @ lam
+        for a in range(ns):
+            L[idx[a], :] = lam[a, :]
+    for i in range(n):
+        A[i, V0 + i] = 1.0
+        for k in range(N):
+            A[V0 + i, k] = MF[i, k]
+    for j in range(m):
+        if cp[j, CP_KT] > 0.0 and st[j] != STUCK and st[j] != INACTIVE:
+            slot = P0 + int(cp[j, CP_SLOT])
+            for i in range(n):
+                A[slot, V0 + i] = W[j, i]
+            A[slot, IS] = cp[j, CP_EY] * omega
+    A[IC, IS] = -omega
+    A[IS, IC] = omega
+    return True
+
+
+@jit
+def event_rows(st, W, cp, omega, L, N, rows, active):
+    """The mode's event functions g = rows[f] . z (2 slots per contact; active[f] where one is armed)."""
+    n = W.shape[1]
+    m = W.shape[0]
+    rows[:, :] = 0.0
+    active[:] = False
+    for j in range(m):
+        s = st[j]
+        if s == INACTIVE:
+            continue
+        if s != STUCK:
+            for i in range(n):
+                rows[2 * j, n + i] = s * W[j, i]
+            rows[2 * j, N - 2] = s * cp[j, CP_EY] * omega
+            active[2 * j] = True
+        else:
+            mus = cp[j, CP_MUS]
+            for k in range(N):
+                rows[2 * j, k] = -L[j, k]
+                rows[2 * j + 1, k] = L[j, k]
+            rows[2 * j, N - 1] += mus
+            rows[2 * j + 1, N - 1] += mus
+            active[2 * j] = True
+            active[2 * j + 1] = True
+
+
+@jit
+def mode_rate(A, n):
+    """The mode's fastest rate: the forcing frequency, sqrt of the stiffness rows, the damping rows (inf norms)."""
+    N = A.shape[0]
+    rate = abs(A[N - 2, N - 3])
+    kx = 0.0
+    cv = 0.0
+    kp = 0.0
+    for i in range(n):
+        a = 0.0
+        b = 0.0
+        c = 0.0
+        for k in range(n):
+            a += abs(A[n + i, k])
+            b += abs(A[n + i, n + k])
+        for k in range(2 * n, N - 3):
+            c += abs(A[n + i, k])
+        kx = max(kx, a)
+        cv = max(cv, b)
+        kp = max(kp, c)
+    for r in range(2 * n, N - 3):
+        for k in range(n, 2 * n):
+            kp = max(kp, abs(A[r, k]))
+    rate = max(rate, np.sqrt(kx), cv, np.sqrt(kp))
+    return max(rate, 1e-300)
+
+
+@jit
+def expm_taylor(A, h, E):
+    """E = exp(A h) by its Taylor series, for h short against A's rates (terms fall like (|A| h)^k / k!)."""
+    N = A.shape[0]
+    E[:, :] = 0.0
+    term = np.eye(N)
+    for i in range(N):
+        E[i, i] = 1.0
+    Ah = A * h
+    for k in range(1, 80):
+        term = (term @ Ah) / k
+        E += term
+        big = 0.0
+        tot = 0.0
+        for i in range(N):
+            for c in range(N):
+                big = max(big, abs(term[i, c]))
+                tot = max(tot, abs(E[i, c]))
+        if big <= 1e-18 * tot:
+            break
+
+
+@jit
+def expm(A, t, h, E):
+    """E = exp(A t) by scaling and squaring: Taylor on t / 2^s <= h, then s squarings."""
+    s = 0
+    tt = t
+    while tt > h:
+        tt *= 0.5
+        s += 1
+    expm_taylor(A, tt, E)
+    for _ in range(s):
+        E[:, :] = E @ E
+
+
+@jit
+def powers(A, z, zk):
+    """zk[k] = A^k z for k = 0..KT (the Taylor coefficients of z(t) at t = 0, times k!)."""
+    zk[0, :] = z
+    for k in range(1, zk.shape[0]):
+        zk[k, :] = A @ zk[k - 1, :]
+
+
+@jit
+def taylor_state(zk, s, out):
+    """z(s) = sum_k zk[k] s^k / k! (s within one step)."""
+    out[:] = 0.0
+    c = 1.0
+    for k in range(zk.shape[0]):
+        out += c * zk[k, :]
+        c *= s / (k + 1)

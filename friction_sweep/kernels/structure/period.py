@@ -1,0 +1,470 @@
+"""One stretch of time of a structure, exact between events: modes, events, switches, monodromy, measures.
+
+`advance` carries the augmented state z from t = 0 to t = T (the forcing's phase at t = 0 is whatever
+z's cos and sin slots hold) through the modes of flow.py. Each mode is stepped by its exact exp(A h); on
+each step every armed event function is checked by roots.first_root, and the earliest root ends the mode.
+
+Switches (the mode decision is taken from the forces, never by re-arming a root finder on a function
+that starts at zero):
+- a slipping Jenkins slider whose relative velocity reaches zero sticks (its force is continuous there);
+- a stuck Jenkins slider whose force reaches +-mus slips that way; where mus > mu the massless slider
+  unloads at once to +-mu (p jumps), dissipating (mus^2 - mu^2) / (2 kt);
+- a rigid contact that stops, or whose constraint force reaches +-mus, is resolved with every rigid
+  contact at zero relative velocity (stuck ones, and slipping ones within stop_tol of zero) together:
+  the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in the issue's tests), the first
+  consistent one with the most stuck contacts, contacts in lexical order: every stuck force within its
+  static band |lambda_j| <= mus_j, every released contact accelerating in its slip direction
+  (sig u'' > 0, under kinetic friction), and a contact breaking away slips. Their relative velocities are
+  then set to zero exactly (an M^-1-weighted projection, a change at rounding level).
+
+Monodromy (jac): J = dz(t)/dz_dyn(0) is carried as J <- exp(A s) J on each piece and J <- S J at each
+switch, S = R + (f+ - R f-) c^T / (c . f-) (R: the switch's reset, linear in z; c: the event's gradient;
+f-/f+: the fields before and after). A switch where c . f- vanishes (a touch) is not smooth: jac_ok = 0.
+
+Measurement (meas): the first harmonic of every x_i by 8-point Gauss-Legendre quadrature on each step
+(exact to rounding: the integrand's Taylor series on a step falls like 2^-k / k!), max |x_i| at the
+nodes and at every zero of v_i (refined on its Taylor polynomial), and per contact its stops (rigid:
+slip to stick; Jenkins: a stick during which the relative velocity reverses, the contact holding the
+mass), slips (Jenkins: slider slip phases), stuck time and friction energy (mu x sliding distance, plus
+the unloading loss above).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from friction_sweep.kernels.jit import jit
+from friction_sweep.kernels.structure.flow import (
+    CP_EY,
+    CP_KT,
+    CP_MU,
+    CP_MUS,
+    CP_SLOT,
+    INACTIVE,
+    KT,
+    STEP_RATE,
+    STUCK,
+    build_mode,
+    event_rows,
+    expm_taylor,
+    mode_rate,
+    powers,
+    solve_small,
+    taylor_state,
+)
+from friction_sweep.kernels.structure.roots import first_root
+
+_GX, _GW = np.polynomial.legendre.leggauss(8)
+GAUSS_X = 0.5 * (_GX + 1.0)
+GAUSS_W = 0.5 * _GW
+
+#: mode cache size (modes repeat period after period)
+CACHE = 16
+#: quick no-root test: Taylor terms of g'' used, and the margin over the dropped ones (ratio <= 1/2 / 6)
+_QUICK = 5
+_QUICK_MARGIN = 1.25
+
+#: advance's status
+OK, BUDGET, FAILED = 0, 1, 2
+#: per-contact measurement columns
+MC_STOPS, MC_SLIPS, MC_STUCK, MC_ENERGY, MC_HELD, MC_SIGN = 0, 1, 2, 3, 4, 5
+MC_SIZE = 6
+
+
+@jit
+def new_cache(n, m, N):
+    """The mode cache's arrays, built once per point."""
+    return (np.full((CACHE, max(m, 1)), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
+            np.zeros((CACHE, max(m, 1), N)), np.zeros((CACHE, 2 * max(m, 1), N)),
+            np.zeros((CACHE, 2 * max(m, 1), KT + 1, N)), np.zeros((CACHE, 2 * max(m, 1)), dtype=np.bool_),
+            np.zeros(CACHE), np.zeros(CACHE, dtype=np.bool_), np.zeros(2, dtype=np.int64))
+
+
+@jit
+def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
+    """Index of mode st in the cache, built there (A, exp(A h), forces, event rows and their A-powers)
+    if it is not."""
+    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache
+    m = W.shape[0]
+    n = K.shape[0]
+    used = c_cnt[0]
+    for i in range(used):
+        same = True
+        for j in range(m):
+            if c_st[i, j] != st[j]:
+                same = False
+                break
+        if same:
+            return i
+    if used < CACHE:
+        i = used
+        c_cnt[0] = used + 1
+    else:
+        i = c_cnt[1]
+        c_cnt[1] = (i + 1) % CACHE
+    for j in range(m):
+        c_st[i, j] = st[j]
+    A = c_A[i]
+    ok = build_mode(st, Minv, K, C, W, F, cp, omega, A, c_L[i])
+    c_ok[i] = ok
+    if not ok:
+        return i
+    h = STEP_RATE / mode_rate(A, n)
+    h = min(h, T / 4.0)
+    c_h[i] = h
+    expm_taylor(A, h, c_E[i])
+    N = A.shape[0]
+    event_rows(st, W, cp, omega, c_L[i], N, c_rows[i], c_act[i])
+    for f in range(2 * m):
+        if c_act[i, f]:
+            c_ck[i, f, 0, :] = c_rows[i, f, :]
+            for k in range(1, KT + 1):
+                c_ck[i, f, k, :] = c_ck[i, f, k - 1, :] @ A
+    return i
+
+
+@jit
+def rel_velocity(z, W, cp, j, n, N, omega):
+    acc = cp[j, CP_EY] * omega * z[N - 2]
+    for i in range(n):
+        acc += W[j, i] * z[n + i]
+    return acc
+
+
+@jit
+def rel_position(z, W, cp, j, n, N):
+    acc = -cp[j, CP_EY] * z[N - 3]
+    for i in range(n):
+        acc += W[j, i] * z[i]
+    return acc
+
+
+@jit
+def _project(z, Z, nz, Minv, W, cp, omega, R):
+    """Set the relative velocities of contacts Z[:nz] to zero (M^-1-weighted); R gets the reset's matrix
+    (identity where nothing is projected). False where their directions are dependent."""
+    N = z.shape[0]
+    n = W.shape[1]
+    R[:, :] = 0.0
+    for i in range(N):
+        R[i, i] = 1.0
+    if nz == 0:
+        return True
+    WZ = np.empty((nz, n))
+    for a in range(nz):
+        WZ[a, :] = W[Z[a], :]
+    MW = Minv @ WZ.T
+    G = WZ @ MW
+    rows = np.zeros((nz, N))  # u'_Z = rows . z
+    for a in range(nz):
+        for i in range(n):
+            rows[a, n + i] = WZ[a, i]
+        rows[a, N - 2] = cp[Z[a], CP_EY] * omega
+    X = np.empty((nz, N))
+    if not solve_small(G, rows, X):
+        return False
+    P = MW @ X  # n x N
+    for i in range(n):
+        for k in range(N):
+            R[n + i, k] -= P[i, k]
+    z[:] = R @ z
+    return True
+
+
+@jit
+def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
+    """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way),
+    chosen by enumeration (module docstring); projects z and fills R; False where nothing works."""
+    m = W.shape[0]
+    n = W.shape[1]
+    N = z.shape[0]
+    Z = np.empty(m, dtype=np.int64)
+    nz = 0
+    vscale = 0.0
+    for i in range(n):
+        vscale = max(vscale, abs(z[n + i]) + omega * abs(z[i]))
+    for j in range(m):
+        vscale = max(vscale, omega * abs(cp[j, CP_EY]))
+    for j in range(m):
+        if cp[j, CP_KT] > 0.0 or st[j] == INACTIVE:
+            continue
+        if j == j0 or st[j] == STUCK or abs(rel_velocity(z, W, cp, j, n, N, omega)) <= vtol * vscale:
+            Z[nz] = j
+            nz += 1
+    trial = st.copy()
+    best = st.copy()
+    best_bad = np.inf
+    found = False
+    total = 1
+    for _ in range(nz):
+        total *= 3
+    for nst in range(nz, -1, -1):
+        for code in range(total):
+            c = code
+            cnt = 0
+            for a in range(nz):
+                digit = c % 3
+                c //= 3
+                trial[Z[a]] = STUCK if digit == 0 else (1 if digit == 1 else -1)
+                if digit == 0:
+                    cnt += 1
+            if cnt != nst:
+                continue
+            if sig0 != 0 and trial[j0] != sig0:
+                continue
+            if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
+                continue
+            bad = 0.0
+            for a in range(nz):
+                j = Z[a]
+                if trial[j] == STUCK:
+                    lam = L[j] @ z
+                    bad += max(0.0, abs(lam) - cp[j, CP_MUS])
+                else:
+                    acc = cp[j, CP_EY] * omega * omega * z[N - 3]
+                    for i in range(n):
+                        acc += W[j, i] * (A[n + i] @ z)
+                    bad += max(0.0, -trial[j] * acc)
+                    if trial[j] * acc <= 0.0:
+                        bad += 1e-300
+            if bad == 0.0:
+                best[:] = trial
+                found = True
+                break
+            if bad < best_bad:
+                best_bad = bad
+                best[:] = trial
+        if found:
+            break
+    st[:] = best
+    return _project(z, Z, nz, Minv, W, cp, omega, R)
+
+
+@jit
+def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, t0):
+    """Add one step (Taylor coefficients zk, length s, starting at time t0) to the measurement."""
+    zt = np.empty(N)
+    for q in range(GAUSS_X.shape[0]):
+        taylor_state(zk, GAUSS_X[q] * s, zt)
+        wq = GAUSS_W[q] * s
+        for i in range(n):
+            harm[i, 0] += wq * zt[i] * zt[N - 3]
+            harm[i, 1] += wq * zt[i] * zt[N - 2]
+    # extremes: at both ends and at every zero of v_i (sampled at the nodes, refined by bisection)
+    K1 = zk.shape[0]
+    for i in range(n):
+        prev_s = 0.0
+        prev_v = zk[0, n + i]
+        xmax[i] = max(xmax[i], abs(zk[0, i]))
+        for q in range(GAUSS_X.shape[0] + 1):
+            sq = s if q == GAUSS_X.shape[0] else GAUSS_X[q] * s
+            v = 0.0
+            c = 1.0
+            for k in range(K1):
+                v += c * zk[k, n + i]
+                c *= sq / (k + 1)
+            if (prev_v > 0.0 and v < 0.0) or (prev_v < 0.0 and v > 0.0):
+                lo = prev_s
+                hi = sq
+                for _ in range(60):
+                    mid = 0.5 * (lo + hi)
+                    vm = 0.0
+                    c = 1.0
+                    for k in range(K1):
+                        vm += c * zk[k, n + i]
+                        c *= mid / (k + 1)
+                    if (vm > 0.0) == (prev_v > 0.0):
+                        lo = mid
+                    else:
+                        hi = mid
+                x = 0.0
+                c = 1.0
+                for k in range(K1):
+                    x += c * zk[k, i]
+                    c *= lo / (k + 1)
+                xmax[i] = max(xmax[i], abs(x))
+            prev_v = v
+            prev_s = sq
+        x = 0.0
+        c = 1.0
+        for k in range(K1):
+            x += c * zk[k, i]
+            c *= s / (k + 1)
+        xmax[i] = max(xmax[i], abs(x))
+    # contacts: stuck time, sliding, a held Jenkins stick's reversal
+    zend = np.empty(N)
+    taylor_state(zk, s, zend)
+    z0 = zk[0]
+    for j in range(m):
+        if st[j] == INACTIVE:
+            continue
+        if st[j] == STUCK:
+            mc[j, MC_STUCK] += s
+            if cp[j, CP_KT] > 0.0 and mc[j, MC_HELD] == 0.0:
+                u1 = rel_velocity(zend, W, cp, j, n, N, omega)
+                if mc[j, MC_SIGN] != 0.0 and u1 * mc[j, MC_SIGN] > 0.0:
+                    mc[j, MC_HELD] = 1.0
+                    mc[j, MC_STOPS] += 1.0
+        else:
+            if cp[j, CP_KT] > 0.0:
+                slot = 2 * n + int(cp[j, CP_SLOT])
+                mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(zend[slot] - z0[slot])
+            else:
+                mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(rel_position(zend, W, cp, j, n, N)
+                                                       - rel_position(z0, W, cp, j, n, N))
+
+
+@jit
+def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc):
+    """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
+    Returns OK, BUDGET or FAILED."""
+    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache
+    n = K.shape[0]
+    m = W.shape[0]
+    N = z.shape[0]
+    zk = np.empty((KT + 1, N))
+    znew = np.empty(N)
+    d = np.empty(KT + 1)
+    Es = np.empty((N, N))
+    R = np.empty((N, N))
+    Atmp = np.empty((N, N))
+    Ltmp = np.empty((max(m, 1), N))
+    t = 0.0
+    while t < T:
+        mi = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
+        if not c_ok[mi]:
+            return FAILED
+        A = c_A[mi]
+        E = c_E[mi]
+        h = c_h[mi]
+        start = True
+        fired = -1
+        while t < T:
+            budget[0] -= 1
+            if budget[0] < 0:
+                return BUDGET
+            s = min(h, T - t)
+            full = s == h
+            have_zk = False
+            if full:
+                znew[:] = E @ z
+            else:
+                powers(A, z, zk)
+                have_zk = True
+                taylor_state(zk, s, znew)
+            se = -1.0
+            for f in range(2 * m):
+                if not c_act[mi, f]:
+                    continue
+                ck = c_ck[mi, f]
+                ga = ck[0] @ z
+                g1a = ck[1] @ z
+                gb = ck[0] @ znew
+                if gb > 0.0 and (ga > 0.0 or (start and ga <= 0.0 and g1a > 0.0)):
+                    B = 0.0
+                    c = 1.0
+                    for k in range(_QUICK):
+                        B += abs(ck[k + 2] @ z) * c
+                        c *= s / (k + 1)
+                    B *= _QUICK_MARGIN
+                    gae = max(ga, 0.0)
+                    if ga > 0.0 and min(ga, gb) > 0.125 * B * s * s:
+                        continue
+                    if gae + g1a * s - 0.5 * B * s * s > 0.0:
+                        continue
+                for k in range(KT + 1):
+                    d[k] = ck[k] @ z
+                r = first_root(d, s, start)
+                if r >= 0.0 and (se < 0.0 or r < se):
+                    se = r
+                    fired = f
+            if se < 0.0:
+                if meas:
+                    if not have_zk:
+                        powers(A, z, zk)
+                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, t)
+                if jac:
+                    if full:
+                        J[:, :] = E @ J
+                    else:
+                        expm_taylor(A, s, Es)
+                        J[:, :] = Es @ J
+                z[:] = znew
+                t = T if s == T - t or T - (t + s) <= 1e-15 * T else t + s
+                start = False
+                for i in range(N):
+                    if not np.isfinite(z[i]):
+                        return FAILED
+                continue
+            # an event at t + se
+            if not have_zk:
+                powers(A, z, zk)
+            taylor_state(zk, se, znew)
+            if meas:
+                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, t)
+            if jac:
+                expm_taylor(A, se, Es)
+                J[:, :] = Es @ J
+            z[:] = znew
+            t += se
+            break
+        if fired < 0:
+            break
+        # the switch
+        j = fired // 2
+        fminus = A @ z
+        crow = c_rows[mi, fired].copy()
+        old = st[j]
+        before = st.copy()
+        sig = 0
+        if old != STUCK:
+            if cp[j, CP_KT] > 0.0:
+                st[j] = STUCK
+                R[:, :] = np.eye(N)
+                if meas:
+                    mc[j, MC_HELD] = 0.0
+                    mc[j, MC_SIGN] = -old
+            else:
+                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R):
+                    return FAILED
+        else:
+            sig = 1 if fired % 2 == 0 else -1
+            if cp[j, CP_KT] > 0.0:
+                st[j] = sig
+                R[:, :] = np.eye(N)
+                slot = 2 * n + int(cp[j, CP_SLOT])
+                kt = cp[j, CP_KT]
+                R[slot, :] = 0.0
+                for i in range(n):
+                    R[slot, i] = W[j, i]
+                R[slot, N - 3] = -cp[j, CP_EY]
+                R[slot, N - 1] = -sig * cp[j, CP_MU] / kt
+                z[:] = R @ z
+                if meas:
+                    mc[j, MC_SLIPS] += 1.0
+                    mus = cp[j, CP_MUS]
+                    mu = cp[j, CP_MU]
+                    mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
+            else:
+                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R):
+                    return FAILED
+        if meas:
+            for q in range(m):
+                if cp[q, CP_KT] <= 0.0 and st[q] == STUCK and before[q] != STUCK:
+                    mc[q, MC_STOPS] += 1.0
+        if jac:
+            mj = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
+            if not c_ok[mj]:
+                return FAILED
+            fplus = c_A[mj] @ z
+            Rf = R @ fminus
+            den = crow @ fminus
+            if abs(den) <= 1e-9 * (np.sqrt(fminus @ fminus) * np.sqrt(crow @ crow)):
+                jflag[0] = 0.0
+            else:
+                S = R.copy()
+                for a in range(N):
+                    for b in range(N):
+                        S[a, b] += (fplus[a] - Rf[a]) * crow[b] / den
+                J[:, :] = S @ J
+    return OK

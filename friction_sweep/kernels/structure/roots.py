@@ -1,0 +1,164 @@
+"""The first root of an event function on one step, none missed (DESIGN §7).
+
+On a step of length h (|A| h <= 1/2) an event function g(t) = c . exp(A t) z is its Taylor polynomial
+P(s) = sum_k d_k s^k / k!, d_k = c . A^k z, k <= KT, to rounding. On a piece [a, b] of width w the bound
+B = sum_k |P^(k+2)(a)| w^k / k! holds |g''| there (P is a polynomial, the sum is its exact expansion).
+A piece with g(a), g(b) > 0 holds no root where any of these holds:
+
+- min(g(a), g(b)) > B w^2 / 8 (the chord lies within B w^2 / 8 of g: no root pair between samples);
+- g(a) + g'(a) w - B w^2 / 2 > 0 with g(a) >= 0 (the concave lower bound from a stays positive; this
+  is how a function that starts at zero and leaves, g'(a) > 0, is passed without re-arming on it);
+- g(b) - g'(b) w - B w^2 / 2 > 0 (the same from b).
+
+Pieces that pass none are halved, left first, so the first root is the one found; a sign change on a
+piece where g' < 0 throughout (g'(a) + B w < 0) is one root, refined by Newton steps kept inside the
+bracket (bisection where a step leaves it). A piece narrower than MIN_WIDTH x h that still passes
+nothing is a touch without crossing (a grazing contact that does not switch).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from friction_sweep.kernels.jit import jit
+
+MIN_WIDTH = 2.0**-40
+_DEPTH = 64
+
+
+@jit
+def derivs(d, s, out):
+    """out[j] = P^(j)(s) = sum_k d[j + k] s^k / k! for every j."""
+    K = d.shape[0]
+    for j in range(K):
+        acc = 0.0
+        for k in range(K - 1 - j, -1, -1):
+            acc = acc * s / (k + 1) + d[j + k]
+        out[j] = acc
+
+
+@jit
+def value(d, s):
+    K = d.shape[0]
+    acc = 0.0
+    for k in range(K - 1, -1, -1):
+        acc = acc * s / (k + 1) + d[k]
+    return acc
+
+
+@jit
+def slope(d, s):
+    K = d.shape[0]
+    acc = 0.0
+    for k in range(K - 2, -1, -1):
+        acc = acc * s / (k + 1) + d[k + 1]
+    return acc
+
+
+@jit
+def bound2(da, w):
+    """max |P''| on [a, a + w] from the derivatives da at a."""
+    K = da.shape[0]
+    acc = 0.0
+    c = 1.0
+    for k in range(K - 2):
+        acc += abs(da[k + 2]) * c
+        c *= w / (k + 1)
+    return acc
+
+
+@jit
+def leaving(da):
+    """At a point where g = 0 (to rounding): whether g rises from it, by its first nonzero derivative."""
+    for j in range(1, min(4, da.shape[0])):
+        if da[j] > 0.0:
+            return True
+        if da[j] < 0.0:
+            return False
+    return True
+
+
+@jit
+def refine(d, lo, hi):
+    """A root of P in (lo, hi] with P(lo) > 0 >= P(hi): safeguarded Newton (bisection where a step leaves
+    the bracket); returns a right end (P <= 0) within rounding of the root."""
+    x = hi
+    for _ in range(200):
+        p = value(d, x)
+        if p > 0.0:
+            lo = x
+        else:
+            hi = x
+        tol = 4e-16 * max(hi, 1e-300)
+        if hi - lo <= tol:
+            return hi
+        dp = slope(d, x)
+        xn = 0.5 * (lo + hi)
+        if dp != 0.0:
+            xt = x - p / dp
+            if lo < xt < hi:
+                xn = xt
+        if abs(xn - x) <= tol:
+            # converged from one side: close the bracket on the other
+            probe = lo + 2.0 * tol
+            if probe < hi and value(d, probe) <= 0.0:
+                return probe
+            if hi - xn <= 4.0 * tol:
+                return hi
+            xn = 0.5 * (lo + hi)
+        x = xn
+    return hi
+
+
+@jit
+def first_root(d, h, start):
+    """The first s in [0, h] where P reaches zero from above, or -1.0. `start`: s = 0 is a mode's start,
+    where a function at zero that leaves (g' > 0, or its first nonzero derivative) is not an event."""
+    K = d.shape[0]
+    da = np.empty(K)
+    los = np.empty(_DEPTH)
+    his = np.empty(_DEPTH)
+    derivs(d, 0.0, da)
+    if da[0] <= 0.0:
+        if not (start and leaving(da)):
+            return 0.0
+    wmin = MIN_WIDTH * h
+    top = 0
+    los[0] = 0.0
+    his[0] = h
+    while top >= 0:
+        a = los[top]
+        b = his[top]
+        top -= 1
+        w = b - a
+        derivs(d, a, da)
+        ga = da[0]
+        if a == 0.0 and ga <= 0.0:
+            ga = 0.0
+        g1a = da[1]
+        B = bound2(da, w)
+        gb = value(d, b)
+        if gb <= 0.0:
+            if (g1a + B * w < 0.0 and ga > 0.0) or w <= wmin:
+                if ga <= 0.0:
+                    return a
+                return refine(d, a, b)
+        else:
+            g1b = slope(d, b)
+            if ga > 0.0 and min(ga, gb) > 0.125 * B * w * w:
+                continue
+            if (ga > 0.0 or g1a > 0.0 or (a == 0.0 and start)) and ga + g1a * w - 0.5 * B * w * w > 0.0:
+                continue
+            if gb - g1b * w - 0.5 * B * w * w > 0.0 and ga > 0.0:
+                continue
+            if w <= wmin or top + 2 >= _DEPTH:
+                continue
+        mid = a + 0.5 * w
+        # right half below the left: the left is taken first
+        top += 1
+        los[top] = mid
+        his[top] = b
+        top += 1
+        los[top] = a
+        his[top] = mid
+    return -1.0

@@ -1,0 +1,326 @@
+"""Steady state of one structure at one point: march the period map, shoot, measure (DESIGN §7).
+
+From rest (x = v = 0, Jenkins springs unloaded, the stick set at t = 0 chosen as at any switch), march
+forcing periods of the exact period map (period.advance) until P^k(s) repeats within steady_tol (k up
+to max_orbit_period), and from period shoot_after on (then every shoot_every periods) try Newton
+shooting on P(s) = s with the exact monodromy (transition matrices times saltation matrices; least
+squares, since a stuck contact's position is a neutral direction). A converged orbit is measured over
+its k periods; its largest Floquet multiplier (eigenvalue of the monodromy of P^k) where the settings
+ask. Amplitude still growing at the cap: GROWING; otherwise PERIOD_CAP; the events-and-steps budget:
+EVENT_BUDGET; a non-finite state or a mode that cannot be built: NONFINITE.
+
+One float row per point, laid out by row_layout(n, m): first harmonic cos and sin parts and max |x| per
+mass, per contact stops, slips, stuck fraction, friction energy per period, then steady_state,
+orbit_period, periods, floquet_multiplier, work (events and steps spent).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from friction_sweep.codes import SteadyState
+from friction_sweep.kernels.jit import jit
+from friction_sweep.kernels.settings import (
+    SET_MAX_ORBIT_PERIOD,
+    SET_MAX_PERIODS,
+    SET_SHOOT_AFTER,
+    SET_SHOOT_EVERY,
+    SET_STABILITY,
+    SET_STEADY_TOL,
+    SET_STOP_TOL,
+    SET_WORK_BUDGET,
+)
+from friction_sweep.kernels.structure.flow import CP_EY, CP_KT, CP_MU, CP_MUS, CP_SLOT, INACTIVE, STUCK
+from friction_sweep.kernels.structure.period import (
+    MC_ENERGY,
+    MC_SIZE,
+    MC_SLIPS,
+    MC_STOPS,
+    MC_STUCK,
+    OK,
+    advance,
+    new_cache,
+    rel_position,
+    rel_velocity,
+    resolve,
+)
+
+#: per-point slots after the per-mass and per-contact blocks
+PT_STEADY, PT_ORBIT, PT_PERIODS, PT_FLOQUET, PT_WORK = 0, 1, 2, 3, 4
+PT_SIZE = 5
+_NEWTON_ITERATIONS = 12
+_CONVERGED = int(SteadyState.CONVERGED)
+_PERIOD_CAP = int(SteadyState.PERIOD_CAP)
+_EVENT_BUDGET = int(SteadyState.EVENT_BUDGET)
+_NONFINITE = int(SteadyState.NONFINITE)
+_GROWING = int(SteadyState.GROWING)
+
+
+def row_layout(n: int, m: int) -> dict[str, slice]:
+    """Where solve_point writes each output in its row."""
+    names = ("harm_cos", "harm_sin", "peak")
+    per_contact = ("stops", "slips", "stuck_fraction", "friction_energy")
+    out: dict[str, slice] = {}
+    at = 0
+    for name in names:
+        out[name] = slice(at, at + n)
+        at += n
+    for name in per_contact:
+        out[name] = slice(at, at + m)
+        at += m
+    out["point"] = slice(at, at + PT_SIZE)
+    return out
+
+
+def row_size(n: int, m: int) -> int:
+    return 3 * n + 4 * m + PT_SIZE
+
+
+@jit
+def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
+    """Make the modes at the section (t = 0) agree with the state (after a Newton step): slip signs from
+    the relative velocities, a slipping slider slaved to its spring, the rigid stick set re-chosen."""
+    n = K.shape[0]
+    m = W.shape[0]
+    N = z.shape[0]
+    for j in range(m):
+        if st[j] == INACTIVE:
+            continue
+        kt = cp[j, CP_KT]
+        u1 = rel_velocity(z, W, cp, j, n, N, omega)
+        if kt > 0.0:
+            slot = 2 * n + int(cp[j, CP_SLOT])
+            if st[j] != STUCK:
+                if st[j] * u1 > 0.0:
+                    z[slot] = rel_position(z, W, cp, j, n, N) - st[j] * cp[j, CP_MU] / kt
+                else:
+                    st[j] = STUCK
+            if st[j] == STUCK:
+                lam = kt * (rel_position(z, W, cp, j, n, N) - z[slot])
+                if abs(lam) > cp[j, CP_MUS]:
+                    s = 1 if lam > 0.0 else -1
+                    st[j] = s
+                    z[slot] = rel_position(z, W, cp, j, n, N) - s * cp[j, CP_MU] / kt
+        elif st[j] != STUCK and abs(u1) > 0.0:
+            st[j] = 1 if u1 > 0.0 else -1
+    return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R)
+
+
+@jit
+def _norm(z, Nd):
+    acc = 0.0
+    for i in range(Nd):
+        acc = max(acc, abs(z[i]))
+    return acc
+
+
+@jit
+def _periods(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc):
+    N = z.shape[0]
+    for _ in range(k):
+        code = advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm,
+                       xmax, mc)
+        if code != OK:
+            return code
+        z[N - 3] = 1.0
+        z[N - 2] = 0.0
+    return OK
+
+
+@jit
+def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, harm, xmax, mc):
+    """Newton shooting on P^k(s) = s from z (in place where it converges); True where it did."""
+    N = z.shape[0]
+    Nd = N - 3
+    zs = z.copy()
+    sts = st.copy()
+    J = np.zeros((N, Nd))
+    jflag = np.ones(1)
+    last = np.inf
+    for _ in range(_NEWTON_ITERATIONS):
+        if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
+            return False
+        z0 = zs.copy()
+        st0 = sts.copy()
+        J[:, :] = 0.0
+        for i in range(Nd):
+            J[i, i] = 1.0
+        jflag[0] = 1.0
+        if _periods(zs, sts, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag, False,
+                    harm, xmax, mc) != OK:
+            return False
+        res = zs[:Nd] - z0[:Nd]
+        err = _norm(res, Nd)
+        if not np.isfinite(err):
+            return False
+        if err <= tol * max(_norm(z0, Nd), scale):
+            z[:] = z0
+            st[:] = st0
+            return True
+        if err > 2.0 * last:
+            return False
+        last = err
+        Mx = J[:Nd, :] - np.eye(Nd)
+        delta = np.linalg.lstsq(Mx, -res)[0]
+        zs[:] = z0
+        sts[:] = st0
+        for i in range(Nd):
+            zs[i] += delta[i]
+    return False
+
+
+@jit
+def solve_point(Minv, K, C, W, F, cp, omega, settings, row):
+    """Steady state and measurement of one point into row (row_layout)."""
+    n = K.shape[0]
+    m = W.shape[0]
+    mJ = 0
+    for j in range(m):
+        if cp[j, CP_KT] > 0.0:
+            mJ += 1
+    N = 2 * n + mJ + 3
+    Nd = N - 3
+    T = 2.0 * np.pi / omega
+    tol = settings[SET_STEADY_TOL]
+    vtol = settings[SET_STOP_TOL]
+    max_periods = int(settings[SET_MAX_PERIODS])
+    maxk = max(1, int(settings[SET_MAX_ORBIT_PERIOD]))
+    shoot_after = int(settings[SET_SHOOT_AFTER])
+    shoot_every = max(1, int(settings[SET_SHOOT_EVERY]))
+    budget = np.array([int(settings[SET_WORK_BUDGET])])
+    start_budget = budget[0]
+    row[:] = np.nan
+    cache = new_cache(n, m, N)
+    A = np.empty((N, N))
+    L = np.empty((max(m, 1), N))
+    R = np.empty((N, N))
+    harm = np.zeros((n, 2))
+    xmax = np.zeros(n)
+    mc = np.zeros((max(m, 1), MC_SIZE))
+    J = np.zeros((N, Nd))
+    jflag = np.ones(1)
+    # scale of the state: the static deflection under the largest force
+    fs = 0.0
+    for i in range(n):
+        fs = max(fs, abs(F[0, i]) + abs(F[1, i]))
+    for j in range(m):
+        fs = max(fs, cp[j, CP_MUS] + abs(cp[j, CP_EY]))
+    kmax = 0.0
+    for i in range(n):
+        kmax = max(kmax, abs(K[i, i]))
+    scale = 1e-300 + fs / max(kmax, 1e-300) * 1e-6
+    # start from rest
+    z = np.zeros(N)
+    z[N - 3] = 1.0
+    z[N - 1] = 1.0
+    st = np.zeros(max(m, 1), dtype=np.int64)[:m]
+    for j in range(m):
+        if cp[j, CP_MU] <= 0.0:
+            st[j] = INACTIVE
+        elif cp[j, CP_KT] > 0.0:
+            z[2 * n + int(cp[j, CP_SLOT])] = rel_position(z, W, cp, j, n, N)
+    status = _PERIOD_CAP
+    orbit = 0
+    if not resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
+        status = _NONFINITE
+        max_periods = 0
+    hist = np.zeros((maxk, Nd))
+    norms = np.zeros(max(max_periods, 1))
+    p = 0
+    while p < max_periods:
+        hist[p % maxk, :] = z[:Nd]
+        code = _periods(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False,
+                        harm, xmax, mc)
+        p += 1
+        if code != OK:
+            status = _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+            break
+        size = max(_norm(z, Nd), scale)
+        norms[p - 1] = size
+        for k in range(1, min(maxk, p) + 1):
+            prev = hist[(p - k) % maxk]
+            err = 0.0
+            for i in range(Nd):
+                err = max(err, abs(z[i] - prev[i]))
+            if err <= tol * size:
+                orbit = k
+                break
+        if orbit > 0:
+            status = _CONVERGED
+            break
+        if p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0:
+            if _newton(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, harm,
+                       xmax, mc):
+                orbit = 1
+                status = _CONVERGED
+                break
+            if budget[0] < 0:
+                status = _EVENT_BUDGET
+                break
+    if status == _PERIOD_CAP and p >= 8:
+        q = p // 4
+        grow = True
+        for i in range(p - q, p):
+            if norms[i] < norms[i - 1]:
+                grow = False
+                break
+        if grow and norms[p - 1] > 2.0 * norms[p - q]:
+            status = _GROWING
+    pt = 3 * n + 4 * m
+    row[pt + 2] = p
+    if status == _CONVERGED:
+        harm[:, :] = 0.0
+        xmax[:] = 0.0
+        mc[:, :] = 0.0
+        zm = z.copy()
+        stm = st.copy()
+        code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
+                        True, harm, xmax, mc)
+        if code != OK:
+            status = _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+        else:
+            tk = orbit * T
+            for i in range(n):
+                row[i] = 2.0 * harm[i, 0] / tk
+                row[n + i] = 2.0 * harm[i, 1] / tk
+                row[2 * n + i] = xmax[i]
+            for j in range(m):
+                row[3 * n + j] = mc[j, MC_STOPS] / orbit
+                row[3 * n + m + j] = mc[j, MC_SLIPS] / orbit if cp[j, CP_KT] > 0.0 else np.nan
+                row[3 * n + 2 * m + j] = mc[j, MC_STUCK] / tk
+                row[3 * n + 3 * m + j] = mc[j, MC_ENERGY] / orbit
+            row[pt + 1] = orbit
+            if settings[SET_STABILITY] != 0.0:
+                zf = z.copy()
+                stf = st.copy()
+                J[:, :] = 0.0
+                for i in range(Nd):
+                    J[i, i] = 1.0
+                jflag[0] = 1.0
+                if _periods(zf, stf, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag,
+                            False, harm, xmax, mc) == OK and jflag[0] == 1.0:
+                    Phi = J[:Nd, :].astype(np.complex128)
+                    ev = np.linalg.eigvals(Phi)
+                    big = 0.0
+                    for e in ev:
+                        big = max(big, abs(e))
+                    row[pt + PT_FLOQUET] = big
+    row[pt + PT_STEADY] = status
+    row[pt + PT_WORK] = start_budget - budget[0]
+
+
+@jit
+def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, omegas, scales, settings, rows):
+    """solve_point for each point i (frequency omegas[i], every friction times scales[i]) into rows[i]."""
+    n = K.shape[0]
+    F = np.empty((2, n))
+    cp = cp0.copy()
+    for p in range(omegas.shape[0]):
+        w = omegas[p]
+        for i in range(n):
+            F[0, i] = F_cos[i]
+            F[1, i] = w * F_sin_per_w[i]
+        for j in range(cp.shape[0]):
+            cp[j, CP_MU] = cp0[j, CP_MU] * scales[p]
+            cp[j, CP_MUS] = cp0[j, CP_MUS] * scales[p]
+        solve_point(Minv, K, C, W, F, cp, w, settings, rows[p])

@@ -1,0 +1,14 @@
+"""Multi-degree-of-freedom structures with friction contacts (issue 30, DESIGN §7): the model and its
+matrices (model.py, plain numpy) and the batch entry to the exact engine (solve.py; kernels in
+friction_sweep.kernels.structure)."""
+
+from friction_sweep.structures.model import (
+    Assembled,
+    ContactDef,
+    StructureDef,
+    assemble,
+    natural_frequencies,
+)
+from friction_sweep.structures.solve import solve_points
+
+__all__ = ["Assembled", "ContactDef", "StructureDef", "assemble", "natural_frequencies", "solve_points"]

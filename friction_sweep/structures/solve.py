@@ -1,0 +1,105 @@
+"""Solve a batch of (frequency, friction_scale) points of an assembled structure on the exact engine
+(friction_sweep.kernels.structure) and turn its rows into the cube's per-dof, per-contact and per-point
+arrays (the contract of issue 30)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from friction_sweep.codes import Regime, SteadyState
+from friction_sweep.kernels.structure.flow import CP_EY, CP_KT, CP_MU, CP_MUS, CP_SIZE, CP_SLOT
+from friction_sweep.kernels.structure.steady import (
+    PT_FLOQUET,
+    PT_ORBIT,
+    PT_PERIODS,
+    PT_STEADY,
+    PT_WORK,
+    row_layout,
+    row_size,
+    solve_batch,
+)
+from friction_sweep.structures.model import Assembled
+from friction_sweep.theory import phase as phase_convention
+
+#: a contact stuck for all but this fraction of the period is `stuck`
+_STUCK_ALL = 1e-12
+
+
+def engine_settings(settings: dict | None, outputs: Sequence[str]) -> np.ndarray:
+    """The kernel settings record: the event method's defaults under `settings`; stability from outputs."""
+    from friction_sweep.methods.event import for_outputs, kernel_settings
+
+    return kernel_settings(for_outputs(settings, outputs))
+
+
+def contact_parameters(a: Assembled) -> np.ndarray:
+    """Per contact: base amplitude at its end, kinetic and static friction, Jenkins stiffness, slider slot."""
+    m = len(a.contact_names)
+    cp = np.zeros((m, CP_SIZE))
+    cp[:, CP_EY] = a.e * a.base_amplitude if a.excitation == "base" else 0.0
+    cp[:, CP_MU] = a.mu
+    cp[:, CP_MUS] = a.mu_s
+    cp[:, CP_KT] = a.kt
+    cp[:, CP_SLOT] = np.cumsum(a.kt > 0) - 1
+    return cp
+
+
+def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None = None,
+                 outputs: Sequence[str] = ("amplitude", "phase", "regime")) -> dict[str, np.ndarray]:
+    """Steady state of each point (frequency[i], friction_scale[i]): per dof (P, n) amplitude,
+    peak_amplitude, phase; per contact (P, m) regime, stops_per_period, slips_per_period (NaN for a rigid
+    contact), stuck_fraction, friction_energy; per point (P,) steady_state, orbit_period, periods,
+    floquet_multiplier (NaN unless outputs has "stability"), work. Pure and deterministic, a point's
+    result depends on its inputs only."""
+    w = np.ascontiguousarray(np.asarray(frequency, dtype=float).ravel())
+    s = np.ascontiguousarray(np.asarray(friction_scale, dtype=float).ravel())
+    if w.shape != s.shape:
+        raise ValueError(f"frequency and friction_scale differ in length ({w.size}, {s.size})")
+    n, m = len(a.dof_names), len(a.contact_names)
+    rows = np.full((w.size, row_size(n, m)), np.nan)
+    good = np.isfinite(w) & (w > 0) & np.isfinite(s) & (s >= 0)
+    if good.any():
+        sub = np.full((int(good.sum()), rows.shape[1]), np.nan)
+        solve_batch(np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos,
+                    a.F_sin_per_w, contact_parameters(a), w[good], s[good], engine_settings(settings, outputs), sub)
+        rows[good] = sub
+    return _arrays(a, rows, good)
+
+
+def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray) -> dict[str, np.ndarray]:
+    n, m = len(a.dof_names), len(a.contact_names)
+    lay = row_layout(n, m)
+    pt = rows[:, lay["point"]]
+    steady = np.where(good, pt[:, PT_STEADY], SteadyState.NONFINITE)
+    steady = np.nan_to_num(steady, nan=SteadyState.NONFINITE).astype(np.int8)
+    ok = steady == SteadyState.CONVERGED
+    unit = a.amplitude_unit
+    xc, xs = rows[:, lay["harm_cos"]], rows[:, lay["harm_sin"]]
+    stops = rows[:, lay["stops"]]
+    slips = rows[:, lay["slips"]]
+    stuck = rows[:, lay["stuck_fraction"]]
+    regime = np.full(stops.shape, Regime.UNSETTLED, dtype=np.int8)
+    jenkins = np.broadcast_to(a.kt > 0, stops.shape)
+    with np.errstate(invalid="ignore"):
+        never_slips = np.where(jenkins, slips == 0, stuck >= 1.0 - _STUCK_ALL)
+    moving = np.where(stops > 0, Regime.STICK_SLIP, Regime.CONTINUOUS)
+    settled = np.where(never_slips, Regime.STUCK, moving).astype(np.int8)
+    regime[ok] = settled[ok]
+    regime[steady == SteadyState.GROWING] = Regime.UNBOUNDED
+    return {
+        "amplitude": np.hypot(xc, xs) / unit,
+        "peak_amplitude": rows[:, lay["peak"]] / unit,
+        "phase": phase_convention.wrap_degrees(np.degrees(np.arctan2(xs, xc))),
+        "regime": regime,
+        "stops_per_period": stops,
+        "slips_per_period": slips,
+        "stuck_fraction": np.where(ok[:, None], np.minimum(stuck, 1.0), np.nan),
+        "friction_energy": rows[:, lay["friction_energy"]],
+        "steady_state": steady,
+        "orbit_period": pt[:, PT_ORBIT],
+        "periods": pt[:, PT_PERIODS],
+        "floquet_multiplier": pt[:, PT_FLOQUET],
+        "work": pt[:, PT_WORK],
+    }
