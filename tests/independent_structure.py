@@ -486,7 +486,9 @@ class Automaton:
         n = self.md.n
         for _ in range(jacobians):
             J = self.jacobian(z, modes, 1e-7 * self.scale(z))
-            lu = np.linalg.pinv(J - np.eye(z.size))
+            # neutral directions (a continuum of orbits: a mass held by a slipping contact only, stuck positions)
+            # are left alone rather than followed by a huge step
+            lu = np.linalg.pinv(J - np.eye(z.size), rcond=1e-8)
             last = np.inf
             for _ in range(iters):
                 z1, m1 = self.period_map(z, modes)
