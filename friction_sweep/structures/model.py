@@ -205,3 +205,15 @@ def natural_frequencies(a: Assembled, contacts: str) -> np.ndarray:
     Li = np.linalg.inv(L)
     lam = np.linalg.eigvalsh(Li @ K @ Li.T)
     return np.sqrt(np.clip(lam, 0.0, None))
+
+
+def rest_state(a: Assembled) -> np.ndarray:
+    """Where a march starts (with zero velocities): every contact unstretched (w_j.x = e_j y(0), y(0) = Y
+    for base excitation), and in the directions the contacts leave free the springs' equilibrium with
+    the base at y(0) (min 1/2 x.K x - x.K_b y(0)); the least-norm such x where that is not unique. The 1-DoF
+    scenes' starts: force and base x = 0, joined x = y(0) (relative rest)."""
+    n, m = a.M.shape[0], a.W.shape[0]
+    y0 = a.base_amplitude if a.excitation == BASE else 0.0
+    kkt = np.block([[a.K, a.W.T], [a.W, np.zeros((m, m))]])
+    rhs = np.concatenate([a.K_base * y0, a.e * y0])
+    return np.ascontiguousarray(np.linalg.lstsq(kkt, rhs, rcond=None)[0][:n])

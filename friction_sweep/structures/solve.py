@@ -20,7 +20,7 @@ from friction_sweep.kernels.structure.steady import (
     row_size,
     solve_batch,
 )
-from friction_sweep.structures.model import Assembled
+from friction_sweep.structures.model import Assembled, rest_state
 from friction_sweep.theory import phase as phase_convention
 
 #: a contact stuck for all but this fraction of the period is `stuck`
@@ -63,7 +63,8 @@ def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None 
     if good.any():
         sub = np.full((int(good.sum()), rows.shape[1]), np.nan)
         solve_batch(np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos,
-                    a.F_sin_per_w, contact_parameters(a), w[good], s[good], engine_settings(settings, outputs), sub)
+                    a.F_sin_per_w, contact_parameters(a), rest_state(a), w[good], s[good],
+                    engine_settings(settings, outputs), sub)
         rows[good] = sub
     return _arrays(a, rows, good)
 

@@ -241,8 +241,9 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
 
 
 @jit
-def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, t0):
-    """Add one step (Taylor coefficients zk, length s, starting at time t0) to the measurement."""
+def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F):
+    """Add one step (Taylor coefficients zk, length s) to the measurement; harm[:, 2] and harm[:, 3] (first
+    rows) gather the excitation's work and the viscous dissipation (see energy_work)."""
     zt = np.empty(N)
     for q in range(GAUSS_X.shape[0]):
         taylor_state(zk, GAUSS_X[q] * s, zt)
@@ -250,6 +251,19 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, t0):
         for i in range(n):
             harm[i, 0] += wq * zt[i] * zt[N - 3]
             harm[i, 1] += wq * zt[i] * zt[N - 2]
+        # the excitation's work: f_ext . v, plus the contacts' work on the moving base
+        pin = 0.0
+        for i in range(n):
+            pin += (F[0, i] * zt[N - 3] + F[1, i] * zt[N - 2]) * zt[n + i]
+        for j in range(m):
+            if st[j] != INACTIVE and cp[j, CP_EY] != 0.0:
+                pin += (Lm[j] @ zt) * cp[j, CP_EY] * omega * zt[N - 2]
+        vis = 0.0
+        for i in range(n):
+            for k in range(n):
+                vis += zt[n + i] * Cmat[i, k] * zt[n + k]
+        harm[0, 2] += wq * pin
+        harm[0, 3] += wq * vis
     # extremes: at both ends and at every zero of v_i (sampled at the nodes, refined by bisection)
     K1 = zk.shape[0]
     for i in range(n):
@@ -325,6 +339,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     zk = np.empty((KT + 1, N))
     znew = np.empty(N)
     d = np.empty(KT + 1)
+    dmag = np.empty(4)
     Es = np.empty((N, N))
     R = np.empty((N, N))
     Atmp = np.empty((N, N))
@@ -360,7 +375,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 ga = ck[0] @ z
                 g1a = ck[1] @ z
                 gb = ck[0] @ znew
-                if gb > 0.0 and (ga > 0.0 or (start and ga <= 0.0 and g1a > 0.0)):
+                if gb > 0.0 and ga > 0.0:
                     B = 0.0
                     c = 1.0
                     for k in range(_QUICK):
@@ -374,7 +389,12 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                         continue
                 for k in range(KT + 1):
                     d[k] = ck[k] @ z
-                r = first_root(d, s, start)
+                for k in range(4):
+                    acc = 0.0
+                    for i in range(N):
+                        acc += abs(ck[k, i] * z[i])
+                    dmag[k] = acc
+                r = first_root(d, dmag, s, start)
                 if r >= 0.0 and (se < 0.0 or r < se):
                     se = r
                     fired = f
@@ -382,7 +402,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 if meas:
                     if not have_zk:
                         powers(A, z, zk)
-                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, t)
+                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F)
                 if jac:
                     if full:
                         J[:, :] = E @ J
@@ -401,7 +421,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 powers(A, z, zk)
             taylor_state(zk, se, znew)
             if meas:
-                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, t)
+                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F)
             if jac:
                 expm_taylor(A, se, Es)
                 J[:, :] = Es @ J

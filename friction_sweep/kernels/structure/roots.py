@@ -67,14 +67,25 @@ def bound2(da, w):
     return acc
 
 
+#: a derivative within this fraction of the size of its terms is zero to rounding
+ZERO_RTOL = 1e-10
+
+
 @jit
-def leaving(da):
-    """At a point where g = 0 (to rounding): whether g rises from it, by its first nonzero derivative."""
-    for j in range(1, min(4, da.shape[0])):
-        if da[j] > 0.0:
+def at_start(d, dmag):
+    """At a mode's start, where g is zero to rounding: whether g leaves zero upwards, judged by its first
+    derivative that is not zero to rounding (dmag[k]: the size of the terms of d[k]); the derivatives
+    below that one are set to exactly zero in d (they are rounding). True also where every derivative is
+    zero to rounding (the function stays at zero: nothing crosses)."""
+    for j in range(1, dmag.shape[0]):
+        if abs(d[j]) > ZERO_RTOL * dmag[j]:
+            if d[j] < 0.0:
+                return False
+            for k in range(j):
+                d[k] = 0.0
             return True
-        if da[j] < 0.0:
-            return False
+    for k in range(dmag.shape[0]):
+        d[k] = 0.0
     return True
 
 
@@ -111,17 +122,18 @@ def refine(d, lo, hi):
 
 
 @jit
-def first_root(d, h, start):
+def first_root(d, dmag, h, start):
     """The first s in [0, h] where P reaches zero from above, or -1.0. `start`: s = 0 is a mode's start,
-    where a function at zero that leaves (g' > 0, or its first nonzero derivative) is not an event."""
+    where a function at zero (to rounding: dmag as at_start) that leaves is not an event."""
     K = d.shape[0]
     da = np.empty(K)
     los = np.empty(_DEPTH)
     his = np.empty(_DEPTH)
-    derivs(d, 0.0, da)
-    if da[0] <= 0.0:
-        if not (start and leaving(da)):
+    if start and abs(d[0]) <= ZERO_RTOL * dmag[0]:
+        if not at_start(d, dmag):
             return 0.0
+    elif d[0] <= 0.0:
+        return 0.0
     wmin = MIN_WIDTH * h
     top = 0
     los[0] = 0.0

@@ -1,6 +1,7 @@
 """Steady state of one structure at one point: march the period map, shoot, measure (DESIGN §7).
 
-From rest (x = v = 0, Jenkins springs unloaded, the stick set at t = 0 chosen as at any switch), march
+From rest (model.rest_state: v = 0, every contact unstretched, the springs in equilibrium with the base
+at y(0); Jenkins springs unloaded; the stick set at t = 0 chosen as at any switch), march
 forcing periods of the exact period map (period.advance) until P^k(s) repeats within steady_tol (k up
 to max_orbit_period), and from period shoot_after on (then every shoot_every periods) try Newton
 shooting on P(s) = s with the exact monodromy (transition matrices times saltation matrices; least
@@ -54,6 +55,9 @@ _PERIOD_CAP = int(SteadyState.PERIOD_CAP)
 _EVENT_BUDGET = int(SteadyState.EVENT_BUDGET)
 _NONFINITE = int(SteadyState.NONFINITE)
 _GROWING = int(SteadyState.GROWING)
+_UNBALANCED = int(SteadyState.UNBALANCED)
+#: an orbit is resolved while its size x stiffness x _RESOLVED stays below its largest force
+_RESOLVED = 1e-10
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -137,6 +141,10 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
     J = np.zeros((N, Nd))
     jflag = np.ones(1)
     last = np.inf
+    # the residual is judged against the state Newton starts from, not the iterate: where no orbit exists
+    # (resonance with too little friction) the iterates run off to infinity with a relative residual
+    # that falls like 1 / |s| while the absolute one stays
+    ref = max(_norm(z, Nd), scale)
     for _ in range(_NEWTON_ITERATIONS):
         if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
             return False
@@ -153,7 +161,7 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
         err = _norm(res, Nd)
         if not np.isfinite(err):
             return False
-        if err <= tol * max(_norm(z0, Nd), scale):
+        if err <= tol * ref:
             z[:] = z0
             st[:] = st0
             return True
@@ -170,7 +178,78 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
 
 
 @jit
-def solve_point(Minv, K, C, W, F, cp, omega, settings, row):
+def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm, xmax, mc, settings,
+             row):
+    """Measure the orbit through z over its `orbit` periods into row; CONVERGED, or UNBALANCED where the
+    excitation's work per period misses the viscous and friction dissipation (an orbit that is none), or
+    the advance's failure."""
+    n = K.shape[0]
+    m = W.shape[0]
+    N = z.shape[0]
+    Nd = N - 3
+    pt = 3 * n + 4 * m
+    harm[:, :] = 0.0
+    xmax[:] = 0.0
+    mc[:, :] = 0.0
+    zm = z.copy()
+    stm = st.copy()
+    code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
+                    True, harm, xmax, mc)
+    if code != OK:
+        return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+    tk = orbit * T
+    fric = 0.0
+    for j in range(m):
+        fric += mc[j, MC_ENERGY]
+    w_in = harm[0, 2]
+    vis = harm[0, 3]
+    # rounding of the work integrals: the state's size squared times the stiffness scale
+    size = _norm(z, Nd)
+    kscale = 0.0
+    for i in range(n):
+        kscale = max(kscale, abs(K[i, i]), abs(C[i, i]) * omega)
+    # an orbit so large against its forces that rounding swallows them (fs / k below eps x its size) is
+    # no resolved orbit: its energy balance cannot be judged (resonance without an orbit runs there)
+    fs = 0.0
+    for i in range(n):
+        fs = max(fs, abs(F[0, i]) + abs(F[1, i]))
+    for j in range(m):
+        fs = max(fs, cp[j, CP_MU], abs(cp[j, CP_EY]) * kscale)
+    if size * kscale * _RESOLVED > fs:
+        return _UNBALANCED
+    slack = 1e-6 * (abs(w_in) + vis + fric) + 10.0 * settings[SET_STEADY_TOL] * size * size * kscale * tk
+    if abs(w_in - vis - fric) > slack:
+        return _UNBALANCED
+    for i in range(n):
+        row[i] = 2.0 * harm[i, 0] / tk
+        row[n + i] = 2.0 * harm[i, 1] / tk
+        row[2 * n + i] = xmax[i]
+    for j in range(m):
+        row[3 * n + j] = mc[j, MC_STOPS] / orbit
+        row[3 * n + m + j] = mc[j, MC_SLIPS] / orbit if cp[j, CP_KT] > 0.0 else np.nan
+        row[3 * n + 2 * m + j] = mc[j, MC_STUCK] / tk
+        row[3 * n + 3 * m + j] = mc[j, MC_ENERGY] / orbit
+    row[pt + 1] = orbit
+    if settings[SET_STABILITY] != 0.0:
+        zf = z.copy()
+        stf = st.copy()
+        J[:, :] = 0.0
+        for i in range(Nd):
+            J[i, i] = 1.0
+        jflag[0] = 1.0
+        if _periods(zf, stf, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag,
+                    False, harm, xmax, mc) == OK and jflag[0] == 1.0:
+            Phi = J[:Nd, :].astype(np.complex128)
+            ev = np.linalg.eigvals(Phi)
+            big = 0.0
+            for e in ev:
+                big = max(big, abs(e))
+            row[pt + PT_FLOQUET] = big
+    return _CONVERGED
+
+
+@jit
+def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
     """Steady state and measurement of one point into row (row_layout)."""
     n = K.shape[0]
     m = W.shape[0]
@@ -194,7 +273,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, settings, row):
     A = np.empty((N, N))
     L = np.empty((max(m, 1), N))
     R = np.empty((N, N))
-    harm = np.zeros((n, 2))
+    harm = np.zeros((n, 4))
     xmax = np.zeros(n)
     mc = np.zeros((max(m, 1), MC_SIZE))
     J = np.zeros((N, Nd))
@@ -211,6 +290,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, settings, row):
     scale = 1e-300 + fs / max(kmax, 1e-300) * 1e-6
     # start from rest
     z = np.zeros(N)
+    z[:n] = x_rest
     z[N - 3] = 1.0
     z[N - 1] = 1.0
     st = np.zeros(max(m, 1), dtype=np.int64)[:m]
@@ -227,6 +307,8 @@ def solve_point(Minv, K, C, W, F, cp, omega, settings, row):
     hist = np.zeros((maxk, Nd))
     norms = np.zeros(max(max_periods, 1))
     p = 0
+    shooting = True
+    pt = 3 * n + 4 * m
     while p < max_periods:
         hist[p % maxk, :] = z[:Nd]
         code = _periods(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False,
@@ -246,71 +328,48 @@ def solve_point(Minv, K, C, W, F, cp, omega, settings, row):
                 orbit = k
                 break
         if orbit > 0:
-            status = _CONVERGED
+            code = _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm, xmax,
+                            mc, settings, row)
+            status = code
+            if code == _UNBALANCED and p < max_periods:
+                orbit = 0
+                continue
             break
-        if p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0:
-            if _newton(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, harm,
+        if shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0:
+            zs = z.copy()
+            sts = st.copy()
+            if _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, harm,
                        xmax, mc):
-                orbit = 1
-                status = _CONVERGED
-                break
+                code = _measure(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm,
+                                xmax, mc, settings, row)
+                if code != _UNBALANCED:
+                    status = code
+                    orbit = 1
+                    break
+                # an orbit that does not balance its energy: no orbit (growth at resonance); march on
+                shooting = False
             if budget[0] < 0:
                 status = _EVENT_BUDGET
                 break
     if status == _PERIOD_CAP and p >= 8:
-        q = p // 4
-        grow = True
-        for i in range(p - q, p):
-            if norms[i] < norms[i - 1]:
-                grow = False
-                break
-        if grow and norms[p - 1] > 2.0 * norms[p - q]:
+        half = p // 2
+        rising = 0
+        for i in range(p - half, p):
+            if norms[i] > norms[i - 1]:
+                rising += 1
+        if rising >= 0.9 * half and norms[p - 1] > 1.1 * norms[p - half]:
             status = _GROWING
-    pt = 3 * n + 4 * m
     row[pt + 2] = p
-    if status == _CONVERGED:
-        harm[:, :] = 0.0
-        xmax[:] = 0.0
-        mc[:, :] = 0.0
-        zm = z.copy()
-        stm = st.copy()
-        code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
-                        True, harm, xmax, mc)
-        if code != OK:
-            status = _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
-        else:
-            tk = orbit * T
-            for i in range(n):
-                row[i] = 2.0 * harm[i, 0] / tk
-                row[n + i] = 2.0 * harm[i, 1] / tk
-                row[2 * n + i] = xmax[i]
-            for j in range(m):
-                row[3 * n + j] = mc[j, MC_STOPS] / orbit
-                row[3 * n + m + j] = mc[j, MC_SLIPS] / orbit if cp[j, CP_KT] > 0.0 else np.nan
-                row[3 * n + 2 * m + j] = mc[j, MC_STUCK] / tk
-                row[3 * n + 3 * m + j] = mc[j, MC_ENERGY] / orbit
-            row[pt + 1] = orbit
-            if settings[SET_STABILITY] != 0.0:
-                zf = z.copy()
-                stf = st.copy()
-                J[:, :] = 0.0
-                for i in range(Nd):
-                    J[i, i] = 1.0
-                jflag[0] = 1.0
-                if _periods(zf, stf, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag,
-                            False, harm, xmax, mc) == OK and jflag[0] == 1.0:
-                    Phi = J[:Nd, :].astype(np.complex128)
-                    ev = np.linalg.eigvals(Phi)
-                    big = 0.0
-                    for e in ev:
-                        big = max(big, abs(e))
-                    row[pt + PT_FLOQUET] = big
+    if status != _CONVERGED:
+        row[:pt] = np.nan
+        row[pt + 1] = np.nan
+        row[pt + PT_FLOQUET] = np.nan
     row[pt + PT_STEADY] = status
     row[pt + PT_WORK] = start_budget - budget[0]
 
 
 @jit
-def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, omegas, scales, settings, rows):
+def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, x_rest, omegas, scales, settings, rows):
     """solve_point for each point i (frequency omegas[i], every friction times scales[i]) into rows[i]."""
     n = K.shape[0]
     F = np.empty((2, n))
@@ -323,4 +382,4 @@ def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, omegas, scales, settings
         for j in range(cp.shape[0]):
             cp[j, CP_MU] = cp0[j, CP_MU] * scales[p]
             cp[j, CP_MUS] = cp0[j, CP_MUS] * scales[p]
-        solve_point(Minv, K, C, W, F, cp, w, settings, rows[p])
+        solve_point(Minv, K, C, W, F, cp, w, x_rest, settings, rows[p])
