@@ -78,6 +78,12 @@ STRUCTURES = {
                        contact("c7", "m7", "m6", 0.05)], {"m0": 1.0}),
 }
 
+#: the engine (c30-engine 1f98b89) labels a Jenkins contact's reversal sticks as stops and counts extra slips
+#: (/work/brief/c30-notes.md, 17:42 and 18:01); its amplitudes and energies agree
+JENKINS_LABELS = pytest.mark.xfail(strict=True, reason="engine: a Jenkins reversal stick read as a stop "
+                                   "(stops, slips, regime, stuck_fraction of the Jenkins contact)")
+LABEL_BUGS = {("jenkins", 0.4, 1.0), ("jenkins", 0.8, 1.0), ("jenkins", 1.5, 0.5)}
+
 #: (structure, angular frequency, friction_scale): every regime per structure where it has one
 POINTS = [
     ("chain", 0.4, 1.0), ("chain", 0.8, 1.0), ("chain", 1.2, 0.1), ("chain", 0.8, 5.0), ("chain", 2.0, 5.0),
@@ -91,6 +97,16 @@ POINTS = [
 ]
 
 
+#: points built to break an engine: a mass held only by a contact, no dashpot anywhere, next to the grazing
+#: boundary between continuous motion and stick-slip (the chain at w = 2: a stick of 0.8 % of the period
+#: above it, a near-touch below), eight masses with three contacts
+ADVERSARIAL = [
+    ("held", 0.8, 1.0), ("held", 1.5, 1.0), ("undamped", 1.2, 0.1), ("undamped", 2.0, 5.0),
+    ("chain", 2.0, 0.411572265625), ("chain", 2.0, 0.4113525390625),
+    pytest.param(("long", 0.5, 1.0), marks=pytest.mark.slow),
+]
+
+
 @functools.cache
 def reference(name, w, scale):
     auto = Automaton(model(STRUCTURES[name], scale), w)
@@ -99,13 +115,10 @@ def reference(name, w, scale):
 
 
 @functools.cache
-def engine(name, outputs=("amplitude", "phase", "regime", "friction_energy")):
-    """The engine's results for every point of a structure, in one batch: {(w, scale): {variable: value}}."""
-    points = [(w, s) for n, w, s in POINTS if n == name]
-    w = np.array([p[0] for p in points])
-    s = np.array([p[1] for p in points])
-    out = solve_points(assemble(STRUCTURES[name]), w, s, None, outputs)
-    return {p: {key: np.asarray(v)[i] for key, v in out.items()} for i, p in enumerate(points)}
+def engine(name, w, scale, outputs=("amplitude", "phase", "regime", "friction_energy")):
+    """The engine's results at one point: {variable: value}."""
+    out = solve_points(assemble(STRUCTURES[name]), np.array([w]), np.array([scale]), None, outputs)
+    return {key: np.asarray(v)[0] for key, v in out.items()}
 
 
 # ---- the reference against truths that need no engine ---------------------------------------------------------
@@ -123,7 +136,7 @@ def linear(mdl, w, stuck):
     return np.abs(X) / (mdl.Y or 1.0)
 
 
-@pytest.mark.parametrize("name, w", [("chain", 2.0), ("between", 0.8), ("three", 1.3)])
+@pytest.mark.parametrize("name, w", [("between", 0.8), ("between", 1.5), ("base", 1.0)])
 def test_reference_without_friction_is_the_linear_response(name, w):
     auto, _, out = reference(name, w, 0.0)
     np.testing.assert_allclose(out["amplitude"], linear(auto.md, w, stuck=False), rtol=1e-10)
@@ -213,11 +226,12 @@ def _id(point):
     return "-".join(map(str, point))
 
 
-@pytest.mark.parametrize("point", POINTS, ids=_id)
+@pytest.mark.parametrize("point", [pytest.param(p, marks=JENKINS_LABELS) if p in LABEL_BUGS else p
+                                   for p in POINTS] + ADVERSARIAL, ids=_id)
 def test_engine_matches_the_reference(point):
     name, w, scale = point
     auto, _, ref = reference(name, w, scale)
-    got = engine(name)[(w, scale)]
+    got = engine(name, w, scale)
     size = max(1.0, float(np.max(ref["amplitude"])))
     np.testing.assert_allclose(got["amplitude"], ref["amplitude"], rtol=0, atol=1e-8 * size)
     np.testing.assert_array_equal(got["regime"], ref["regime"])
@@ -230,14 +244,14 @@ def test_engine_matches_the_reference(point):
     np.testing.assert_allclose(got["friction_energy"], ref["friction_energy"], rtol=1e-8, atol=1e-12 * ref["work"])
 
 
-@pytest.mark.parametrize("point", POINTS, ids=_id)
+@pytest.mark.parametrize("point", POINTS + ADVERSARIAL, ids=_id)
 def test_engine_energy_balances_per_period(point):
     """The engine's friction energy plus the viscous loss is the forcing's work, per period (the loss and the
     work by quadrature of the reference orbit; for force excitation the work also from the engine's own first
     harmonics, pi sum_i F_i X_i sin(phase_i))."""
     name, w, scale = point
     auto, _, ref = reference(name, w, scale)
-    got = engine(name)[(w, scale)]
+    got = engine(name, w, scale)
     W = ref["work"]
     assert got["friction_energy"].sum() + ref["viscous"] == pytest.approx(W, rel=1e-10, abs=1e-14)
     if auto.md.Y == 0:
@@ -257,5 +271,5 @@ def test_engine_floquet_multiplier_is_the_period_maps(point):
     auto, (z, modes, k), _ = reference(name, w, scale)
     J = auto.jacobian(z, modes, 1e-6 * auto.scale(z), central=True)
     rho = float(np.max(np.abs(np.linalg.eigvals(J))))
-    got = engine(name, ("amplitude", "stability"))[(w, scale)]
+    got = engine(name, w, scale, ("amplitude", "stability"))
     assert got["floquet_multiplier"] == pytest.approx(rho, rel=1e-5, abs=1e-7)
