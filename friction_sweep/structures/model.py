@@ -155,10 +155,10 @@ def assemble(d: StructureDef) -> Assembled:
         if not (np.isfinite(Y) and Y > 0):
             raise ValueError(f"base_amplitude: {Y!r} is not positive")
         F_cos, F_sin = Y * Kb, -Y * Cb
-    a = Assembled(d.excitation, names, tuple(c.name for c in d.contacts), M, C, K, W, e, Kb, Cb, F_cos, F_sin,
-                  mu, mus, kt, Y)
-    _restrained(a)
-    return a
+    out = Assembled(d.excitation, names, tuple(c.name for c in d.contacts), M, C, K, W, e, Kb, Cb, F_cos, F_sin,
+                    mu, mus, kt, Y)
+    _restrained(out)
+    return out
 
 
 def _null_space(A: np.ndarray, n: int) -> np.ndarray:

@@ -11,7 +11,8 @@ that starts at zero):
   unloads at once to +-mu (p jumps), dissipating (mus^2 - mu^2) / (2 kt);
 - a rigid contact that stops, or whose constraint force reaches +-mus, is resolved with every rigid
   contact at zero relative velocity (stuck ones, and slipping ones within stop_tol of zero) together:
-  the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in the issue's tests), the first
+  the present statuses with the switching contact's change are kept where they are consistent
+  (below); otherwise the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in the issue's tests), the first
   consistent one with the most stuck contacts, contacts in lexical order: every stuck force within its
   static band |lambda_j| <= mus_j, every released contact accelerating in its slip direction
   (sig u'' > 0, under kinetic friction), and a contact breaking away slips. Their relative velocities are
@@ -24,8 +25,9 @@ f-/f+: the fields before and after). A switch where c . f- vanishes (a touch) is
 Measurement (meas): the first harmonic of every x_i by 8-point Gauss-Legendre quadrature on each step
 (exact to rounding: the integrand's Taylor series on a step falls like 2^-k / k!), max |x_i| at the
 nodes and at every zero of v_i (refined on its Taylor polynomial), and per contact its stops (rigid:
-slip to stick; Jenkins: a stick during which the relative velocity reverses, the contact holding the
-mass), slips (Jenkins: slider slip phases), stuck time and friction energy (mu x sliding distance, plus
+slip to stick; Jenkins: a stick during which the relative velocity returns to zero, the contact then
+holding the mass, as the 1-DoF Jenkins kernel labels it, without its creep rule yet), slips (Jenkins:
+slider slip phases), stuck time (Jenkins: the time held) and friction energy (mu x sliding distance, plus
 the unloading loss above).
 """
 
@@ -172,9 +174,34 @@ def _project(z, Z, nz, Minv, W, cp, omega, R):
 
 
 @jit
-def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
-    """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way),
-    chosen by enumeration (module docstring); projects z and fills R; False where nothing works."""
+def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L):
+    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): stuck forces
+    beyond their static bands, released contacts not accelerating in their slip direction."""
+    n = W.shape[1]
+    N = z.shape[0]
+    if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
+        return np.inf
+    bad = 0.0
+    for a in range(nz):
+        j = Z[a]
+        if trial[j] == STUCK:
+            bad += max(0.0, abs(L[j] @ z) - cp[j, CP_MUS])
+        else:
+            acc = cp[j, CP_EY] * omega * omega * z[N - 3]
+            for i in range(n):
+                acc += W[j, i] * (A[n + i] @ z)
+            bad += max(0.0, -trial[j] * acc)
+            if trial[j] * acc <= 0.0:
+                bad += 1e-300
+    return bad
+
+
+@jit
+def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
+    """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way;
+    j0 < 0: the start), projecting z and filling R; False where the projection fails. First the present
+    statuses with j0's switch (stuck, or slipping sig0), if consistent; else the enumeration of the module
+    docstring (each trial costs one unit of budget)."""
     m = W.shape[0]
     n = W.shape[1]
     N = z.shape[0]
@@ -192,6 +219,11 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
             Z[nz] = j
             nz += 1
     trial = st.copy()
+    if j0 >= 0:
+        trial[j0] = STUCK if sig0 == 0 else sig0
+        if _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L) == 0.0:
+            st[:] = trial
+            return _project(z, Z, nz, Minv, W, cp, omega, R)
     best = st.copy()
     best_bad = np.inf
     found = False
@@ -212,21 +244,8 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
                 continue
             if sig0 != 0 and trial[j0] != sig0:
                 continue
-            if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
-                continue
-            bad = 0.0
-            for a in range(nz):
-                j = Z[a]
-                if trial[j] == STUCK:
-                    lam = L[j] @ z
-                    bad += max(0.0, abs(lam) - cp[j, CP_MUS])
-                else:
-                    acc = cp[j, CP_EY] * omega * omega * z[N - 3]
-                    for i in range(n):
-                        acc += W[j, i] * (A[n + i] @ z)
-                    bad += max(0.0, -trial[j] * acc)
-                    if trial[j] * acc <= 0.0:
-                        bad += 1e-300
+            budget[0] -= 1
+            bad = _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L)
             if bad == 0.0:
                 best[:] = trial
                 found = True
@@ -234,7 +253,7 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R):
             if bad < best_bad:
                 best_bad = bad
                 best[:] = trial
-        if found:
+        if found or budget[0] < 0:
             break
     st[:] = best
     return _project(z, Z, nz, Minv, W, cp, omega, R)
@@ -313,12 +332,29 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F)
         if st[j] == INACTIVE:
             continue
         if st[j] == STUCK:
-            mc[j, MC_STUCK] += s
-            if cp[j, CP_KT] > 0.0 and mc[j, MC_HELD] == 0.0:
+            if cp[j, CP_KT] <= 0.0 or mc[j, MC_HELD] == 1.0:
+                mc[j, MC_STUCK] += s
+            else:
+                # a Jenkins stick holds the mass from where u' returns to zero (its sign after the stick
+                # was MC_SIGN); that instant is refined on u's Taylor polynomial over the step
                 u1 = rel_velocity(zend, W, cp, j, n, N, omega)
-                if mc[j, MC_SIGN] != 0.0 and u1 * mc[j, MC_SIGN] > 0.0:
+                if mc[j, MC_SIGN] != 0.0 and u1 * mc[j, MC_SIGN] <= 0.0:
+                    lo = 0.0
+                    hi = s
+                    for _ in range(60):
+                        mid = 0.5 * (lo + hi)
+                        um = 0.0
+                        c = 1.0
+                        for k in range(K1):
+                            um += c * (cp[j, CP_EY] * omega * zk[k, N - 2] + W[j] @ zk[k, n:2 * n])
+                            c *= mid / (k + 1)
+                        if um * mc[j, MC_SIGN] > 0.0:
+                            lo = mid
+                        else:
+                            hi = mid
                     mc[j, MC_HELD] = 1.0
                     mc[j, MC_STOPS] += 1.0
+                    mc[j, MC_STUCK] += s - hi
         else:
             if cp[j, CP_KT] > 0.0:
                 slot = 2 * n + int(cp[j, CP_SLOT])
@@ -442,10 +478,11 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 st[j] = STUCK
                 R[:, :] = np.eye(N)
                 if meas:
+                    # right after the stick u' has the sign opposite to the slip's (it decelerated to zero)
                     mc[j, MC_HELD] = 0.0
                     mc[j, MC_SIGN] = -old
             else:
-                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R):
+                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
                     return FAILED
         else:
             sig = 1 if fired % 2 == 0 else -1
@@ -466,7 +503,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     mu = cp[j, CP_MU]
                     mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
             else:
-                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R):
+                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
                     return FAILED
         if meas:
             for q in range(m):

@@ -1,0 +1,198 @@
+"""The multi-DoF engine (friction_sweep.structures, kernels/structure) against independent truths.
+
+- one mass, one contact: the dedicated 1-DoF kernels (methods.event, a separately written engine) in
+  every regime, force, base and joined, rigid and Jenkins, with damping and static friction;
+- zero friction: the linear response (K - w^2 M + i w C)^-1 F, solved here by numpy;
+- very large friction: the linear structure with its contacts stuck (rigid contacts as constraints
+  x = N q, Jenkins contacts as their springs), solved here;
+- sizes up to 20 masses and 8 contacts run, on one compilation.
+
+The independent integrator (DOP853 with event switching) is tests/test_structure_reference.py's (REF).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from friction_sweep.codes import Regime, SteadyState
+from friction_sweep.kernels import steady as one_dof
+from friction_sweep.methods import event
+from friction_sweep.structures import ContactDef, StructureDef, assemble, natural_frequencies, solve_points
+
+R = np.array([0.2, 0.3, 0.5, 0.8, 1.0, 1.2, 1.5, 2.0, 3.0])
+BETAS = (0.1, 0.5, 0.9, 1.2)
+
+
+def one_mass(scene: str, beta: float = 1.0, zeta: float = 0.0, kappa: float | None = None,
+             ratio: float = 1.0) -> StructureDef:
+    """The 1-DoF scenes as structures (DESIGN §7): force: forcing on the mass, contact to ground; base:
+    spring (and dashpot) to the base, contact to ground; joined: spring and contact to the base."""
+    to = "base" if scene in ("base", "joined") else "ground"
+    wall = "base" if scene == "joined" else "ground"
+    contact = ContactDef("c", ("m", wall), beta, kappa, ratio)
+    dampers = ((to, "m", 2.0 * zeta),) if zeta else ()
+    return StructureDef("force" if scene == "force" else "base", {"m": 1.0}, ((to, "m", 1.0),), dampers,
+                        (contact,), {"m": 1.0} if scene == "force" else {})
+
+
+def _effects(zeta, kappa, ratio, scene):
+    effects = {}
+    if zeta:
+        effects["viscous_damping"] = {"ratio": zeta, "to": "base"} if scene != "force" else zeta
+    if kappa:
+        effects["contact_stiffness"] = kappa
+    if ratio != 1.0:
+        effects["static_friction_ratio"] = ratio
+    return effects
+
+
+def _compare(scene, zeta=0.0, kappa=None, ratio=1.0, betas=BETAS, r=R):
+    for beta in betas:
+        a = assemble(one_mass(scene, 1.0, zeta, kappa, ratio))
+        got = solve_points(a, r, np.full(r.size, beta))
+        # the 1-DoF force scene is the base scene's equation (x'' + x + beta sgn x' = cos r t)
+        ref = event.solve_flat("base" if scene == "force" else scene, r, np.full(r.size, beta),
+                               _effects(zeta, kappa, ratio, scene))
+        # r = 1/(2n) undamped: the 1-DoF kernels flag the family of stick-free orbits (FAMILY), whose first
+        # harmonic is every member's; the engine reports the member it settles on (its peak may differ)
+        family = ref[:, one_dof.OUT_STEADY_STATE] == SteadyState.FAMILY
+        ok = (ref[:, one_dof.OUT_STEADY_STATE] == SteadyState.CONVERGED) | family
+        np.testing.assert_array_equal(got["steady_state"] == SteadyState.CONVERGED, ok, err_msg=f"{beta=}")
+        np.testing.assert_allclose(got["amplitude"][ok, 0], ref[ok, one_dof.OUT_TRANSMISSIBILITY], rtol=0,
+                                   atol=1e-10, err_msg=f"{beta=}")
+        single = ok & ~family
+        np.testing.assert_allclose(got["peak_amplitude"][single, 0], ref[single, one_dof.OUT_PEAK_TRANSMISSIBILITY],
+                                   rtol=0, atol=1e-9, err_msg=f"{beta=}")
+        np.testing.assert_array_equal(got["regime"][:, 0], ref[:, one_dof.OUT_REGIME].astype(np.int8),
+                                      err_msg=f"{beta=}")
+        np.testing.assert_array_equal(got["stops_per_period"][ok, 0], ref[ok, one_dof.OUT_STOPS_PER_PERIOD],
+                                      err_msg=f"{beta=}")
+        moving = ok & (ref[:, one_dof.OUT_TRANSMISSIBILITY] > 1e-6)
+        lag = np.abs((got["phase"][moving, 0] - ref[moving, one_dof.OUT_PHASE] + 180) % 360 - 180)
+        assert np.all(lag < 1e-7), (beta, lag)
+
+
+@pytest.mark.parametrize("scene", ["force", "base", "joined"])
+def test_one_mass_rigid_reproduces_the_1dof_kernels(scene):
+    _compare(scene)
+
+
+@pytest.mark.parametrize("scene", ["force", "base"])
+def test_one_mass_with_damping_reproduces_the_1dof_kernels(scene):
+    _compare(scene, zeta=0.05, betas=(0.1, 0.5, 0.9))
+
+
+def test_one_mass_static_friction_reproduces_the_1dof_kernels():
+    _compare("base", ratio=1.3, betas=(0.3, 0.6, 0.9))
+
+
+def test_one_mass_jenkins_reproduces_the_1dof_kernels_in_transmissibility():
+    r = np.array([0.3, 0.6, 0.9, 1.3, 2.0])
+    for beta in (0.2, 0.6):
+        a = assemble(one_mass("base", 1.0, kappa=10.0))
+        got = solve_points(a, r, np.full(r.size, beta))
+        ref = event.solve_flat("base", r, np.full(r.size, beta), {"contact_stiffness": 10.0})
+        ok = ref[:, one_dof.OUT_STEADY_STATE] == SteadyState.CONVERGED
+        assert ok.all()
+        np.testing.assert_allclose(got["amplitude"][:, 0], ref[:, one_dof.OUT_TRANSMISSIBILITY], atol=1e-10)
+
+
+def chain(n: int, contacts: int = 0, kt: float | None = None, damping: float = 0.02, friction: float = 0.3,
+          excitation: str = "force") -> StructureDef:
+    """n masses in a chain from the ground (or the base), contacts from every other mass to the ground
+    and one between two masses."""
+    names = [f"m{i}" for i in range(n)]
+    first = "base" if excitation == "base" else "ground"
+    springs = tuple([(first, names[0], 1.0)] + [(names[i], names[i + 1], 1.0 + 0.1 * i) for i in range(n - 1)])
+    dampers = tuple((first if i == 0 else names[i - 1], names[i], damping) for i in range(n))
+    cs = []
+    for j in range(contacts):
+        ends = (names[(2 * j) % n], "ground") if j % 3 != 2 or n < 2 else (names[j % n], names[(j + 1) % n])
+        cs.append(ContactDef(f"c{j}", ends, friction * (1 + 0.1 * j), kt))
+    masses = {name: 1.0 + 0.05 * i for i, name in enumerate(names)}
+    forcing = {names[-1]: 1.0} if excitation == "force" else {}
+    return StructureDef(excitation, masses, springs, dampers, tuple(cs), forcing)
+
+
+def _linear(M, C, K, F):
+    return lambda w: np.linalg.solve(K - w * w * M + 1j * w * C, F(w))
+
+
+@pytest.mark.parametrize("excitation", ["force", "base"])
+def test_zero_friction_is_the_linear_response(excitation):
+    d = chain(3, contacts=2, excitation=excitation)
+    a = assemble(d)
+    w = np.array([0.3, 0.7, 1.1, 1.9])
+    got = solve_points(a, w, np.zeros(w.size))
+    assert np.all(got["steady_state"] == SteadyState.CONVERGED)
+    Y = 1.0
+    Kb = np.array([1.0, 0.0, 0.0]) if excitation == "base" else np.zeros(3)
+    Cb = np.array([0.02, 0.0, 0.0]) if excitation == "base" else np.zeros(3)
+    f = np.array([0.0, 0.0, 1.0]) if excitation == "force" else np.zeros(3)
+    M = np.diag([1.0, 1.05, 1.1])
+    K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.1, -1.1], [0.0, -1.1, 1.1]])
+    C = np.array([[0.04, -0.02, 0.0], [-0.02, 0.04, -0.02], [0.0, -0.02, 0.02]])
+    X = np.array([np.linalg.solve(K - x * x * M + 1j * x * C, f + Y * (Kb + 1j * x * Cb)) for x in w])
+    np.testing.assert_allclose(got["amplitude"], np.abs(X), rtol=1e-12, atol=1e-13)
+    lag = (got["phase"] + np.degrees(np.angle(X)) + 180) % 360 - 180
+    assert np.max(np.abs(lag)) < 1e-9
+
+
+@pytest.mark.parametrize("kt", [None, 5.0])
+def test_very_large_friction_is_the_stuck_linear_structure(kt):
+    d = chain(3, contacts=2, kt=kt, friction=1e6)
+    a = assemble(d)
+    w = np.array([0.4, 0.9, 1.6])
+    got = solve_points(a, w, np.ones(w.size))
+    assert np.all(got["regime"] == Regime.STUCK)
+    M = np.diag([1.0, 1.05, 1.1])
+    K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.1, -1.1], [0.0, -1.1, 1.1]])
+    C = np.array([[0.04, -0.02, 0.0], [-0.02, 0.04, -0.02], [0.0, -0.02, 0.02]])
+    f = np.array([0.0, 0.0, 1.0])
+    Wc = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # contacts of m0 and m2 to the ground
+    if kt is None:
+        _, _, vt = np.linalg.svd(Wc)
+        N = vt[2:].T
+        X = np.array([N @ np.linalg.solve(N.T @ (K - x * x * M + 1j * x * C) @ N, N.T @ f) for x in w])
+    else:
+        Kj = K + kt * Wc.T @ Wc
+        X = np.array([np.linalg.solve(Kj - x * x * M + 1j * x * C, f) for x in w])
+    np.testing.assert_allclose(got["amplitude"], np.abs(X), rtol=1e-10, atol=1e-12)
+
+
+def test_natural_frequencies_of_one_mass():
+    a = assemble(one_mass("base", kappa=3.0))
+    np.testing.assert_allclose(natural_frequencies(a, "free"), [1.0])
+    np.testing.assert_allclose(natural_frequencies(a, "stuck"), [2.0])
+    assert natural_frequencies(assemble(one_mass("base")), "stuck").size == 0
+
+
+def test_sizes_up_to_20_masses_and_8_contacts_run_on_one_compilation():
+    from friction_sweep.kernels.structure.steady import solve_batch
+
+    for n, m, kt, w in ((1, 1, None, (0.5, 1.3)), (2, 1, None, (0.5, 1.3)), (10, 2, 4.0, (0.5, 1.3)),
+                        (20, 8, None, (0.5,))):
+        a = assemble(chain(n, contacts=m, kt=kt))
+        got = solve_points(a, np.array(w), np.ones(len(w)))
+        assert np.all(got["steady_state"] == SteadyState.CONVERGED), (n, m)
+        assert np.all(np.isfinite(got["amplitude"]))
+    assert len(solve_batch.signatures) == 1
+
+
+def test_a_structure_nothing_holds_is_refused():
+    d = StructureDef("force", {"a": 1.0, "b": 1.0}, (("a", "b", 1.0),), (), (), {"a": 1.0})
+    with pytest.raises(ValueError, match="unrestrained"):
+        assemble(d)
+
+
+def test_floquet_multiplier_of_one_mass_is_the_1dof_kernels():
+    """The saltation monodromy's largest multiplier against the 1-DoF event kernel's (its own monodromy)."""
+    a = assemble(one_mass("base", 1.0, zeta=0.05))
+    r = np.array([0.5, 0.9, 1.5, 2.5])
+    beta = np.full(r.size, 0.4)
+    got = solve_points(a, r, beta, outputs=("amplitude", "stability"))
+    ref = event.solve_flat("base", r, beta, _effects(0.05, None, 1.0, "base"), stability=1)
+    np.testing.assert_allclose(got["floquet_multiplier"], ref[:, one_dof.OUT["floquet_multiplier"]], rtol=1e-8)
+    plain = solve_points(a, r, beta)
+    assert np.isnan(plain["floquet_multiplier"]).all()
