@@ -78,12 +78,6 @@ STRUCTURES = {
                        contact("c7", "m7", "m6", 0.05)], {"m0": 1.0}),
 }
 
-#: the engine (c30-engine 1f98b89) labels a Jenkins contact's reversal sticks as stops and counts extra slips
-#: (/work/brief/c30-notes.md, 17:42 and 18:01); its amplitudes and energies agree
-JENKINS_LABELS = pytest.mark.xfail(strict=True, reason="engine: a Jenkins reversal stick read as a stop "
-                                   "(stops, slips, regime, stuck_fraction of the Jenkins contact)")
-LABEL_BUGS = {("jenkins", 0.4, 1.0), ("jenkins", 0.8, 1.0), ("jenkins", 1.5, 0.5)}
-
 #: (structure, angular frequency, friction_scale): every regime per structure where it has one
 POINTS = [
     ("chain", 0.4, 1.0), ("chain", 0.8, 1.0), ("chain", 1.2, 0.1), ("chain", 0.8, 5.0), ("chain", 2.0, 5.0),
@@ -226,8 +220,7 @@ def _id(point):
     return "-".join(map(str, point))
 
 
-@pytest.mark.parametrize("point", [pytest.param(p, marks=JENKINS_LABELS) if p in LABEL_BUGS else p
-                                   for p in POINTS] + ADVERSARIAL, ids=_id)
+@pytest.mark.parametrize("point", POINTS + ADVERSARIAL, ids=_id)
 def test_engine_matches_the_reference(point):
     name, w, scale = point
     auto, _, ref = reference(name, w, scale)
