@@ -78,6 +78,25 @@ STRUCTURES = {
                        contact("c7", "m7", "m6", 0.05)], {"m0": 1.0}),
 }
 
+#: engine failures open at c30-ref's hard stop (c30-engine 73b5a7b; /work/brief/c30-notes.md 18:2x): the symmetric
+#: structure's moving points come back NaN; a Jenkins contact's regime reads stick_slip where it never stops
+ENGINE_NAN = pytest.mark.xfail(strict=True, reason="engine: NaN at a symmetric structure's moving points")
+ENGINE_LABEL = pytest.mark.xfail(strict=True, reason="engine: Jenkins contact regime stick_slip without stops")
+OPEN = {("symmetric", 1.2, 2.0): ENGINE_NAN, ("symmetric", 0.9, 1.0): ENGINE_NAN,
+        ("symmetric", 2.0, 1.0): ENGINE_NAN, ("jenkins", 0.8, 1.0): ENGINE_LABEL, ("jenkins", 1.5, 0.5): ENGINE_LABEL}
+
+
+def marked(points, labels_only=False):
+    """The points with the open engine failures marked (labels_only: only the NaN ones fail the energy)."""
+    out = []
+    for p in points:
+        mark = OPEN.get(p) if isinstance(p, tuple) else None
+        if mark is not None and not (labels_only and mark is ENGINE_LABEL):
+            p = pytest.param(p, marks=mark)
+        out.append(p)
+    return out
+
+
 #: (structure, angular frequency, friction_scale): every regime per structure where it has one
 POINTS = [
     ("chain", 0.4, 1.0), ("chain", 0.8, 1.0), ("chain", 1.2, 0.1), ("chain", 0.8, 5.0), ("chain", 2.0, 5.0),
@@ -220,7 +239,7 @@ def _id(point):
     return "-".join(map(str, point))
 
 
-@pytest.mark.parametrize("point", POINTS + ADVERSARIAL, ids=_id)
+@pytest.mark.parametrize("point", marked(POINTS) + ADVERSARIAL, ids=_id)
 def test_engine_matches_the_reference(point):
     name, w, scale = point
     auto, _, ref = reference(name, w, scale)
@@ -237,7 +256,7 @@ def test_engine_matches_the_reference(point):
     np.testing.assert_allclose(got["friction_energy"], ref["friction_energy"], rtol=1e-8, atol=1e-12 * ref["work"])
 
 
-@pytest.mark.parametrize("point", POINTS + ADVERSARIAL, ids=_id)
+@pytest.mark.parametrize("point", marked(POINTS, labels_only=True) + ADVERSARIAL, ids=_id)
 def test_engine_energy_balances_per_period(point):
     """The engine's friction energy plus the viscous loss is the forcing's work, per period (the loss and the
     work by quadrature of the reference orbit; for force excitation the work also from the engine's own first
@@ -263,6 +282,9 @@ def test_engine_floquet_multiplier_is_the_period_maps(point):
     name, w, scale = point
     auto, (z, modes, k), _ = reference(name, w, scale)
     J = auto.jacobian(z, modes, 1e-6 * auto.scale(z), central=True)
+    n = auto.md.n
+    keep = np.r_[np.arange(2 * n), 2 * n + np.flatnonzero(auto.md.kt > 0)]  # a rigid contact has no slider
+    J = J[np.ix_(keep, keep)]
     rho = float(np.max(np.abs(np.linalg.eigvals(J))))
     got = engine(name, w, scale, ("amplitude", "stability"))
     assert got["floquet_multiplier"] == pytest.approx(rho, rel=1e-5, abs=1e-7)
