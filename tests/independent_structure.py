@@ -45,7 +45,6 @@ RTOL, ATOL = 1e-11, 1e-15
 STICK_MIN = 1e-10
 #: relative velocity (of the structure's velocity scale) below which a slipping contact counts as at rest
 VTOL = 1e-9
-TRACE = False
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 
 
@@ -354,8 +353,6 @@ class Automaton:
                 continue
             k = next(i for i, te in enumerate(sol.t_events) if te.size)
             kind, j, e = kinds[k]
-            if TRACE:
-                print("event", kind, j, e, t, modes, log and (log["window"](t), log["state"], log["anchor"]))
             if kind == "driven":
                 log["anchor"][j] = False
                 continue
