@@ -260,6 +260,17 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
 
 
 @jit
+def _taylor_at(zk, col, s):
+    """Component col of z(s) = sum_k zk[k] s^k / k! (s within one step)."""
+    acc = 0.0
+    c = 1.0
+    for k in range(zk.shape[0]):
+        acc += c * zk[k, col]
+        c *= s / (k + 1)
+    return acc
+
+
+@jit
 def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F):
     """Add one step (Taylor coefficients zk, length s) to the measurement; harm[:, 2] and harm[:, 3] (first
     rows) gather the excitation's work and the viscous dissipation (see energy_work)."""
@@ -284,47 +295,35 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F)
         harm[0, 2] += wq * pin
         harm[0, 3] += wq * vis
     # extremes: at both ends and at every zero of v_i (sampled at the nodes, refined by bisection)
-    K1 = zk.shape[0]
     for i in range(n):
         prev_s = 0.0
         prev_v = zk[0, n + i]
         xmax[i] = max(xmax[i], abs(zk[0, i]))
         for q in range(GAUSS_X.shape[0] + 1):
             sq = s if q == GAUSS_X.shape[0] else GAUSS_X[q] * s
-            v = 0.0
-            c = 1.0
-            for k in range(K1):
-                v += c * zk[k, n + i]
-                c *= sq / (k + 1)
+            v = _taylor_at(zk, n + i, sq)
             if (prev_v > 0.0 and v < 0.0) or (prev_v < 0.0 and v > 0.0):
                 lo = prev_s
                 hi = sq
                 for _ in range(60):
                     mid = 0.5 * (lo + hi)
-                    vm = 0.0
-                    c = 1.0
-                    for k in range(K1):
-                        vm += c * zk[k, n + i]
-                        c *= mid / (k + 1)
+                    vm = _taylor_at(zk, n + i, mid)
                     if (vm > 0.0) == (prev_v > 0.0):
                         lo = mid
                     else:
                         hi = mid
-                x = 0.0
-                c = 1.0
-                for k in range(K1):
-                    x += c * zk[k, i]
-                    c *= lo / (k + 1)
-                xmax[i] = max(xmax[i], abs(x))
+                xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, lo)))
             prev_v = v
             prev_s = sq
-        x = 0.0
-        c = 1.0
-        for k in range(K1):
-            x += c * zk[k, i]
-            c *= s / (k + 1)
-        xmax[i] = max(xmax[i], abs(x))
-    # contacts: stuck time, sliding, a held Jenkins stick's reversal
+        xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, s)))
+    _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc)
+
+
+@jit
+def _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc):
+    """Add one step (Taylor coefficients zk, length s) to the per-contact measures mc: stuck time,
+    sliding energy, a held Jenkins stick's reversal (its stop)."""
+    K1 = zk.shape[0]
     zend = np.empty(N)
     taylor_state(zk, s, zend)
     z0 = zk[0]
