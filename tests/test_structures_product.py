@@ -17,30 +17,26 @@ import numpy as np
 import pytest
 import xarray as xr
 from click.testing import CliRunner
-from conftest import in_dir, one_error_line
+from conftest import ROOT, in_dir, one_error_line
 
 import friction_sweep as fs
 from friction_sweep.cli import main
 from friction_sweep.codes import Regime, SteadyState, meanings
 
-#: two masses, a rigid contact and a Jenkins one, 40 frequencies (two tiles of 32) x 2 friction scales
-SPEC = """\
-scene: {excitation: force}
-structure:
-  masses: {blade: 1.0, damper: 0.1}
-  springs: [[ground, blade, 1.0], [blade, damper, 2.0]]
-  dampers: [[ground, blade, 0.004]]
-  contacts:
-    - {name: platform, between: [damper, ground], friction: 0.3}
-    - {name: root, between: [blade, base], friction: 0.2, stiffness: 20, static_friction_ratio: 1.2}
-  forcing: {blade: 1.0}
-grid:
-  frequency: {start: 0.2, stop: 3.0, num: 40}
-  friction_scale: [0.5, 2.0]
-method: event
-outputs: [amplitude, phase, regime, friction_energy, stability]
-output: out.h5
-"""
+
+def _edit(text: str, *edits: tuple[str, str]) -> str:
+    for old, new in edits:
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    return text
+
+
+#: the shipped example (configs/two_mass_damper.yaml: two masses, a rigid contact and a Jenkins one) on a
+#: smaller plane, 40 frequencies (two tiles of 32) x 2 friction scales, with more outputs
+SPEC = _edit((ROOT / "configs" / "two_mass_damper.yaml").read_text(),
+             ("num: 561}", "num: 40}"), ("friction_scale: [0.25, 0.5, 1.0, 2.0]", "friction_scale: [0.5, 2.0]"),
+             ("outputs: [amplitude, phase, regime]", "outputs: [amplitude, phase, regime, friction_energy, stability]"
+              "\noutput: out.h5"))
 
 
 @pytest.fixture(scope="module")
@@ -247,8 +243,8 @@ def test_the_estimate_counts_the_engine_compile_only_where_numba_has_not_cached_
 
 
 def test_a_base_excited_structure_records_the_base_amplitude():
-    text = SPEC.replace("{excitation: force}", "{excitation: base}").replace(
-        "  forcing: {blade: 1.0}\n", "  base_amplitude: 0.5\n").replace("num: 40", "num: 3")
+    text = _edit(SPEC, ("{excitation: force}", "{excitation: base}"), ("forcing: {blade: 1.0}", "base_amplitude: 0.5"),
+                 ("num: 40", "num: 3"))
     ds = fs.sweep_yaml(text)
     assert ds.attrs["excitation"] == "base" and json.loads(ds.attrs["structure"])["base_amplitude"] == 0.5
     assert "forcing" not in text and dict(ds.sizes) == {"friction_scale": 2, "frequency": 3, "dof": 2, "contact": 2}
