@@ -722,7 +722,7 @@ def check(result: Path, as_json: bool):
 @click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
               help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
                    "history_point=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those "
-                   "dims.")
+                   "dims. A structure cube: friction_scale=S, dof=NAME (curves, phase), contact=NAME.")
 @click.option("--yscale", type=click.Choice(YSCALES), default="auto", show_default=True,
               help="The curves' y axis: log, linear, or auto (log where the values span more than "
                    f"{WIDE_RANGE:g} times their median, e.g. a frictionless peak beside damped curves).")
@@ -730,7 +730,8 @@ def check(result: Path, as_json: bool):
 def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...], yscale: str,
          overwrite: bool):
     """Draw a quick look at a result cube as PNG: the regime map, transmissibility or phase curves, or
-    a stored orbit."""
+    a stored orbit; of a structure cube, a regime map per contact, or each mass's amplitude or phase with a
+    regime strip per contact."""
     from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output, write_all
 
     problem = missing_figures_extra()  # first: a missing extra costs nothing, not even reading the cube
