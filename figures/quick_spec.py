@@ -1,7 +1,8 @@
 """Write a coarse copy of a sweep spec, for `make figures-quick` (CI): the same scene, method,
 outputs, time histories and range of r, on at most --num frequency ratios (default 100) and at most
 --max-force-ratios force ratios (default 16; line figures keep their force ratios, only the regime
-map's axis gets coarser). The copy is validated before it is written, and written atomically.
+map's axis gets coarser); of a structure spec, at most --num frequencies and --max-force-ratios
+friction scales. The copy is validated before it is written, and written atomically.
 
     python figures/quick_spec.py configs/fig07_base_transmissibility.yaml results/quick/fig07_base_transmissibility.yaml
 """
@@ -18,6 +19,7 @@ from ruamel.yaml import YAML
 from ruamel.yaml.comments import CommentedMap
 
 from friction_sweep.spec import SpecError, load_spec, parse_spec_text
+from friction_sweep.spec.structure import StructureSpec
 
 
 def _coarse_axis(values, limit: int):
@@ -35,8 +37,11 @@ def coarse_text(src: Path, dst: Path, num: int = 100, max_force_ratios: int = 16
     yaml.width = 4096
     data = yaml.load(spec.text)
     grid = data["grid"]
-    for key, values, limit in (("frequency_ratio", spec.frequency_ratio, num),
-                               ("force_ratio", spec.force_ratio, max_force_ratios)):
+    # a structure's plane is (frequency, friction_scale): its friction scales take the force ratios' limit
+    axes = (("frequency", spec.frequency, num), ("friction_scale", spec.friction_scale, max_force_ratios)) \
+        if isinstance(spec, StructureSpec) else (("frequency_ratio", spec.frequency_ratio, num),
+                                                 ("force_ratio", spec.force_ratio, max_force_ratios))
+    for key, values, limit in axes:
         axis = _coarse_axis(values, limit)
         if axis is not None:
             grid[key] = axis

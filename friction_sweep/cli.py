@@ -588,13 +588,6 @@ def _structure_cube(ds) -> bool:
     return is_structure(ds.attrs)
 
 
-def _refuse_structure_cube(ds, result: Path, command: str) -> None:
-    """Exit 2 for a structure cube where `command` reads 1-DoF cubes only (for now)."""
-    if _structure_cube(ds):
-        fail(f"{escape(result)} is a structure cube (several masses and contacts): fsweep {command} reads the "
-             "1-DoF cubes of (force_ratio, frequency_ratio) only; fsweep info describes it, xarray reads it")
-
-
 def _info_structure(result: Path, ds, a: dict) -> None:
     """`fsweep info` of a structure cube: its plane, the structure it solved, its variables, the regimes
     per contact. `a`: its attributes, escaped."""
@@ -604,8 +597,9 @@ def _info_structure(result: Path, ds, a: dict) -> None:
     click.echo("  dims: " + ", ".join(f"{escape(k)} {v}" for k, v in ds.sizes.items()))
     for name in ("friction_scale", "frequency"):
         v = ds[name].values
-        click.echo(f"  {name}: {v.min():g} .. {v.max():g}")
+        click.echo(f"  {name}: {v.min():g} .. {v.max():g}{_units_note(ds[name])}")
     click.echo(f"  excitation: {a.get('excitation')}, method: {a.get('method')}")
+    _echo_natural_frequencies(ds)
     try:
         st = attributes.read_json(ds.attrs, "structure")
     except attributes.BadAttribute as err:  # open_cube refuses such a cube; a Dataset from elsewhere not
@@ -641,12 +635,36 @@ def _info_structure(result: Path, ds, a: dict) -> None:
             click.echo(f"  regimes at contact {escape(name)}: {_regime_summary(regime.sel(contact=name).values)}")
     for name in ("amplitude", "peak_amplitude"):
         if name in ds:
+            click.echo(f"  {name}:{_units_note(ds[name]) or ' dimensionless'}")
             for dof in ds["dof"].values.tolist():
                 v = ds[name].sel(dof=dof).values
                 finite = np.isfinite(v)
                 if finite.any():
                     click.echo(f"  {name} of {escape(dof)}: {v[finite].min():.6g} .. {v[finite].max():.6g} "
                                f"({finite.sum()} finite of {v.size})")
+
+
+def _units_note(da) -> str:
+    """A coordinate's or variable's units as info shows them: " [units] (comment)", "" where it has none."""
+    units = str(da.attrs.get("units", "1")).strip()
+    comment = str(da.attrs.get("comment", "")).strip()
+    text = f" [{escape(units)}]" if units not in ("", "1") else ""
+    return text + (f" ({escape(comment)})" if comment else "")
+
+
+def _echo_natural_frequencies(ds) -> None:
+    """The linear natural angular frequencies of a structure cube's structure, every contact stuck (rigid
+    contacts as constraints, Jenkins contacts as their springs) and every contact free (no friction)."""
+    from friction_sweep.structures import recorded
+
+    try:
+        found = recorded.frequencies(recorded.assembled(ds))
+    except recorded.UnreadableStructure as err:
+        click.echo(f"  natural frequencies: unknown ({escape(err)})")
+        return
+    for contacts, values in found.items():
+        click.echo(f"  natural frequencies, every contact {contacts}: "
+                   + (", ".join(f"{w:.6g}" for w in values) or "none (every mass held by a rigid contact)"))
 
 
 def _echo_physical(attrs) -> None:
@@ -675,9 +693,14 @@ def check(result: Path, as_json: bool):
     from friction_sweep import consistency
 
     ds = _open_result(result, every_problem=True)  # rules on values no run writes would say nothing true
-    _refuse_structure_cube(ds, result, "check")
+    if _structure_cube(ds):  # the rules that carry over to several masses and contacts
+        from friction_sweep import consistency_structure
+
+        rules = consistency_structure.check
+    else:
+        rules = consistency.check
     try:
-        findings = consistency.check(ds)
+        findings = rules(ds)
     except consistency.CubeError as err:
         fail(f"{escape(result)} is not a friction_sweep result cube: {escape(err)}")
     if as_json:
@@ -699,7 +722,7 @@ def check(result: Path, as_json: bool):
 @click.option("--sel", "selections", multiple=True, metavar="NAME=VALUE",
               help="Choose what is drawn, nearest value (repeatable): force_ratio=0.3 for curves and phase; "
                    "history_point=K, frequency_ratio=R, force_ratio=B for orbit; or a physical coordinate on those "
-                   "dims.")
+                   "dims. A structure cube: friction_scale=S, dof=NAME (curves, phase), contact=NAME.")
 @click.option("--yscale", type=click.Choice(YSCALES), default="auto", show_default=True,
               help="The curves' y axis: log, linear, or auto (log where the values span more than "
                    f"{WIDE_RANGE:g} times their median, e.g. a frictionless peak beside damped curves).")
@@ -707,7 +730,8 @@ def check(result: Path, as_json: bool):
 def plot(result: Path, output: str | None, kind: str | None, selections: tuple[str, ...], yscale: str,
          overwrite: bool):
     """Draw a quick look at a result cube as PNG: the regime map, transmissibility or phase curves, or
-    a stored orbit."""
+    a stored orbit; of a structure cube, a regime map per contact, or each mass's amplitude or phase with a
+    regime strip per contact."""
     from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output, write_all
 
     problem = missing_figures_extra()  # first: a missing extra costs nothing, not even reading the cube
@@ -725,9 +749,14 @@ def plot(result: Path, output: str | None, kind: str | None, selections: tuple[s
     if reason is not None:
         fail(reason)
     ds = _open_result(result)
-    _refuse_structure_cube(ds, result, "plot")
+    if _structure_cube(ds):  # a panel per mass, a regime strip or map per contact
+        from friction_sweep import quicklook_structure
+
+        draw = quicklook_structure.draw
+    else:
+        draw = quicklook.draw
     try:
-        fig = quicklook.draw(ds, kind, selections, yscale)
+        fig = draw(ds, kind, selections, yscale)
     except quicklook.PlotError as err:
         fail(f"{escape(result)}: {escape(err)}")
     try:
@@ -783,8 +812,10 @@ def _finding_line(f) -> str:
     if f.status == "partial":  # no violation, but not every point judged in full: the note says which and why
         return f"{head}{'partial':<9}{f.checked} checked; {f.note}"
     more_note = f" [{f.note}]" if f.note else ""
-    shown = " ".join(f"(r={e['r']!r}, beta={e['beta']!r}: {_shown(e['found'])}, "
-                     f"expected {_shown(e['expected'])})" for e in f.examples)
+    # an example's place: (r, beta) in a 1-DoF cube; (frequency, friction_scale, the mass or contact) in a
+    # structure cube
+    shown = " ".join("(" + ", ".join(f"{k}={v!r}" for k, v in e.items() if k not in ("found", "expected"))
+                     + f": {_shown(e['found'])}, expected {_shown(e['expected'])})" for e in f.examples)
     more = " ..." if f.violations > len(f.examples) else ""
     return f"{head}{'FAILED':<9}{f.violations} of {f.checked}: {shown}{more}{more_note}"
 

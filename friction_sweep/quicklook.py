@@ -433,12 +433,29 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 
 def draw_map(ds: xr.Dataset) -> Figure:
     """`regime` over (r, beta) with a legend from its flag_meanings, and the theory's boundaries."""
+    force, frequency = grid_dims(ds)
+    x, y = grid_axis(ds, frequency), grid_axis(ds, force)
+    fig, axes = _figure(size=(7.6, 4.8))
+    ax = axes[0, 0]
+    patches = regime_mesh(ax, x.values, y.values, ds["regime"].transpose(force, frequency), "regime")
+    _draw_boundaries(ax, ds, x, _force_axis_of(ds, x, y))
+    lines, _ = ax.get_legend_handles_labels()
+    if not lines:  # say so, rather than leave the reader looking for them
+        from matplotlib.lines import Line2D
+
+        lines = [Line2D([], [], ls="none", label="no closed-form boundary\nholds for these effects")]
+    ax.legend(handles=lines + patches, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.95)
+    ax.set(xlabel=_wrapped(x.label, 60), ylabel=_wrapped(y.label))
+    fit_title(fig, title_phrases(ds, "regime map"))
+    return fig
+
+
+def regime_mesh(ax: Axes, x: np.ndarray, y: np.ndarray, regime: xr.DataArray, gid: str) -> list:
+    """`regime` (2-D, rows along y, columns along x) as cells coloured by its flag meanings (REGIME_COLORS),
+    the axes' limits set to the cells' edges; returns a legend patch per code present, with its count."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
-    force, frequency = grid_dims(ds)
-    x, y = grid_axis(ds, frequency), grid_axis(ds, force)
-    regime = ds["regime"].transpose(force, frequency)
     values = np.asarray(regime.attrs.get("flag_values", [int(c) for c in Regime])).astype(int).ravel()
     meanings = str(regime.attrs.get("flag_meanings", " ".join(c.name.lower() for c in Regime))).split()
     if len(meanings) != len(values):
@@ -449,25 +466,14 @@ def draw_map(ds: xr.Dataset) -> Figure:
     for i, v in enumerate(values):
         position[codes == v] = i
     colours = [REGIME_COLORS.get(m, f"C{i}") for i, m in enumerate(meanings)]
-    fig, axes = _figure(size=(7.6, 4.8))
-    ax = axes[0, 0]
-    ax.pcolormesh(_edges(x.values), _edges(y.values), np.ma.masked_invalid(position),
+    ax.pcolormesh(_edges(x), _edges(y), np.ma.masked_invalid(position),
                   cmap=ListedColormap(colours), norm=BoundaryNorm(np.arange(len(values) + 1) - 0.5, len(values)),
-                  shading="flat", rasterized=True, gid="regime")
-    ax.set_xlim(_edges(x.values)[[0, -1]])
-    ax.set_ylim(_edges(y.values)[[0, -1]])  # first: a boundary outside these is left out of the legend
-    _draw_boundaries(ax, ds, x, _force_axis_of(ds, x, y))
-    patches = [Patch(facecolor=colours[i], edgecolor="0.5", label=f"{m.replace('_', '-')} ({int((codes == v).sum())})")
-               for i, (v, m) in enumerate(zip(values, meanings, strict=True)) if (codes == v).any()]
-    lines, _ = ax.get_legend_handles_labels()
-    if not lines:  # say so, rather than leave the reader looking for them
-        from matplotlib.lines import Line2D
-
-        lines = [Line2D([], [], ls="none", label="no closed-form boundary\nholds for these effects")]
-    ax.legend(handles=lines + patches, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, framealpha=0.95)
-    ax.set(xlabel=_wrapped(x.label, 60), ylabel=_wrapped(y.label))
-    fit_title(fig, title_phrases(ds, "regime map"))
-    return fig
+                  shading="flat", rasterized=True, gid=gid)
+    xe, ye = _edges(x), _edges(y)
+    ax.set_xlim(float(xe[0]), float(xe[-1]))
+    ax.set_ylim(float(ye[0]), float(ye[-1]))  # first: a boundary outside these is left out of the legend
+    return [Patch(facecolor=colours[i], edgecolor="0.5", label=f"{m.replace('_', '-')} ({int((codes == v).sum())})")
+            for i, (v, m) in enumerate(zip(values, meanings, strict=True)) if (codes == v).any()]
 
 
 def _force_axis_of(ds: xr.Dataset, x: Axis, y: Axis):

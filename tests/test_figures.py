@@ -100,6 +100,17 @@ grid: {{frequency_ratio: [0.5, 1.2, 1.5, 3.0], force_ratio: [0.3, 1.5]}}
 method: event
 outputs: [transmissibility, regime]
 """ for name, effect in (("k10", "contact_stiffness: 10"), ("k100", "contact_stiffness: 100"), ("rigid", ""))},
+    "blade_damper": """\
+scene: {excitation: force}
+structure:
+  masses: {tip: 1.0, platform: 0.5, damper: 0.05}
+  springs: [[ground, platform, 3.0], [platform, tip, 2.0], [ground, damper, 5.0]]
+  dampers: [[ground, tip, 0.01]]
+  contacts: [{name: damper, between: [damper, platform], friction: 1.0, stiffness: 5.0}]
+  forcing: {tip: 1.0}
+grid: {frequency: [0.9, 1.05, 1.12, 1.2, 1.4], friction_scale: [0.5, 3.0, 10.0]}
+method: event
+""",
 }
 
 # script -> the cubes it takes, in order
@@ -123,6 +134,7 @@ CALLS = {
     "fig22": ["joined_history"],
     "hysteresis": ["sweep_up", "sweep_down", "static_starts"],
     "jenkins": ["jenkins_rigid", "jenkins_k100", "jenkins_k10"],  # any order: the script sorts by kappa
+    "blade_damper": ["blade_damper"],
 }
 
 
@@ -250,6 +262,18 @@ def test_quick_spec_keeps_small_axes_and_time_histories(tmp_path):
     np.testing.assert_array_equal(coarse.frequency_ratio, original.frequency_ratio)
     np.testing.assert_array_equal(coarse.force_ratio, original.force_ratio)
     assert coarse.time_history == original.time_history
+
+
+def test_quick_spec_coarsens_a_structure_spec_on_its_own_axes(tmp_path):
+    quick = load_script("quick_spec")
+    src = ROOT / "configs" / "blade_damper.yaml"
+    dst = tmp_path / "blade_damper.yaml"
+    assert quick.main([str(src), str(dst), "--num", "40", "--max-force-ratios", "11"]) == 0
+    original, coarse = load_spec(src), load_spec(dst)
+    assert coarse.frequency.size == 40 and coarse.friction_scale.size == 11
+    assert coarse.frequency[[0, -1]].tolist() == original.frequency[[0, -1]].tolist()
+    assert coarse.friction_scale[[0, -1]].tolist() == original.friction_scale[[0, -1]].tolist()
+    assert coarse.structure == original.structure and coarse.outputs == original.outputs
 
 
 @pytest.mark.parametrize("config", sorted((ROOT / "configs" / "numerical").glob("*.yaml")), ids=lambda p: p.stem)

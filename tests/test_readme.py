@@ -1,7 +1,7 @@
 """Every example in README.md and docs/*.md runs as written (issue 29): a README that drifts from the
 code fails here, in CI.
 
-Each fenced block is run in a fresh folder holding links to the repository's `configs/` and
+Each fenced block is run in a fresh folder holding links to the repository's `configs/`, `figures/` and
 `friction_sweep/` (the paths the examples name), so nothing is written into the repository:
 - ```yaml: a sweep spec is checked by `fsweep validate`; a calibration spec (top-level `data:`) by the
   calibration spec's loader, data file included;
@@ -76,7 +76,7 @@ def _env(folder: Path) -> dict[str, str]:
 
 
 def _folder(tmp_path: Path) -> Path:
-    for name in ("configs", "friction_sweep"):
+    for name in ("configs", "figures", "friction_sweep"):
         (tmp_path / name).symlink_to(ROOT / name)
     return tmp_path
 
