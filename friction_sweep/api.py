@@ -175,7 +175,13 @@ def _design_problem(spec: Any, variable: Any, r_tol: Any):
     settings, _ = accuracy_settings(parsed)
     problem = Problem(parsed.method, parsed.scene.excitation, parsed.scene.effects or None, settings, variable)
     attrs = {"spec": str(where), "method": parsed.method, "excitation": parsed.scene.excitation,
-             "variable": variable, "r_tol": float(r_tol)}
+             "variable": variable, "r_tol": float(r_tol),
+             "frequency_ratio_range": np.array([r.min(), r.max()])}
+    physical = parsed.physical
+    if physical is not None and physical.reference_force is not None and physical.length_scale is not None:
+        # the scales of (beta, T) where the spec has a system: friction force beta F_k (N), amplitude T L (m)
+        attrs["reference_force"] = float(physical.reference_force)
+        attrs["length_scale"] = float(physical.length_scale)
     return problem, r, beta, attrs
 
 

@@ -824,15 +824,33 @@ def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
 @main.command()
 @click.argument("spec", type=click.Path(path_type=Path))
 @_design_options
-def optimize(spec: Path, output: str | None, overwrite: bool, variable: str):
+@click.option("--plot", type=click.Path(), help="Also draw the performance curve (PNG), in the spec's physical "
+              "units where it has a system: the peak against friction, the optimum, Den Hartog's prediction.")
+def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plot: str | None):
     """The force ratio that minimises the resonance peak, to 1e-8, searched from SPEC's force-ratio grid
     (fs.optimize); -o writes the performance curve (the peak at every force ratio) with it."""
     from friction_sweep import api
 
+    if plot is not None:  # every refusal before the computing
+        from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output
+
+        special = refuse_special_output(plot)
+        reason = ((f"plot: {special}" if special else None) or missing_figures_extra()
+                  or refuse_replacing([plot], overwrite, [spec, *([output] if output else [])]))
+        if reason is not None:
+            fail(reason)
     ds = _design(lambda: api.optimize(str(spec), variable=variable), spec, output, overwrite)
     regime = codes.Regime(int(ds.optimum_regime)).name.lower() if np.isfinite(ds.optimum_regime) else "none"
     click.echo(f"optimum ({ds.attrs['optimum_kind']}): force_ratio {float(ds.optimum_force_ratio):.10g}, "
                f"peak {float(ds.optimum_peak):.10g} at r = {float(ds.optimum_frequency_ratio):.12g} ({regime})")
+    if plot is not None:
+        from friction_sweep.design import performance_figure
+
+        try:
+            performance_figure.save(ds, plot)
+        except OSError as err:
+            fail(f"plot: {plot}: {err.strerror or err}", EXIT_RUNTIME)
+        click.echo(f"wrote {plot}")
 
 
 @main.command()
