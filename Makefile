@@ -9,6 +9,7 @@ STAMP  := $(VENV)/.installed-stamp
 
 help:
 	@echo "make demo   set up, simulate configs/demo.yaml (a rig in physical units), print its regimes, draw its map"
+	@echo "            and its performance curve (the resonance peak against friction force, the optimum)"
 	@echo "make test   set up, then run the whole test suite"
 	@echo "make lint   ruff and mypy, as CI runs them (and .pre-commit-config.yaml)"
 	@echo "make test-fast   only the tests not marked slow"
@@ -31,13 +32,20 @@ $(STAMP): pyproject.toml
 demo: $(STAMP)
 	$(BIN)/fsweep run configs/demo.yaml --overwrite
 	$(BIN)/fsweep plot results/demo.nc -o results/demo.png --overwrite
+	$(BIN)/fsweep optimize configs/demo.yaml -o results/demo_performance.nc --plot results/demo_performance.png --overwrite
 	@echo "demo: the cube is results/demo.nc (fsweep info results/demo.nc; friction_sweep.open_cube in Python),"
-	@echo "      its regime map results/demo.png"
+	@echo "      its regime map results/demo.png, its performance curve (the resonance peak against friction"
+	@echo "      force, the optimum marked) results/demo_performance.png (the curve's data: results/demo_performance.nc)"
 
-# the README's opening picture: the demo's map (regenerate after a change that alters it)
+# the README's opening pictures: the demo's performance curve and its map (regenerate after a change that
+# alters them)
 docs/demo.png: configs/demo.yaml
 	$(MAKE) demo
 	cp results/demo.png $@
+
+docs/demo_performance.png: configs/demo.yaml
+	$(MAKE) demo
+	cp results/demo_performance.png $@
 
 # the whole suite on every core (pytest-xdist), a file's tests in one worker (their module fixtures: one cube each)
 test: $(STAMP)
@@ -67,6 +75,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/performance_curve.py --excitation base
 	$(BIN)/python benchmarks/structures.py
 	$(BIN)/python benchmarks/one_engine.py
+	$(BIN)/python benchmarks/peer_pyharm.py
 	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.nc --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)

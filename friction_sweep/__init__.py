@@ -9,8 +9,9 @@ drawings), measured (a rig's CSV) · batch (tiles, executors, checkpoint), calib
 api · cli, validation.
 
 The Python API (friction_sweep.api): `sweep(path_or_dict)`, `sweep_yaml(text)`,
-`open_cube(path)`, `peak(spec)` and `optimize(spec)` (the resonance peak and the friction minimising it)
-return xarray Datasets; every refusal is a `FsweepError`. They are loaded on first use, so that
+`open_cube(path)`, `peak(spec)` and `optimize(spec)` (the resonance peak and the friction minimising it),
+`backbone(spec)` (amplitude and equivalent damping along the phase resonance) return xarray Datasets;
+every refusal is a `FsweepError`. They are loaded on first use, so that
 `import friction_sweep` (and the CLI) stays cheap.
 """
 
@@ -24,7 +25,7 @@ try:  # pyproject.toml's, the one place the version is written
 except PackageNotFoundError:  # a source tree on the path but never installed
     __version__ = "0+unknown"
 
-_API = ("sweep", "sweep_yaml", "open_cube", "peak", "optimize")
+_API = ("sweep", "sweep_yaml", "open_cube", "peak", "optimize", "backbone")
 __all__ = [*_API, "FsweepError", "SpecError", "__version__"]
 
 

@@ -120,6 +120,23 @@ def optimize(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: s
     return design_optimum.dataset(found, {**attrs, "beta_tol": float(beta_tol)})
 
 
+def backbone(spec: str | bytes | os.PathLike | Mapping[str, Any], *, r_tol: float = 1e-10) -> xr.Dataset:
+    """The backbone of the spec's scene (friction_sweep.design.backbone): at every phase-resonance point of
+    each force ratio (bisected on the exact solver to `r_tol` in r from the frequency grid), the first-
+    harmonic amplitude, the energy dissipated per period, the springs' potential energy at the largest
+    displacement and the equivalent damping ratio zeta_eq = E_d / (4 pi E_p), along dims (force_ratio,
+    crossing). Scenes force, and base with the dashpot (if any) to the ground."""
+    from friction_sweep.design import backbone as design_backbone
+
+    problem, r, beta, attrs = _design_problem(spec, "transmissibility", r_tol)
+    reason = design_backbone.refusal(problem)
+    if reason is not None:
+        raise FsweepError(f"{attrs['spec']}: scene: {reason} (got {problem.excitation!r})")
+    found = design_backbone.backbone(problem, r, beta, r_tol)
+    attrs.pop("variable")
+    return design_backbone.dataset(found, beta, attrs)
+
+
 def _positive_tolerance(value: Any) -> bool:
     return bool(isinstance(value, (int, float, np.floating, np.integer))
                 and not isinstance(value, (bool, np.bool_)) and np.isfinite(value) and value > 0)
@@ -158,7 +175,13 @@ def _design_problem(spec: Any, variable: Any, r_tol: Any):
     settings, _ = accuracy_settings(parsed)
     problem = Problem(parsed.method, parsed.scene.excitation, parsed.scene.effects or None, settings, variable)
     attrs = {"spec": str(where), "method": parsed.method, "excitation": parsed.scene.excitation,
-             "variable": variable, "r_tol": float(r_tol)}
+             "variable": variable, "r_tol": float(r_tol),
+             "frequency_ratio_range": np.array([r.min(), r.max()])}
+    physical = parsed.physical
+    if physical is not None and physical.reference_force is not None and physical.length_scale is not None:
+        # the scales of (beta, T) where the spec has a system: friction force beta F_k (N), amplitude T L (m)
+        attrs["reference_force"] = float(physical.reference_force)
+        attrs["length_scale"] = float(physical.length_scale)
     return problem, r, beta, attrs
 
 

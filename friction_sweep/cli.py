@@ -855,15 +855,57 @@ def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
 @main.command()
 @click.argument("spec", type=click.Path(path_type=Path))
 @_design_options
-def optimize(spec: Path, output: str | None, overwrite: bool, variable: str):
+@click.option("--plot", type=click.Path(), help="Also draw the performance curve (PNG), in the spec's physical "
+              "units where it has a system: the peak against friction, the optimum, Den Hartog's prediction.")
+def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plot: str | None):
     """The force ratio that minimises the resonance peak, to 1e-8, searched from SPEC's force-ratio grid
     (fs.optimize); -o writes the performance curve (the peak at every force ratio) with it."""
     from friction_sweep import api
 
+    if plot is not None:  # every refusal before the computing
+        from friction_sweep.storage.outputs import missing_figures_extra, refuse_replacing, refuse_special_output
+
+        special = refuse_special_output(plot)
+        reason = ((f"plot: {special}" if special else None) or missing_figures_extra()
+                  or refuse_replacing([plot], overwrite, [spec, *([output] if output else [])]))
+        if reason is not None:
+            fail(reason)
     ds = _design(lambda: api.optimize(str(spec), variable=variable), spec, output, overwrite)
     regime = codes.Regime(int(ds.optimum_regime)).name.lower() if np.isfinite(ds.optimum_regime) else "none"
     click.echo(f"optimum ({ds.attrs['optimum_kind']}): force_ratio {float(ds.optimum_force_ratio):.10g}, "
                f"peak {float(ds.optimum_peak):.10g} at r = {float(ds.optimum_frequency_ratio):.12g} ({regime})")
+    if plot is not None:
+        from friction_sweep.design import performance_figure
+
+        try:
+            performance_figure.save(ds, plot)
+        except OSError as err:
+            fail(f"plot: {plot}: {err.strerror or err}", EXIT_RUNTIME)
+        click.echo(f"wrote {plot}")
+
+
+@main.command()
+@click.argument("spec", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(), help="Also write the Dataset (netCDF4/HDF5) here.")
+@click.option("--overwrite", is_flag=True, help="Replace an existing file at --output (atomically).")
+def backbone(spec: Path, output: str | None, overwrite: bool):
+    """The backbone of SPEC's scene (force, or base): at every phase resonance (90-degree lag, bisected on
+    the exact solver to 1e-10 in r) of each force ratio, the amplitude and the equivalent damping ratio
+    zeta_eq = E_dissipated / (4 pi E_potential) per period (fs.backbone). One line per phase resonance."""
+    from friction_sweep import api
+
+    ds = _design(lambda: api.backbone(str(spec)), spec, output, overwrite)
+    for j, beta in enumerate(ds.force_ratio.values):
+        found = np.nonzero(np.isfinite(ds.backbone_frequency_ratio.values[j]))[0]
+        if not found.size:
+            click.echo(f"force_ratio {beta:.10g}: no phase resonance")
+        for k in found:
+            one = ds.isel(force_ratio=j, crossing=k)
+            code = float(one.backbone_regime)
+            regime = codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
+            click.echo(f"force_ratio {beta:.10g}: r = {float(one.backbone_frequency_ratio):.10g}, amplitude "
+                       f"{float(one.backbone_amplitude):.10g}, zeta_eq {float(one.backbone_damping_ratio):.8g} "
+                       f"({regime})")
 
 
 def _peak_line(ds, j: int) -> str:
@@ -877,7 +919,7 @@ def _peak_line(ds, j: int) -> str:
 
 
 def _design(compute, spec: Path, output: str | None, overwrite: bool):
-    """Run `compute` (an fs.peak / fs.optimize call), refusing as every command does; write the Dataset to
+    """Run `compute` (an fs.peak / fs.optimize / fs.backbone call), refusing as every command does; write the Dataset to
     `output` (booleans as 0/1 bytes) whole or not at all."""
     from friction_sweep.storage.outputs import refuse_replacing, refuse_special_output
 

@@ -65,16 +65,24 @@ class Problem:
         if self.variable not in PEAK_VARIABLES:
             raise ValueError(f"the peak is taken of {', '.join(PEAK_VARIABLES)} (got {self.variable!r})")
 
+    def rows(self, r: np.ndarray, beta: np.ndarray) -> np.ndarray:
+        """The simulated orbits' raw kernel rows at the points (r, beta) (methods.event.solve_flat, phases
+        against the excitation), from the first start only; method rk4's kernel for rk4, event's for
+        event and auto."""
+        settings = dict(self.settings or {})
+        settings.pop("theory_margin", None)
+        settings.pop("starts", None)  # one start: the first (kernel_settings' own)
+        if self.method == "rk4":
+            settings["kernel"] = KERNEL_RK4
+        return event.solve_flat(self.excitation, np.ascontiguousarray(r, dtype=float),
+                                np.ascontiguousarray(beta, dtype=float), self.effects, **settings)
+
     def solve(self, r: np.ndarray, beta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(T, regime code, phase in degrees) at the points (r, beta), 1-D arrays of one size; T is +inf
         where the motion is unbounded and -inf where no steady state settled."""
         r = np.ascontiguousarray(r, dtype=float)
         beta = np.ascontiguousarray(beta, dtype=float)
-        settings = dict(self.settings or {})
-        margin = float(settings.pop("theory_margin", auto.CATALOGUE.defaults["theory_margin"]))
-        settings.pop("starts", None)  # one start: the first (kernel_settings' own)
-        if self.method == "rk4":
-            settings["kernel"] = KERNEL_RK4
+        margin = float((self.settings or {}).get("theory_margin", auto.CATALOGUE.defaults["theory_margin"]))
         value = np.full(r.shape, np.nan)
         regime = np.full(r.shape, float(Regime.UNSETTLED))
         phase = np.full(r.shape, np.nan)
@@ -88,7 +96,7 @@ class Problem:
             value[use], regime[use], phase[use] = th[self.variable][use], th["regime"][use], th["phase"][use]
             simulate = ~use
         if simulate.any():
-            raw = event.solve_flat(self.excitation, r[simulate], beta[simulate], self.effects, **settings)
+            raw = self.rows(r[simulate], beta[simulate])
             value[simulate] = event.kernel_variable(self.variable, raw, self.excitation, r[simulate])
             regime[simulate] = raw[:, steady.OUT_REGIME]
             phase[simulate] = raw[:, steady.OUT_PHASE]
