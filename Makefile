@@ -68,7 +68,8 @@ coverage: $(STAMP)
 	  --cov=friction_sweep --cov-report=term-missing
 
 # Targets a user runs write under results/ only; refresh-readme (maintainers) publishes what they measured.
-# measures speed, scaling and what accuracy costs; the calibration `accuracy:` would read, measured here
+# measures speed, scaling and what accuracy costs; the calibration `accuracy:` would read, measured here;
+# where a cold compile of the demo's kernels spends its time (results/bench/compile_profile.md)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
 	$(BIN)/python benchmarks/performance_curve.py --excitation joined
@@ -76,6 +77,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/structures.py
 	$(BIN)/python benchmarks/one_engine.py
 	$(BIN)/python benchmarks/peer_pyharm.py
+	$(BIN)/python benchmarks/compile_profile.py
 	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.nc --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)
