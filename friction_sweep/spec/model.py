@@ -591,7 +591,7 @@ class Spec(_Sourced):
         closed-form pieces, on a plane of H + 1 values per grid point."""
         wanted = "harmonics" in self.outputs
         if not wanted and "harmonics" in self.settings:
-            yield _error("harmonics_unused", "settings.harmonics is given but harmonics is not listed in outputs",
+            yield _error("harmonics_unused", "given, but harmonics is not listed in outputs",
                          ("settings", "harmonics"))
         if not wanted:
             return
