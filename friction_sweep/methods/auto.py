@@ -44,7 +44,8 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     margin = float(settings.pop("theory_margin", CATALOGUE.defaults["theory_margin"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
-    th = theory.compute_tile(excitation, r, beta, tuple(dict.fromkeys((*outputs, "regime"))))
+    modelled = (o for o in outputs if o in theory.CATALOGUE.outputs)  # the theory has no orbit to take harmonics of
+    th = theory.compute_tile(excitation, r, beta, tuple(dict.fromkeys((*modelled, "regime"))))
     use_theory = theory_mask(th, r, beta, margin)
     names = variables_for(excitation, outputs)
     shape = use_theory.shape

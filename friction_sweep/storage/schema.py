@@ -163,14 +163,14 @@ HARMONIC_COORDS = {
 ARRAY_COORDS = {**HISTORY_COORDS, **HARMONIC_COORDS}
 
 _HARMONIC_NOTE = ("one-sided complex Fourier coefficient of the steady orbit, exact (integrated in closed form over "
-                  "the event kernel's pieces): {what}(t) = Re sum_k (real + i imag)_k exp(i k omega t), t from a "
-                  "maximum of the excitation, so that |k = 1| is the first-harmonic {first} and its lag "
-                  "-arg(k = 1) the phase; Parseval: mean square = c_0^2 + sum_{{k>=1}} |c_k|^2 / 2 (period-1 "
+                  "the event kernel's pieces): {what}(t) = Re sum_k c_k exp(i k omega t), c_k = real + i imag, t from a "
+                  "maximum of the excitation, so that |c_1| is the first-harmonic {first} and its lag "
+                  "-arg(c_1) the phase; Parseval: mean square = c_0^2 + (sum over k >= 1 of |c_k|^2) / 2 (period-1 "
                   "orbits; an orbit of n > 1 periods has subharmonics besides)")
 
 
 def _harmonic(what: str, symbol: str, part: str, first: str) -> Variable:
-    return Variable(HARMONIC_DIMS, np.float64, f"{part} part of the harmonics of the {what}", "1",
+    return Variable(HARMONIC_DIMS, np.float64, f"{part} part of the harmonics of {what}", "1",
                     valid_range=DISPLACEMENT_VALID,
                     comment=_HARMONIC_NOTE.replace("{what}", symbol).replace("{first}", first))
 
@@ -344,10 +344,10 @@ VARIABLES = {
         "for the Jenkins contact",
     ),
     # exact harmonics (outputs: harmonics), in the units of their time histories
-    "response_harmonic_real": _harmonic("response x / {ref}", "x", "real", "transmissibility"),
-    "response_harmonic_imag": _harmonic("response x / {ref}", "x", "imaginary", "transmissibility"),
-    "friction_harmonic_real": _harmonic("friction force / ({force_ref})", "f", "real", "friction force"),
-    "friction_harmonic_imag": _harmonic("friction force / ({force_ref})", "f", "imaginary", "friction force"),
+    "response_harmonic_real": _harmonic("the response x / {ref}", "x", "real", "transmissibility"),
+    "response_harmonic_imag": _harmonic("the response x / {ref}", "x", "imaginary", "transmissibility"),
+    "friction_harmonic_real": _harmonic("friction / ({force_ref})", "f", "real", "friction force"),
+    "friction_harmonic_imag": _harmonic("friction / ({force_ref})", "f", "imaginary", "friction force"),
     # joined base-wall excitation only: the relative motion z = x - y (paper Sect. 4)
     "relative_peak_amplitude": Variable(
         GRID_DIMS, np.float64, "peak relative mass-wall displacement |Z|/|Y| (paper Eq. 34)", "1",
