@@ -163,8 +163,8 @@ HARMONIC_COORDS = {
 ARRAY_COORDS = {**HISTORY_COORDS, **HARMONIC_COORDS}
 
 _HARMONIC_NOTE = ("one-sided complex Fourier coefficient of the steady orbit, exact (integrated in closed form over "
-                  "the event kernel's pieces): {what}(t) = Re sum_k c_k exp(i k omega t), c_k = real + i imag, t from a "
-                  "maximum of the excitation, so that |c_1| is the first-harmonic {first} and its lag "
+                  "the event kernel's pieces): {what}(t) = Re sum_k c_k exp(i k omega t), c_k = real + i imag, t from "
+                  "a maximum of the excitation, so that |c_1| is the first-harmonic {first} and its lag "
                   "-arg(c_1) the phase; Parseval: mean square = c_0^2 + (sum over k >= 1 of |c_k|^2) / 2 (period-1 "
                   "orbits; an orbit of n > 1 periods has subharmonics besides)")
 
