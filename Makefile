@@ -66,6 +66,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/performance_curve.py --excitation joined
 	$(BIN)/python benchmarks/performance_curve.py --excitation base
 	$(BIN)/python benchmarks/structures.py
+	$(BIN)/python benchmarks/harmonics.py --excitation base
+	$(BIN)/python benchmarks/harmonics.py --excitation joined
 	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.nc --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)

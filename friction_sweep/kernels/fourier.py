@@ -38,6 +38,8 @@ HARM_F = 1
 #: D(a, b) by its Taylor series where max(|a|, |b|) S is below this; its terms fall like (that)^j / (j+1)!
 DIVIDED_SERIES_SPAN = 1.0
 DIVIDED_SERIES_TERMS = 26
+#: E(x) is (e^{x S} - 1)/x, e^{x S} carried over k by multiplication, where |x| S reaches this; below, its series
+RECURRENCE_SPAN = 1.0
 
 
 @jit
@@ -53,26 +55,26 @@ def _exp_integral(z, S):
 
 
 @jit
-def _osc_integral(a, S):
-    """J(a) = int_0^S e^{i a s} ds for real a: S e^{i a S/2} sin(a S/2)/(a S/2)."""
-    h = 0.5 * a * S
-    f = S * sin_over(h)
-    return complex(f * math.cos(h), f * math.sin(h))
+def _integral_from(ez, x, S):
+    """E(x) = int_0^S e^{x s} ds from ez = e^{x S}: (ez - 1)/x where |x| S >= RECURRENCE_SPAN (rounding at most
+    eps S / RECURRENCE_SPAN), else its series (_exp_integral)."""
+    if abs(x) * S >= RECURRENCE_SPAN:
+        return (ez - 1.0) / x
+    return _exp_integral(x, S)
 
 
 @jit
-def _divided(a, b, S):
-    """D(a, b) = (J(a) - J(b)) / (a - b) for real a, b (J's derivative where a = b), to rounding for all a, b:
-    |D| <= S^2 / 2, and the closed form's rounding, eps S / max(|a|, |b|), stays below eps S^2 where it is used."""
+def _divided(a, b, S, front, ea, eb):
+    """D(a, b) = (J(a) - J(b)) / (a - b) for real a, b (J's derivative where a = b), with front = S e^{i m S}
+    sinc(d S) (m = (a + b)/2, d = (a - b)/2) and ea, eb = e^{i a S}, e^{i b S}: [front - J(b)] / a, a the larger in
+    size, where |a| S >= DIVIDED_SERIES_SPAN (|D| <= S^2 / 2; this form's rounding, eps S / |a|, stays below
+    eps S^2), else the Taylor series D = sum_{j>=1} i^j S^{j+1}/(j+1)! h_j, h_j = (a^j - b^j)/(a - b)."""
     if abs(a) < abs(b):
-        a, b = b, a
+        a, b, ea, eb = b, a, eb, ea
     if abs(a) * S >= DIVIDED_SERIES_SPAN:
-        m = 0.5 * (a + b)
-        d = 0.5 * (a - b)
-        return (S * cmath.exp(1j * m * S) * sin_over(d * S) - _osc_integral(b, S)) / a
-    # D = sum_{j>=1} i^j S^{j+1}/(j+1)! h_j, h_j = (a^j - b^j)/(a - b) = a h_{j-1} + b^{j-1}
+        return (front - _integral_from(eb, complex(0.0, b), S)) / a
     total = 0j
-    h = 1.0
+    h = 1.0  # h_j = a h_{j-1} + b^{j-1}
     bp = 1.0  # b^(j-1)
     ij = 1j  # i^j
     w = S * S / 2.0  # S^(j+1)/(j+1)!
@@ -86,58 +88,94 @@ def _divided(a, b, S):
 
 
 @jit
+def _unit(phase):
+    """e^{i phase}."""
+    return complex(math.cos(phase), math.sin(phase))
+
+
+@jit
 def add_slip(harm, t0, q0, v0, sig, S, A, r, bk, zeta):
     """Add the integrals of q e^{-i k r t} and f e^{-i k r t}, k = 0..H, over a slip piece from (q0, v0) at t0
-    to t0 + S in direction sig (friction f = sig bk), exactly (module docstring)."""
+    to t0 + S in direction sig (friction f = sig bk), exactly (module docstring).
+
+    The exponentials at harmonic k are those at k = 0 times e^{-i k r S} (and e^{-i k r t0} from the piece's
+    local time to the period's), carried from one k to the next by a multiplication: no trig call per harmonic."""
     if S <= 0.0:
         return
     ca = math.cos(r * t0)
     sa = math.sin(r * t0)
     fk = sig * bk
     inv = 1.0 / (1.0 + r)
+    step = _unit(-r * S)  # e^{-i r S}
+    turn = _unit(-r * t0)  # e^{-i r t0}
+    zk = 1.0 + 0j  # e^{-i k r S}
+    rot = 1.0 + 0j  # e^{-i k r t0}
+    e_r = _unit(r * S)
+    e_1 = _unit(S)
     damped = zeta != 0.0
     c1 = c2 = wd = 0.0
-    H = 0j
+    G = ed_p = ed_m = f_p = f_m = 0j
     if damped:
-        # segments.slip_state's damped form: particular Re[H e^{i r s}], H = G e^{i r t0}, G = A/(1 - r^2 + 2i zeta r)
-        den = complex(1.0 - r * r, 2.0 * zeta * r)
-        H = A / den * complex(ca, sa)
+        # segments.slip_state's damped form: particular Re[G e^{i r s}], G = A e^{i r t0} / (1 - r^2 + 2i zeta r)
+        G = A / complex(1.0 - r * r, 2.0 * zeta * r) * complex(ca, sa)
         wd = math.sqrt(1.0 - zeta * zeta)
-        c1 = q0 + fk - H.real
-        c2 = (v0 + r * H.imag + zeta * c1) / wd
+        c1 = q0 + fk - G.real
+        c2 = (v0 + r * G.imag + zeta * c1) / wd
+        decay = math.exp(-zeta * S)
+        ed_p = decay * _unit(wd * S)
+        ed_m = decay * _unit(-wd * S)
+    else:
+        # D's fronts S e^{i m S} sinc(d S) at k = 0: (a, b) = (r, 1) and (-r, -1), d = +-(r - 1)/2
+        sinc = S * sin_over(0.5 * (r - 1.0) * S)
+        f_p = sinc * _unit(0.5 * (1.0 + r) * S)
+        f_m = sinc * _unit(-0.5 * (1.0 + r) * S)
     for k in range(harm.shape[1]):
         w = k * r
-        rot = complex(math.cos(w * t0), -math.sin(w * t0))  # e^{-i w t0}: the piece's local time to the period's
-        j0 = _osc_integral(-w, S)
+        j0 = _integral_from(zk, complex(0.0, -w), S)
+        er_p = e_r * zk
+        er_m = e_r.conjugate() * zk
         if damped:
-            e1 = _exp_integral(complex(-zeta, wd - w), S)
-            e2 = _exp_integral(complex(-zeta, -wd - w), S)
-            iq = (-fk * j0 + 0.5 * (H * _osc_integral(r - w, S) + H.conjugate() * _osc_integral(-r - w, S))
+            e1 = _integral_from(ed_p * zk, complex(-zeta, wd - w), S)
+            e2 = _integral_from(ed_m * zk, complex(-zeta, -wd - w), S)
+            iq = (-fk * j0 + 0.5 * (G * _integral_from(er_p, complex(0.0, r - w), S)
+                                    + G.conjugate() * _integral_from(er_m, complex(0.0, -r - w), S))
                   + 0.5 * c1 * (e1 + e2) - 0.5j * c2 * (e1 - e2))
         else:
-            jp = _osc_integral(1.0 - w, S)
-            jm = _osc_integral(-1.0 - w, S)
-            dp = _divided(r - w, 1.0 - w, S)
-            dm = _divided(-r - w, -1.0 - w, S)
+            e1_p = e_1 * zk
+            e1_m = e_1.conjugate() * zk
+            jp = _integral_from(e1_p, complex(0.0, 1.0 - w), S)
+            jm = _integral_from(e1_m, complex(0.0, -1.0 - w), S)
+            dp = _divided(r - w, 1.0 - w, S, f_p * zk, er_p, e1_p)
+            dm = _divided(-r - w, -1.0 - w, S, f_m * zk, er_m, e1_m)
             ic = 0.5 * inv * (dm - dp)
             isn = -0.5j * inv * (jp - jm - dp - dm)
             iq = (0.5 * (q0 + fk) * (jp + jm) - 0.5j * v0 * (jp - jm) - fk * j0
                   + A * ca * ic - A * sa * isn)
         harm[0, k] += rot * iq
         harm[1, k] += rot * fk * j0
+        zk *= step
+        rot *= turn
 
 
 @jit
 def add_stick(harm, qs, ta, tb, A, r):
-    """Add the integrals over a stick at qs from ta to tb: q = qs, f = A cos(r t) - qs."""
+    """Add the integrals over a stick at qs from ta to tb: q = qs, f = A cos(r t) - qs (exponentials carried
+    over k as in add_slip)."""
     L = tb - ta
     if L <= 0.0:
         return
-    e_p = complex(math.cos(r * ta), math.sin(r * ta))
+    e_p = _unit(r * ta)
+    step = _unit(-r * L)
+    turn = e_p.conjugate()
+    e_r = _unit(r * L)
+    zk = 1.0 + 0j
+    rot = 1.0 + 0j
     for k in range(harm.shape[1]):
         w = k * r
-        rot = complex(math.cos(w * ta), -math.sin(w * ta))
-        j0 = _osc_integral(-w, L)
-        forcing = 0.5 * A * (e_p * _osc_integral(r - w, L) + e_p.conjugate() * _osc_integral(-r - w, L))
+        j0 = _integral_from(zk, complex(0.0, -w), L)
+        forcing = 0.5 * A * (e_p * _integral_from(e_r * zk, complex(0.0, r - w), L)
+                             + turn * _integral_from(e_r.conjugate() * zk, complex(0.0, -r - w), L))
         harm[0, k] += rot * qs * j0
         harm[1, k] += rot * (forcing - qs * j0)
+        zk *= step
+        rot *= turn
