@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from friction_sweep.codes import Regime
+from friction_sweep.codes import MethodUsed, Regime
 from friction_sweep.kernels import steady
 from friction_sweep.methods import event
 from friction_sweep.spec import SpecError, parse_spec_text
@@ -183,3 +183,21 @@ def test_spec_refuses(effects, outputs, h, where, says):
     with pytest.raises(SpecError) as info:
         parse_spec_text(SPEC.format(effects=effects, outputs=outputs, h=h), "t.yaml")
     assert str(info.value).startswith(where) and says in str(info.value)
+
+
+def test_auto_takes_every_points_harmonics_from_the_simulation():
+    """auto answers continuous points from the theory, which has no orbit: its harmonics are event's at every
+    point, and its other variables are as without them."""
+    from friction_sweep.methods import auto
+
+    r = np.array([0.4, 1.7, 2.5])
+    beta = np.array([0.1, 0.5])
+    outputs = ("transmissibility", "phase", "regime")
+    plain = auto.compute_tile("base", r, beta, outputs)
+    with_h = auto.compute_tile("base", r, beta, (*outputs, "harmonics"), settings={"harmonics": 3})
+    exact = event.compute_tile("base", r, beta, (*outputs, "harmonics"), settings={"harmonics": 3})
+    assert (plain["method_used"] == MethodUsed.THEORY).any()
+    for name, values in plain.items():
+        np.testing.assert_array_equal(values, with_h[name])
+    for name in event.HARMONIC_VARIABLES:
+        np.testing.assert_array_equal(with_h[name], exact[name])
