@@ -177,7 +177,6 @@ settings: {{harmonics: {h}}}
     ("{}", "harmonics", 65, "t.yaml:9:23: settings.harmonics:", "must be between 1 and 64"),
     ("{}", "harmonics", 0, "t.yaml:9:23: settings.harmonics:", "must be between 1 and 64"),
     ("{}", "phase", 8, "t.yaml:9:23: settings.harmonics:", "harmonics is not listed in outputs"),
-    ("{contact_stiffness: 10}", "harmonics", 8, "t.yaml:8:1: outputs:", "rigid contact only"),
 ])
 def test_spec_refuses(effects, outputs, h, where, says):
     with pytest.raises(SpecError) as info:
@@ -201,3 +200,47 @@ def test_auto_takes_every_points_harmonics_from_the_simulation():
         np.testing.assert_array_equal(values, with_h[name])
     for name in event.HARMONIC_VARIABLES:
         np.testing.assert_array_equal(with_h[name], exact[name])
+
+
+def test_spec_refuses_a_swept_run():
+    text = SPEC.format(effects="{}", outputs="harmonics", h=8) + "sweep: {direction: up}\n"
+    with pytest.raises(SpecError) as info:
+        parse_spec_text(text, "t.yaml")
+    assert str(info.value).startswith("t.yaml:10:1: sweep:") and "does not store harmonics" in str(info.value)
+
+
+JENKINS = [(kappa, r, beta) for kappa in (1.0, 10.0, 1000.0) for r, beta in ((0.5, 0.3), (2.0, 0.2), (0.3, 0.9))]
+
+
+@pytest.mark.parametrize(("kappa", "r", "beta"), JENKINS)
+def test_jenkins_contact(kappa, r, beta):
+    """The Jenkins contact (its slider stuck: a linear oscillator of stiffness 1 + kappa, integrated in its own
+    time): the first harmonic is its transmissibility, the friction force's work is friction_energy (with
+    static = kinetic friction the contact spring's energy returns over the period), the FFT of its sampled
+    orbit agrees to aliasing."""
+    effects = {"contact_stiffness": kappa}
+    raw, X, F = solve("base", r, beta, effects)
+    t = raw[steady.OUT_TRANSMISSIBILITY]
+    assert abs(abs(X[1]) - t) <= 1e-14 * max(1.0, t)
+    k = np.arange(H + 1)
+    work = np.pi * np.sum(k * np.imag(F * np.conj(X)))
+    energy = raw[steady.OUT_FRICTION_ENERGY]
+    assert abs(work - energy) <= 1e-9 * max(energy, beta * t)  # f is continuous: F_k ~ k^-2, the tail ~ H^-4
+    n = 4096
+    x, _, f = history("base", r, beta, effects, n=n)
+    assert np.isnan(f).all()  # the contact spring's force needs the slider, which the samples do not hold
+    fft = np.fft.rfft(x) / n
+    fft[1:] *= 2.0
+    assert np.abs(fft[:H + 1] - X).max() <= 1e-9 * np.abs(X).max()
+
+
+def test_a_stiff_jenkins_contact_has_the_rigid_harmonics():
+    """kappa -> infinity recovers the rigid contact (docs/equations.md §6), harmonics and all, the difference
+    falling like kappa^-1/2 (the stuck mass's swing on the contact spring, frequency sqrt(1 + kappa))."""
+    _, X_rigid, F_rigid = solve("base", 0.5, 0.3, highest=9)
+    gaps = []
+    for kappa in (1e3, 1e5):
+        _, X, F = solve("base", 0.5, 0.3, {"contact_stiffness": kappa}, highest=9)
+        gaps.append((np.abs(X - X_rigid).max(), np.abs(F - F_rigid)[:4].max()))
+    for coarse, fine in zip(*gaps, strict=True):
+        assert fine < 2e-3 and coarse / fine == pytest.approx(10.0, rel=0.05)

@@ -179,3 +179,28 @@ def add_stick(harm, qs, ta, tb, A, r):
         harm[1, k] += rot * (forcing - qs * j0)
         zk *= step
         rot *= turn
+
+
+@jit
+def add_stuck_slider(harm, scratch, t0, U, p0, pu0, K, m, kappa, Ap, r, rho, zp, om):
+    """Add the integrals over a stick of the Jenkins contact's slider (kernels/jenkins.py) from t0, U long in its
+    time u = om (t - t0): q = p + K, f = kappa (q - w) = kappa (p - m), where p obeys p_uu + 2 zp p_u + p =
+    Ap cos(rho (om t0 + u)), a slip piece without friction in time u, which add_slip integrates against
+    e^{-i k rho u} = e^{-i k r (t - t0)}; dt = du / om. scratch: a work array of harm's shape."""
+    if U <= 0.0:
+        return
+    scratch[:, :] = 0.0
+    add_slip(scratch, om * t0, p0, pu0, 1, U, Ap, rho, 0.0, zp)
+    L = U / om
+    step = _unit(-r * L)
+    turn = _unit(-r * t0)
+    zk = 1.0 + 0j
+    rot = 1.0 + 0j
+    for k in range(harm.shape[1]):
+        const = rot * _integral_from(zk, complex(0.0, -k * r), L)  # int e^{-i k r t} dt over the stick
+        ip = scratch[0, k] / om
+        harm[0, k] += ip + K * const
+        harm[1, k] += kappa * (ip - m * const)
+        zk *= step
+        rot *= turn
+

@@ -185,7 +185,8 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
 def harmonics(excitation: str, r, beta, raw, H: int, effects=None, settings=None) -> dict[str, np.ndarray]:
     """The output `harmonics` of points (r, beta) (1-D) from their solve's raw rows: the orbit replayed from its
     state (end_q, end_v, end_mode) with every piece integrated against exp(-i k r t) in closed form
-    (kernels/harmonics.py), k = 0..H. Response x = q + c cos(r t) and friction force f, one-sided (x = Re sum X_k
+    (kernels/harmonics.py; the Jenkins contact's too), k = 0..H. Response x = q + c cos(r t) and friction force f
+    (the Jenkins contact's spring force while its slider sticks), one-sided (x = Re sum X_k
     e^{i k r t}), against the excitation (t from its maximum). A point held stuck (regime stuck, which also
     covers a creep below the steady tolerance, as the first harmonic's measurement does) is q = end_q,
     f = A cos(r t) - end_q exactly; one with no steady state is NaN. Arrays (H + 1, n), by HARMONIC_VARIABLES."""
@@ -197,11 +198,26 @@ def harmonics(excitation: str, r, beta, raw, H: int, effects=None, settings=None
     sett = kernel_settings(settings)
     orbit = np.nan_to_num(raw[:, steady.OUT_ORBIT_PERIOD]).astype(np.int64)
     end_q = np.ascontiguousarray(raw[:, steady.OUT_END_Q])
+    end_v = np.ascontiguousarray(raw[:, steady.OUT_END_V])
+    end_mode = np.nan_to_num(raw[:, steady.OUT_END_MODE]).astype(np.int64)
     harm = np.empty((r.size, 2, H + 1), dtype=complex)
-    kernel.harmonics_points(A, r, bk, bs, zeta, c, end_q, np.ascontiguousarray(raw[:, steady.OUT_END_V]),
-                            np.nan_to_num(raw[:, steady.OUT_END_MODE]).astype(np.int64), orbit, sett[SET_STOP_TOL],
-                            int(sett[SET_WORK_BUDGET]), harm)
-    stuck = raw[:, steady.OUT_REGIME] == Regime.STUCK
+    kappa = contact_stiffness(effects)
+    rigid = np.ones(r.shape, dtype=bool)
+    if kappa > 0.0:
+        from friction_sweep.kernels import jenkins_steady
+
+        end_w = np.ascontiguousarray(raw[:, jenkins_steady.JOUT_END_W])
+        rigid = ~np.isfinite(end_w)  # a Jenkins point without friction is the rigid model's: no slider position
+        kernel.harmonics_points_jenkins(A, r, bk, bs, zeta, c, kappa, end_q, end_v, end_w, end_mode, orbit,
+                                        sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]), harm)
+    if rigid.any():
+        part = np.empty((int(rigid.sum()), 2, H + 1), dtype=complex)
+        kernel.harmonics_points(*(np.ascontiguousarray(a[rigid]) for a in (A, r, bk, bs, zeta, c, end_q, end_v,
+                                                                          end_mode, orbit)),
+                                sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]), part)
+        harm[rigid] = part
+    # the rigid contact's stuck state (the Jenkins contact's `stuck` is its slider's: the mass still swings)
+    stuck = (raw[:, steady.OUT_REGIME] == Regime.STUCK) & rigid
     harm[stuck] = 0.0
     harm[stuck, 0, 0] = end_q[stuck]
     harm[stuck, 1, 0] = -end_q[stuck]
@@ -266,8 +282,6 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     beta = np.asarray(beta, dtype=float)
     R, B = np.meshgrid(r, beta)
     jenkins = contact_stiffness(effects) > 0.0
-    if jenkins and "harmonics" in outputs:
-        raise ValueError("harmonics are exact for the rigid contact only: the Jenkins contact's are not built yet")
     raw = solve_flat(excitation, R.ravel(), B.ravel(), effects, **settings)
     names = variables_for(excitation, outputs)
     if jenkins and "regime" in outputs:

@@ -587,17 +587,14 @@ class Spec(_Sourced):
             yield _error("history_unused", "time_history is given but not listed in outputs", ("time_history",))
 
     def _harmonic_problems(self):
-        """The output `harmonics` (settings.harmonics: its highest harmonic H): exact for the rigid contact's
-        closed-form pieces, on a plane of H + 1 values per grid point."""
+        """The output `harmonics` (settings.harmonics: its highest harmonic H): a plane of H + 1 values per grid
+        point, not for a swept run."""
         wanted = "harmonics" in self.outputs
         if not wanted and "harmonics" in self.settings:
             yield _error("harmonics_unused", "given, but harmonics is not listed in outputs",
                          ("settings", "harmonics"))
         if not wanted:
             return
-        if "contact_stiffness" in self.scene.effects:
-            yield _error("harmonics_jenkins", "harmonics are exact for the rigid contact only: the Jenkins contact's "
-                         "(contact_stiffness) are not built yet", ("outputs",))
         if self.sweep is not None:
             yield _error("harmonics_sweep", "a swept run does not store harmonics: run the grid without sweep",
                          ("sweep",))
