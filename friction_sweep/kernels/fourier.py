@@ -64,15 +64,25 @@ def _integral_from(ez, x, S):
 
 
 @jit
-def _divided(a, b, S, front, ea, eb):
+def _osc_from(ez, a, S):
+    """J(a) = E(i a) for real a from ez = e^{i a S}: (ez - 1)/(i a), a real division (_integral_from's rule)."""
+    if abs(a) * S >= RECURRENCE_SPAN:
+        d = ez - 1.0
+        return complex(d.imag / a, -d.real / a)
+    return _exp_integral(complex(0.0, a), S)
+
+
+@jit
+def _divided(a, b, S, front, ea, jb):
     """D(a, b) = (J(a) - J(b)) / (a - b) for real a, b (J's derivative where a = b), with front = S e^{i m S}
-    sinc(d S) (m = (a + b)/2, d = (a - b)/2) and ea, eb = e^{i a S}, e^{i b S}: [front - J(b)] / a, a the larger in
-    size, where |a| S >= DIVIDED_SERIES_SPAN (|D| <= S^2 / 2; this form's rounding, eps S / |a|, stays below
-    eps S^2), else the Taylor series D = sum_{j>=1} i^j S^{j+1}/(j+1)! h_j, h_j = (a^j - b^j)/(a - b)."""
-    if abs(a) < abs(b):
-        a, b, ea, eb = b, a, eb, ea
-    if abs(a) * S >= DIVIDED_SERIES_SPAN:
-        return (front - _integral_from(eb, complex(0.0, b), S)) / a
+    sinc(d S) (m = (a + b)/2, d = (a - b)/2), ea = e^{i a S} and jb = J(b): [front - J(b)] / a where |a| >= |b|
+    and |a| S >= DIVIDED_SERIES_SPAN, [front - J(a)] / b where the same holds with a and b exchanged (|D| <=
+    S^2 / 2; this form's rounding, eps S / max(|a|, |b|), stays below eps S^2), else the Taylor series
+    D = sum_{j>=1} i^j S^{j+1}/(j+1)! h_j, h_j = (a^j - b^j)/(a - b)."""
+    if abs(a) >= abs(b) and abs(a) * S >= DIVIDED_SERIES_SPAN:
+        return (front - jb) / a
+    if abs(b) > abs(a) and abs(b) * S >= DIVIDED_SERIES_SPAN:
+        return (front - _osc_from(ea, a, S)) / b
     total = 0j
     h = 1.0  # h_j = a h_{j-1} + b^{j-1}
     bp = 1.0  # b^(j-1)
@@ -131,22 +141,19 @@ def add_slip(harm, t0, q0, v0, sig, S, A, r, bk, zeta):
         f_m = sinc * _unit(-0.5 * (1.0 + r) * S)
     for k in range(harm.shape[1]):
         w = k * r
-        j0 = _integral_from(zk, complex(0.0, -w), S)
+        j0 = _osc_from(zk, -w, S)
         er_p = e_r * zk
         er_m = e_r.conjugate() * zk
         if damped:
             e1 = _integral_from(ed_p * zk, complex(-zeta, wd - w), S)
             e2 = _integral_from(ed_m * zk, complex(-zeta, -wd - w), S)
-            iq = (-fk * j0 + 0.5 * (G * _integral_from(er_p, complex(0.0, r - w), S)
-                                    + G.conjugate() * _integral_from(er_m, complex(0.0, -r - w), S))
+            iq = (-fk * j0 + 0.5 * (G * _osc_from(er_p, r - w, S) + G.conjugate() * _osc_from(er_m, -r - w, S))
                   + 0.5 * c1 * (e1 + e2) - 0.5j * c2 * (e1 - e2))
         else:
-            e1_p = e_1 * zk
-            e1_m = e_1.conjugate() * zk
-            jp = _integral_from(e1_p, complex(0.0, 1.0 - w), S)
-            jm = _integral_from(e1_m, complex(0.0, -1.0 - w), S)
-            dp = _divided(r - w, 1.0 - w, S, f_p * zk, er_p, e1_p)
-            dm = _divided(-r - w, -1.0 - w, S, f_m * zk, er_m, e1_m)
+            jp = _osc_from(e_1 * zk, 1.0 - w, S)
+            jm = _osc_from(e_1.conjugate() * zk, -1.0 - w, S)
+            dp = _divided(r - w, 1.0 - w, S, f_p * zk, er_p, jp)
+            dm = _divided(-r - w, -1.0 - w, S, f_m * zk, er_m, jm)
             ic = 0.5 * inv * (dm - dp)
             isn = -0.5j * inv * (jp - jm - dp - dm)
             iq = (0.5 * (q0 + fk) * (jp + jm) - 0.5j * v0 * (jp - jm) - fk * j0
@@ -172,9 +179,8 @@ def add_stick(harm, qs, ta, tb, A, r):
     rot = 1.0 + 0j
     for k in range(harm.shape[1]):
         w = k * r
-        j0 = _integral_from(zk, complex(0.0, -w), L)
-        forcing = 0.5 * A * (e_p * _integral_from(e_r * zk, complex(0.0, r - w), L)
-                             + turn * _integral_from(e_r.conjugate() * zk, complex(0.0, -r - w), L))
+        j0 = _osc_from(zk, -w, L)
+        forcing = 0.5 * A * (e_p * _osc_from(e_r * zk, r - w, L) + turn * _osc_from(e_r.conjugate() * zk, -r - w, L))
         harm[0, k] += rot * qs * j0
         harm[1, k] += rot * (forcing - qs * j0)
         zk *= step
@@ -197,7 +203,7 @@ def add_stuck_slider(harm, scratch, t0, U, p0, pu0, K, m, kappa, Ap, r, rho, zp,
     zk = 1.0 + 0j
     rot = 1.0 + 0j
     for k in range(harm.shape[1]):
-        const = rot * _integral_from(zk, complex(0.0, -k * r), L)  # int e^{-i k r t} dt over the stick
+        const = rot * _osc_from(zk, -k * r, L)  # int e^{-i k r t} dt over the stick
         ip = scratch[0, k] / om
         harm[0, k] += ip + K * const
         harm[1, k] += kappa * (ip - m * const)
