@@ -80,12 +80,16 @@ def test_half_wave_symmetric_orbits_have_odd_harmonics_only(excitation, r, beta,
     assert np.abs(X[1::2]).min() > 0.0
 
 
-@pytest.mark.parametrize(("excitation", "r", "beta"), [("base", 0.3, 0.1), ("base", 0.7, 0.5), ("joined", 2.5, 0.2),
-                                                       ("force", 0.6, 0.8)])
-def test_parseval_and_fft_against_a_sampled_orbit(excitation, r, beta):
+@pytest.mark.parametrize(("excitation", "r", "beta", "effects"), [
+    ("base", 0.3, 0.1, None), ("base", 0.7, 0.5, None), ("joined", 2.5, 0.2, None), ("force", 0.6, 0.8, None),
+    ("base", 1.0 + 1e-9, 0.8, None), ("base", 0.8, 0.3, {"viscous_damping": 0.1}),
+    # the spring-parallel dashpot's forcing leads the base: harmonics and samples both against the base
+    ("base", 0.8, 0.3, {"viscous_damping": {"ratio": 0.05, "to": "base"}}),
+])
+def test_parseval_and_fft_against_a_sampled_orbit(excitation, r, beta, effects):
     n = 4096
-    raw, X, F = solve(excitation, r, beta)
-    x, _, f = history(excitation, r, beta, n=n)
+    raw, X, F = solve(excitation, r, beta, effects)
+    x, _, f = history(excitation, r, beta, effects, n=n)
     # the mean square of x over the period: the samples' mean is its trapezoid rule, error O(n^-2) (x' has
     # kinks where friction jumps); Parseval's tail beyond H falls like H^-5 (X_k ~ k^-3)
     mean_square = np.mean(x * x)
