@@ -145,6 +145,8 @@ def recorded_settings(spec: Spec, settings: dict[str, Any]) -> dict[str, Any]:
     if spec.sweep is not None:  # the sweep is the start: no second one
         recorded.pop("starts", None)
         recorded["sweep"] = spec.sweep.direction
+    if "harmonics" not in spec.outputs:  # the output's size: no knob of a run without it
+        recorded.pop("harmonics", None)
     return recorded
 
 
