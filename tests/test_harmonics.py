@@ -220,8 +220,8 @@ JENKINS = [(kappa, r, beta) for kappa in (1.0, 10.0, 1000.0) for r, beta in ((0.
 def test_jenkins_contact(kappa, r, beta):
     """The Jenkins contact (its slider stuck: a linear oscillator of stiffness 1 + kappa, integrated in its own
     time): the first harmonic is its transmissibility, the friction force's work is friction_energy (with
-    static = kinetic friction the contact spring's energy returns over the period), the FFT of its sampled
-    orbit agrees to aliasing."""
+    static = kinetic friction the contact spring's energy returns over the period), and so is the area of its
+    sampled hysteresis loop, and the FFT of its sampled orbit agrees to aliasing."""
     effects = {"contact_stiffness": kappa}
     raw, X, F = solve("base", r, beta, effects)
     t = raw[steady.OUT_TRANSMISSIBILITY]
@@ -230,9 +230,13 @@ def test_jenkins_contact(kappa, r, beta):
     work = np.pi * np.sum(k * np.imag(F * np.conj(X)))
     energy = raw[steady.OUT_FRICTION_ENERGY]
     assert abs(work - energy) <= 1e-9 * max(energy, beta * t)  # f is continuous: F_k ~ k^-2, the tail ~ H^-4
-    n = 4096
-    x, _, f = history("base", r, beta, effects, n=n)
-    assert np.isnan(f).all()  # the contact spring's force needs the slider, which the samples do not hold
+    n = 1 << 14
+    x, q, f = history("base", r, beta, effects, n=n)
+    # the hysteresis loop of the contact spring's force, kappa (q - w): its area is the energy the slider
+    # dissipates, and the force stays within the slider's band
+    area = np.sum(0.5 * (f + np.roll(f, -1)) * (np.roll(q, -1) - q))
+    assert abs(area - energy) <= 1e-6 * max(energy, beta * t)
+    assert np.abs(f).max() <= beta * (1 + 1e-12)
     fft = np.fft.rfft(x) / n
     fft[1:] *= 2.0
     assert np.abs(fft[:H + 1] - X).max() <= 1e-9 * np.abs(X).max()

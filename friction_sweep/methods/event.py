@@ -378,9 +378,9 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     Returns arrays of shape (n_points, n_samples) with n_samples = samples_per_period times the
     longest orbit period among the points (shorter orbits are padded with NaN): time in forcing
     periods from a maximum of the excitation, the response x, the excitation, the relative displacement
-    (the equation's q or z), its velocity and the friction force (friction_force: against the relative
-    displacement, the hysteresis loop; NaN for the Jenkins contact); plus per point the orbit period and the
-    regime. Where the
+    (the equation's q or z), its velocity and the friction force (friction_force, or the Jenkins contact's
+    spring force: against the relative displacement, the hysteresis loop); plus per point the orbit period and
+    the regime. Where the
     kernel's forcing leads the excitation (forcing_lead), the orbit is replayed from the kernel's section
     one period longer and sampled at the excitation's times, so the samples are exact, whatever the orbit.
     """
@@ -416,12 +416,13 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         periods = k + (delay != 0.0)
         sq = np.empty((periods, samples_per_period))
         sv = np.empty((periods, samples_per_period))
+        sw = np.full((periods, samples_per_period), np.nan)  # the Jenkins slider's position
         q0, v0, mode0 = raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V], int(raw[i, steady.OUT_END_MODE])
         if kappa > 0.0 and np.isfinite(raw[i, jenkins_steady.JOUT_END_W]):
             status = jenkins_steady.sample_orbit_jenkins(
                 q0, v0, raw[i, jenkins_steady.JOUT_END_W], mode0,
                 JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa), sett[SET_STOP_TOL],
-                int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
+                int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv, sw)
         else:  # the rigid model's (a Jenkins point without friction is one: no slider position)
             status = steady.sample_orbit(q0, v0, mode0, Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]),
                                          sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
@@ -436,7 +437,10 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         out["history_relative_velocity"][i, :m] = v_at
         out["history_excitation"][i, :m] = np.cos(angle)
         out["history_displacement"][i, :m] = q_at + c[i] * np.cos(angle)
-        if kappa == 0.0:  # the Jenkins contact's force needs the slider, which its samples do not hold
+        w_at = sw.ravel()[wrapped:wrapped + m]
+        if np.isfinite(w_at).all():  # the Jenkins contact: its spring's force, kappa (q - w)
+            out["history_friction_force"][i, :m] = kappa * (q_at - w_at)
+        else:
             out["history_friction_force"][i, :m] = friction_force(q_at, v_at, A[i] * np.cos(angle + lead[i]), bk[i],
                                                                   bs[i])
     out["history_orbit_period"] = orbit.astype(float)

@@ -340,8 +340,8 @@ VARIABLES = {
         HISTORY_DIMS, np.float64, "friction force on the mass / ({force_ref})", "1",
         valid_range=DISPLACEMENT_VALID,
         comment="the contact's force in the equation of motion (sgn v times the kinetic friction while slipping, the "
-        "force that holds the mass while stuck); against history_relative_displacement: the hysteresis loop; NaN "
-        "for the Jenkins contact",
+        "force that holds the mass while stuck; the Jenkins contact's spring force); against "
+        "history_relative_displacement: the hysteresis loop",
     ),
     # exact harmonics (outputs: harmonics), in the units of their time histories
     "response_harmonic_real": _harmonic("the response x / {ref}", "x", "real", "transmissibility"),
