@@ -78,6 +78,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/one_engine.py
 	$(BIN)/python benchmarks/peer_pyharm.py
 	$(BIN)/python benchmarks/compile_profile.py
+	$(BIN)/python benchmarks/harmonics.py --excitation base
+	$(BIN)/python benchmarks/harmonics.py --excitation joined
 	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.nc --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)

@@ -23,7 +23,11 @@ DESIGN_OUTPUTS = ("friction_energy", "transmitted_force")
 MODEL_OUTPUTS = (*DEFAULT_OUTPUTS, *DESIGN_OUTPUTS)  # what the closed form gives as well as a simulation
 #: the steady orbit's stability (its largest Floquet multiplier): only a simulation has a period map
 STABILITY_OUTPUTS = ("stability",)
-GRID_OUTPUTS = (*MODEL_OUTPUTS, *STABILITY_OUTPUTS)  # per grid point
+SIMULATED_OUTPUTS = (*MODEL_OUTPUTS, *STABILITY_OUTPUTS)  # what any simulation gives
+#: the exact Fourier coefficients of the orbit's response and friction force up to harmonic `settings.harmonics`,
+#: per grid point on a dim of their own: only the event kernel's closed-form pieces give them exactly
+HARMONIC_OUTPUTS = ("harmonics",)
+GRID_OUTPUTS = (*SIMULATED_OUTPUTS, *HARMONIC_OUTPUTS)  # per grid point
 OUTPUTS = (*GRID_OUTPUTS, "time_history")  # time histories: of chosen points, on their own dims
 
 
@@ -243,6 +247,10 @@ _STEADY = {
     "initial_velocity": _float(0.0, -2.0, 2.0, "start of the march, in the equation's velocity unit: farther "
                                "starts settle on wrong or no orbits within the budget"),
 }
+#: the highest harmonic of the output `harmonics` (fsweep's exact coefficients, methods event and auto)
+MAX_HARMONIC = 64
+_HARMONICS = _int(16, 1, MAX_HARMONIC, "highest harmonic k of the output harmonics (exact Fourier coefficients "
+                  "at k r): each costs a closed-form integral per piece of the orbit and a plane of the cube")
 _STARTS = _int(2, 1, 2, "1: from rest only; 2: also from a moving start where static exceeds kinetic friction")
 #: the simulations (event exactly, rk4 on its grid) model the Jenkins contact too (kernels/jenkins.py,
 #: kernels/jenkins_rk4.py); the closed forms and the paper's procedure do not
@@ -266,12 +274,12 @@ _METHODS = (
     ),
     Method(
         "event", "exact stick-slip: closed-form segments between events, steady state by march and shooting",
-        settings={**_STEADY, "starts": _STARTS}, effects=_SIMULATED, outputs=OUTPUTS,
+        settings={**_STEADY, "starts": _STARTS, "harmonics": _HARMONICS}, effects=_SIMULATED, outputs=OUTPUTS,
         accuracy_knobs=("stop_tol", "steady_tol"), calibrated_as="event", sweep=True,
     ),
     Method(
         "rk4", "fixed-step classical Runge-Kutta with a real stick mode: the baseline that shows what the closed "
-        "forms buy", effects=_SIMULATED, outputs=GRID_OUTPUTS, accuracy_knobs=("steady_tol", "steps_per_period"),
+        "forms buy", effects=_SIMULATED, outputs=SIMULATED_OUTPUTS, accuracy_knobs=("steady_tol", "steps_per_period"),
         calibrated_as="rk4",
         sweep=True,
         settings={**_without(_STEADY, "stop_tol"), "starts": _STARTS,
@@ -307,7 +315,8 @@ _METHODS = (
         "(method_used says which)", outputs=OUTPUTS, accuracy_knobs=("stop_tol", "steady_tol"),
         calibrated_as="event",
         settings={**_STEADY, "theory_margin": _float(0.02, 1e-6, 1.0, "relative distance from the theory's "
-                                                     "continuous limit inside which the simulation decides")},
+                                                     "continuous limit inside which the simulation decides"),
+                  "harmonics": _HARMONICS},
     ),
 )
 

@@ -37,6 +37,8 @@ SPECS = {
     "event_time_history": {"scene": {"excitation": "joined"}, "grid": SMALL, "method": "event",
                            "outputs": ["transmissibility", "phase", "regime", "stability", "time_history"],
                            "time_history": {"points": POINTS, "samples_per_period": 16}},
+    "harmonics": {"scene": {"excitation": "base"}, "grid": SMALL, "method": "auto",
+                  "outputs": ["transmissibility", "phase", "regime", "harmonics"], "settings": {"harmonics": 5}},
     "jenkins": {"scene": {"excitation": "base", "effects": {"contact_stiffness": 10}}, "grid": SMALL,
                 "method": "event", "outputs": ["transmissibility", "regime", "time_history"],
                 "time_history": {"points": POINTS[:1], "samples_per_period": 16}},
@@ -80,7 +82,7 @@ def test_no_name_is_a_cf_global_attribute(written):
 
 def test_no_schema_name_is_a_cf_global_attribute():
     """Also the names no built cube above happens to hold (every table of the schema, every dim)."""
-    tables = (schema.COORDS, schema.PHYSICAL_COORDS, schema.SCALAR_COORDS, schema.HISTORY_COORDS, schema.VARIABLES)
+    tables = (schema.COORDS, schema.PHYSICAL_COORDS, schema.SCALAR_COORDS, schema.ARRAY_COORDS, schema.VARIABLES)
     names = {n for table in tables for n in table} | {d for table in tables for v in table.values() for d in v.dims}
     names |= set(schema.ACCELERATION_DIMS.values())
     assert not names & set(CF_GLOBAL_ATTRIBUTES)
@@ -117,7 +119,7 @@ def test_every_long_name_is_one_short_line(written):
 
 @pytest.mark.parametrize("excitation", ["base", "force", "joined"])
 def test_every_schema_long_name_is_one_short_line_with_the_detail_in_comment(excitation):
-    tables = (schema.COORDS, schema.PHYSICAL_COORDS, schema.SCALAR_COORDS, schema.HISTORY_COORDS, schema.VARIABLES)
+    tables = (schema.COORDS, schema.PHYSICAL_COORDS, schema.SCALAR_COORDS, schema.ARRAY_COORDS, schema.VARIABLES)
     for table in tables:
         for name, var in table.items():
             attrs = var.attrs(excitation)

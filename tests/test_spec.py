@@ -139,7 +139,7 @@ def test_constants():
     assert EXCITATIONS == ("force", "base", "joined")
     assert list(METHODS)[0] == "theory" and "event" in METHODS
     assert OUTPUTS == ("transmissibility", "phase", "regime", "friction_energy", "transmitted_force", "stability",
-                       "time_history")
+                       "harmonics", "time_history")
 
 
 def test_model_dump_round_trips():

@@ -60,6 +60,10 @@ HUGE_BYTES = 4 * 2**30
 BASE_BYTES = 300 * 2**20
 #: memory per grid point while a run holds its outputs and the cube's serialised copy
 POINT_BYTES = 1000
+#: the output harmonics: a point's cost with them over without (benchmarks/harmonics.py measured 1.75-1.85 at
+#: H = 50), and the float64 values each harmonic of a point stores (the response's and friction's, complex)
+HARMONICS_COST = 2.0
+HARMONIC_VALUES = 4
 #: loading the compiled kernels from numba's cache, once per run (the simulation methods; make bench:
 #: numba's first call of any cached kernel alone costs ~0.4 s)
 KERNEL_LOAD_SECONDS = 0.4
@@ -188,9 +192,13 @@ def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, sc
         serial = sum(_tile_seconds(spec.method, r, p.stop - p.start, joined, solves, knobs, kappa) for p in parts)
     else:
         serial = sum(_tile_seconds(spec.method, r[p], n_beta, joined, solves, knobs, kappa) for p in parts)
+    points = r.size * n_beta
+    harmonic_bytes = 0
+    if "harmonics" in spec.outputs:  # a replay of each orbit (benchmarks/harmonics.py: below 2x a plain point)
+        serial *= HARMONICS_COST
+        harmonic_bytes = points * HARMONIC_VALUES * (int(knobs["harmonics"]) + 1) * 8 * 2  # run and cube copy
     if spec.method != "theory":
         serial += KERNEL_LOAD_SECONDS
-    points = r.size * n_beta
     worst_point = _worst_point_seconds(spec.method, knobs, solves, kappa)
     history = 0
     if spec.time_history is not None:
@@ -209,7 +217,8 @@ def estimate(spec, settings: dict | None = None, *, jobs: int, executor: str, sc
     compiling = _compile_seconds(spec, solves > 1, kappa) if cache else 0.0
     return Estimate(points=points, seconds=serial / n_workers + start + compiling,
                     worst=worst / n_workers + start + compiling,
-                    bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * solves + history,
+                    bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * solves + history
+                    + harmonic_bytes,
                     workers=n_workers, compile=compiling, jobs=jobs,
                     why_fewer=capped(executor, jobs, n_workers, len(parts), scheduler))
 

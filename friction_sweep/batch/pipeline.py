@@ -21,6 +21,7 @@ import friction_sweep
 from friction_sweep import catalogue
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR
 from friction_sweep.spec import Spec
+from friction_sweep.storage.schema import HARMONIC_DIM
 
 
 def run_settings(spec: Spec, table: dict | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -107,6 +108,9 @@ def compute(spec: Spec, settings: dict[str, Any], *, jobs: int = 1, executor: st
                       effects=spec.scene.effects, settings=settings,
                       sweep=spec.sweep.direction if spec.sweep is not None else None,
                       jobs=jobs, executor=executor, scheduler=scheduler, done=done, on_done=on_done, on_tile=on_tile)
+    if "harmonics" in spec.outputs:
+        highest = settings.get("harmonics", catalogue.method(spec.method).defaults["harmonics"])
+        arrays[HARMONIC_DIM] = np.arange(int(highest) + 1)
     if spec.time_history is not None:
         points = np.asarray(spec.time_history.points, dtype=float)
         method: Any = methods.get(spec.method)  # the catalogue vouches that it writes time histories
@@ -141,6 +145,8 @@ def recorded_settings(spec: Spec, settings: dict[str, Any]) -> dict[str, Any]:
     if spec.sweep is not None:  # the sweep is the start: no second one
         recorded.pop("starts", None)
         recorded["sweep"] = spec.sweep.direction
+    if "harmonics" not in spec.outputs:  # the output's size: no knob of a run without it
+        recorded.pop("harmonics", None)
     return recorded
 
 

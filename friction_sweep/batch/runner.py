@@ -78,7 +78,8 @@ def run_grid(method_name: str, excitation: str, frequency_ratio, force_ratio, ou
         for name, values in tile.items():
             values = np.asarray(values)
             if name not in results:
-                shape = (r.size,) if values.ndim == 1 else (n_beta, r.size)
+                # a plane, or planes along a leading dim of their own (the harmonics)
+                shape = (r.size,) if values.ndim == 1 else (*values.shape[:-2], n_beta, r.size)
                 results[name] = np.empty(shape, dtype=values.dtype)
             if sweep and values.ndim == 1:
                 results[name][:] = values  # along frequency_ratio: every tile has all of it
@@ -144,8 +145,9 @@ def _fits(tile: dict, part: slice, n_r: int, n_beta: int, sweep: str | None) -> 
     n = part.stop - part.start
     grid = (n, n_r) if sweep else (n_beta, n)
     line = (n_r,) if sweep else (n,)
-    return all(_kind_fits(k, v) and np.shape(v) == (line if VARIABLES[k].dims == ("frequency_ratio",) else grid)
-               for k, v in tile.items())
+    return all(_kind_fits(k, v) and np.shape(v)[-len(grid):] == (line if VARIABLES[k].dims == ("frequency_ratio",)
+                                                                  else grid)
+               and np.ndim(v) == len(VARIABLES[k].dims) for k, v in tile.items())
 
 
 def _kind_fits(name: str, values) -> bool:

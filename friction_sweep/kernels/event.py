@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from friction_sweep.kernels import fourier
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.measure import (
     ACC_IC,
@@ -296,11 +297,14 @@ def _jac_release(acc, te, sig, p):
 
 
 @jit
-def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
+def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv, harm=None):
     """March one forcing period from t = 0 to T. Returns (q, v, mode, status, work).
 
     ts: sorted period-local sample times, or None when not sampling (a compile-time choice: a run without
     time histories compiles no sampling); q, v there go to sq, sv.
+    harm: None (left out: a compile-time choice, so a run without the output `harmonics` compiles none of
+    it), or the complex accumulator of kernels/fourier.py, to which every piece adds its exact Fourier
+    integrals.
     Along the way acc[ACC_JAC:ACC_JAC + 4] gets the monodromy matrix d(q, v)(T)/d(q, v)(0) and
     acc[ACC_JAC_OK] = 1 when it is valid: through reversals and sticks, not where the map is not smooth
     (a stop that neither reverses nor sticks, a stick that ends as it starts or where the force only
@@ -333,6 +337,8 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
             stalled = False
             if ts is not None:
                 j = _sample(ts, sq, sv, j, t, te if te < T else math.inf, t, q, 0.0, 0, A, r, bk, zeta)
+            if harm is not None:
+                fourier.add_stick(harm, q, t, min(te, T), A, r)
             if te >= T:
                 return q, 0.0, 0, OK, work
             t = te
@@ -362,6 +368,8 @@ def advance_period(q, v, mode, p, vtol_rel, budget, measure, acc, ts, sq, sv):
                 _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
             if ts is not None:
                 j = _sample(ts, sq, sv, j, t, t + s if found else math.inf, t, q, v, mode, A, r, bk, zeta)
+            if harm is not None:
+                fourier.add_slip(harm, t, q, v, mode, s, A, r, bk, zeta)
             _jac_flow(acc, s, zeta)
             t = t + s
             q = q1

@@ -74,6 +74,7 @@ import math
 
 import numpy as np
 
+from friction_sweep.kernels import fourier
 from friction_sweep.kernels.event import EXTREME_SPACING, _measure_slip, _piece_extreme, _slip_harmonic, _slip_x
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.measure import (
@@ -337,9 +338,10 @@ def _measure_stick_piece(acc, scratch, t0, u_end, p0, pu0, K, Ap, rho, zp, om, r
 
 
 @jit
-def _sample(ts, sq, sv, i, ta, tb, stuck, t0, q0, v0, w, sig, p):
+def _sample(ts, sq, sv, i, ta, tb, stuck, t0, q0, v0, w, sig, p, sw=None):
     """Fill the samples with ta <= ts[i] < tb from the piece that starts at (q0, v0) at t0: a stick with the
-    slider at w, or a slip in direction sig. Returns the next i."""
+    slider at w, or a slip in direction sig. Returns the next i. sw: None (left out: not compiled), or where the
+    slider's position goes (w on a stick; q - sig bk / kappa, where the contact spring holds bk, on a slip)."""
     A, r, bk, bs, zeta, c, kappa = p
     while i < ts.size and ts[i] < tb:
         if ts[i] >= ta:
@@ -347,18 +349,23 @@ def _sample(ts, sq, sv, i, ta, tb, stuck, t0, q0, v0, w, sig, p):
                 sq[i], sv[i] = stick_state(ts[i] - t0, t0, q0, v0, w, A, r, zeta, kappa)
             else:
                 sq[i], sv[i] = slip_state(ts[i] - t0, q0, v0, sig, A, r, bk, zeta, math.cos(r * t0), math.sin(r * t0))
+            if sw is not None:
+                sw[i] = w if stuck else sq[i] - sig * bk / kappa
         i += 1
     return i
 
 
 @jit
-def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, acc, ts, sq, sv):
+def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, acc, ts, sq, sv, harm=None,
+                           sw=None):
     """March one forcing period of the Jenkins contact from t = 0 to T. Returns (q, v, w, mode, anchor,
     status, work); acc (JACC_SIZE slots) gathers what measure.py describes plus the slips and the jumps'
     energy, and the period's monodromy matrix (JACC_JAC, JACC_JAC_OK; the module's docstring). anchor: where
     the slider was when the current slip began from a held stick (NaN otherwise). ts: sorted period-local
     sample times, or None when not sampling (compiled without sampling then); q, v there go to sq, sv
-    (event.advance_period's contract)."""
+    (event.advance_period's contract). harm: None (left out: nothing compiled for it) or the complex accumulator
+    of kernels/fourier.py, to which every piece adds its exact Fourier integrals. sw: None (left out: not
+    compiled), or where the slider's position at the sample times goes (_sample)."""
     A, r, bk, bs, zeta, c, kappa = p
     T = TWO_PI / r
     hmax = min(1.0, 1.0 / r)
@@ -372,6 +379,8 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
         acc[j + i] = 1.0 if i % 4 == 0 else 0.0
     acc[JACC_JAC_OK] = 1.0
     scratch = np.empty(2)
+    if harm is not None:
+        harm_scratch = np.empty_like(harm)
     t = 0.0
     work = 0
     i_sample = 0
@@ -416,9 +425,11 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
             if measure:
                 _measure_stick_piece(acc, scratch, t, ub, p0, pu0, K, Ap, rho, zp, om, r, c)
             _mono_stick(acc, ub, zp, om, kappa)
+            if harm is not None:
+                fourier.add_stuck_slider(harm, harm_scratch, t, ub, p0, pu0, K, m, kappa, Ap, r, rho, zp, om)
             if ts is not None:
                 i_sample = _sample(ts, sq, sv, i_sample, t, t + ub / om if found else math.inf, True, t, q, v, w,
-                                   0, p)
+                                   0, p, sw)
             if not found:
                 p1, pu1 = slip_state(u_end, p0, pu0, 1, Ap, rho, 0.0, zp, math.cos(r * t), math.sin(r * t))
                 return p1 + K, om * pu1, w, mode, anchor, OK, work
@@ -471,8 +482,10 @@ def advance_period_jenkins(q, v, w, mode, anchor, p, vtol_rel, budget, measure, 
         if measure:
             _measure_slip(acc, t, q, v, mode, s, q1, A, r, bk, zeta, c, ca, sa)
         _mono_slip(acc, s, zeta)
+        if harm is not None:
+            fourier.add_slip(harm, t, q, v, mode, s, A, r, bk, zeta)
         if ts is not None:
-            i_sample = _sample(ts, sq, sv, i_sample, t, t + s if hit else math.inf, False, t, q, v, w, mode, p)
+            i_sample = _sample(ts, sq, sv, i_sample, t, t + s if hit else math.inf, False, t, q, v, w, mode, p, sw)
         t = t + s
         q = q1
         v = v1

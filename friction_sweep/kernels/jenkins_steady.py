@@ -572,17 +572,22 @@ def solve_sweep_jenkins(A, r, bk, bs, zeta, c, kappa, settings, out, rk4):
 
 
 @jit
-def sample_orbit_jenkins(q, v, w, mode, p, vtol, budget, periods, ts, sq, sv):
+def sample_orbit_jenkins(q, v, w, mode, p, vtol, budget, periods, ts, sq, sv, sw=None):
     """Replay `periods` forcing periods from a state (q, v, w, mode) on the orbit, sampling q, v at the local
     times ts (sorted, in [0, T)) of every period; sq, sv have shape (periods, ts.size). Returns BUDGET if the
-    replay ran out of `budget` (the samples are then incomplete), else 0 (steady.sample_orbit's contract)."""
+    replay ran out of `budget` (the samples are then incomplete), else 0 (steady.sample_orbit's contract).
+    sw: None (left out: not compiled), or where the slider's position at the samples goes, sq's shape."""
     acc = np.empty(JACC_SIZE)
     anchor = math.nan  # labels only: the motion does not depend on it
     work = 0
     for k in range(periods):
         reset_accumulator(acc)
-        q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, vtol, budget - work, False,
-                                                               acc, ts, sq[k], sv[k])
+        if sw is None:
+            q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, vtol, budget - work,
+                                                                   False, acc, ts, sq[k], sv[k])
+        else:
+            q, v, w, mode, anchor, st, wk = advance_period_jenkins(q, v, w, mode, anchor, p, vtol, budget - work,
+                                                                   False, acc, ts, sq[k], sv[k], None, sw[k])
         work += wk
         if st == BUDGET or work > budget:
             return BUDGET

@@ -44,7 +44,8 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
     margin = float(settings.pop("theory_margin", CATALOGUE.defaults["theory_margin"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
-    th = theory.compute_tile(excitation, r, beta, tuple(dict.fromkeys((*outputs, "regime"))))
+    modelled = (o for o in outputs if o in theory.CATALOGUE.outputs)  # the theory has no orbit to take harmonics of
+    th = theory.compute_tile(excitation, r, beta, tuple(dict.fromkeys((*modelled, "regime"))))
     use_theory = theory_mask(th, r, beta, margin)
     names = variables_for(excitation, outputs)
     shape = use_theory.shape
@@ -60,10 +61,18 @@ def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None)
         out["orbit_period"][use_theory] = 1.0
         out["steady_state"] = np.where(use_theory, SteadyState.NOT_SIMULATED, SteadyState.CONVERGED).astype(np.int8)
 
-    if np.any(~use_theory):
-        R, B = np.meshgrid(r, beta)
-        sim = ~use_theory
-        raw = event.solve_flat(excitation, R[sim], B[sim], None, **settings)
+    R, B = np.meshgrid(r, beta)
+    sim = ~use_theory
+    if "harmonics" in outputs:
+        # the harmonics need the orbit, which the theory does not give: every point is simulated for them (the
+        # theory's points by one exact period from Den Hartog's orbit), its other variables as without them
+        H = int(settings.get("harmonics", CATALOGUE.defaults["harmonics"]))
+        everywhere = event.solve_flat(excitation, R.ravel(), B.ravel(), None, **settings)
+        out.update({name: values.reshape(H + 1, *shape) for name, values in
+                    event.harmonics(excitation, R.ravel(), B.ravel(), everywhere, H, None, settings).items()})
+    if np.any(sim):
+        raw = everywhere[sim.ravel()] if "harmonics" in outputs else \
+            event.solve_flat(excitation, R[sim], B[sim], None, **settings)
         for name in names:
             if name in steady.OUT or name == "transmitted_force":
                 out[name][sim] = event.kernel_variable(name, raw, excitation, R[sim])

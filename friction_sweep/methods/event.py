@@ -53,6 +53,10 @@ VARIABLES = {
     "stability": ("floquet_multiplier",),
 }
 _INTEGER = {"regime": np.int8, "steady_state": np.int8}
+#: the output `harmonics`: one-sided Fourier coefficients k = 0..H of the response and of the friction force,
+#: each (harmonic, force_ratio, frequency_ratio) (storage.schema)
+HARMONIC_VARIABLES = ("response_harmonic_real", "response_harmonic_imag", "friction_harmonic_real",
+                      "friction_harmonic_imag")
 #: written with the regime where the contact is a Jenkins element (effect contact_stiffness)
 JENKINS_VARIABLES = ("slips_per_period",)
 
@@ -128,6 +132,7 @@ def kernel_settings(settings: dict | None = None) -> np.ndarray:
     values = {**CATALOGUE.defaults, **catalogue.method("rk4").defaults, "kernel": KERNEL_EVENT, "stability": 0,
               **(settings or {})}
     values.pop("starts")
+    values.pop("harmonics")  # the output's size, not a kernel knob
     return settings_record(values)
 
 
@@ -177,6 +182,55 @@ def solve_flat(excitation, r, beta, effects=None, start=None, **settings):
     return out
 
 
+def harmonics(excitation: str, r, beta, raw, H: int, effects=None, settings=None) -> dict[str, np.ndarray]:
+    """The output `harmonics` of points (r, beta) (1-D) from their solve's raw rows: the orbit replayed from its
+    state (end_q, end_v, end_mode) with every piece integrated against exp(-i k r t) in closed form
+    (kernels/harmonics.py; the Jenkins contact's too), k = 0..H. Response x = q + c cos(r t) and friction force f
+    (the Jenkins contact's spring force while its slider sticks), one-sided (x = Re sum X_k
+    e^{i k r t}), against the excitation (t from its maximum). A point held stuck (regime stuck, which also
+    covers a creep below the steady tolerance, as the first harmonic's measurement does) is q = end_q,
+    f = A cos(r t) - end_q exactly; one with no steady state is NaN. Arrays (H + 1, n), by HARMONIC_VARIABLES."""
+    from friction_sweep.kernels import harmonics as kernel  # compiled only where the output is asked for
+
+    r = np.ascontiguousarray(r, dtype=float)
+    beta = np.ascontiguousarray(np.broadcast_to(beta, r.shape), dtype=float)
+    A, c, bk, bs, zeta = point_parameters(excitation, r, beta, effects)
+    sett = kernel_settings(settings)
+    orbit = np.nan_to_num(raw[:, steady.OUT_ORBIT_PERIOD]).astype(np.int64)
+    end_q = np.ascontiguousarray(raw[:, steady.OUT_END_Q])
+    end_v = np.ascontiguousarray(raw[:, steady.OUT_END_V])
+    end_mode = np.nan_to_num(raw[:, steady.OUT_END_MODE]).astype(np.int64)
+    harm = np.empty((r.size, 2, H + 1), dtype=complex)
+    kappa = contact_stiffness(effects)
+    rigid = np.ones(r.shape, dtype=bool)
+    if kappa > 0.0:
+        from friction_sweep.kernels import jenkins_steady
+
+        end_w = np.ascontiguousarray(raw[:, jenkins_steady.JOUT_END_W])
+        rigid = ~np.isfinite(end_w)  # a Jenkins point without friction is the rigid model's: no slider position
+        kernel.harmonics_points_jenkins(A, r, bk, bs, zeta, c, kappa, end_q, end_v, end_w, end_mode, orbit,
+                                        sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]), harm)
+    if rigid.any():
+        part = np.empty((int(rigid.sum()), 2, H + 1), dtype=complex)
+        kernel.harmonics_points(*(np.ascontiguousarray(a[rigid]) for a in (A, r, bk, bs, zeta, c, end_q, end_v,
+                                                                          end_mode, orbit)),
+                                sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]), part)
+        harm[rigid] = part
+    # the rigid contact's stuck state (the Jenkins contact's `stuck` is its slider's: the mass still swings)
+    stuck = (raw[:, steady.OUT_REGIME] == Regime.STUCK) & rigid
+    harm[stuck] = 0.0
+    harm[stuck, 0, 0] = end_q[stuck]
+    harm[stuck, 1, 0] = -end_q[stuck]
+    harm[stuck, 1, 1] = A[stuck]
+    x = harm[:, 0, :]
+    x[:, 1] += c  # the excitation's share of the response, c cos(r t)
+    # from the kernel's section (the forcing's maximum) to the excitation's: t_kernel = t + lead / r
+    turn = np.exp(1j * np.outer(forcing_lead(excitation, r, effects), np.arange(H + 1)))
+    x = (x * turn).T
+    f = (harm[:, 1, :] * turn).T
+    return dict(zip(HARMONIC_VARIABLES, (x.real, x.imag, f.real, f.imag), strict=True))
+
+
 def two_starts(effects) -> bool:
     """Whether a point can hold two steady states: static friction above kinetic."""
     return catalogue.effect_value(effects, "static_friction_ratio") > 1.0
@@ -223,15 +277,19 @@ def count_states(first, second):
 def compute_tile(excitation: str, r, beta, outputs, effects=None, settings=None) -> dict[str, np.ndarray]:
     settings = for_outputs(settings, outputs)
     starts = int(settings.pop("starts", CATALOGUE.defaults["starts"]))
+    H = int(settings.pop("harmonics", CATALOGUE.defaults["harmonics"]))
     r = np.asarray(r, dtype=float)
     beta = np.asarray(beta, dtype=float)
     R, B = np.meshgrid(r, beta)
+    jenkins = contact_stiffness(effects) > 0.0
     raw = solve_flat(excitation, R.ravel(), B.ravel(), effects, **settings)
     names = variables_for(excitation, outputs)
-    jenkins = contact_stiffness(effects) > 0.0
     if jenkins and "regime" in outputs:
         names += JENKINS_VARIABLES
     result = _per_point(raw, names, excitation, R)
+    if "harmonics" in outputs:
+        result.update({name: values.reshape(H + 1, *R.shape) for name, values in
+                       harmonics(excitation, R.ravel(), B.ravel(), raw, H, effects, settings).items()})
     if starts > 1 and two_starts(effects):
         moving = solve_moving(excitation, R.ravel(), B.ravel(), effects, **settings)
         twins = _per_point(moving, names, excitation, R)
@@ -306,13 +364,23 @@ def _per_point(raw, names, excitation, R) -> dict[str, np.ndarray]:
     return result
 
 
+def friction_force(q, v, forcing, bk, bs):
+    """The rigid contact's force f on the mass in q'' + 2 zeta q' + q + f = forcing (docs/equations.md §1), at
+    samples (q, v) where the kernel's forcing is `forcing`: bk sgn v while slipping; at rest the force that
+    holds the mass, forcing - q (q' = q'' = 0), which the stick band bounds by bs (at an instant of reversal,
+    where friction is set-valued, the nearest value of the band)."""
+    return np.where(v != 0.0, bk * np.sign(v), np.clip(forcing - q, -bs, bs))
+
+
 def time_histories(excitation: str, points, samples_per_period: int, effects=None, settings=None):
     """Steady-state orbits of the given (r, beta) points, sampled uniformly in time.
 
     Returns arrays of shape (n_points, n_samples) with n_samples = samples_per_period times the
     longest orbit period among the points (shorter orbits are padded with NaN): time in forcing
     periods from a maximum of the excitation, the response x, the excitation, the relative displacement
-    (the equation's q or z) and its velocity; plus per point the orbit period and the regime. Where the
+    (the equation's q or z), its velocity and the friction force (friction_force, or the Jenkins contact's
+    spring force: against the relative displacement, the hysteresis loop); plus per point the orbit period and
+    the regime. Where the
     kernel's forcing leads the excitation (forcing_lead), the orbit is replayed from the kernel's section
     one period longer and sampled at the excitation's times, so the samples are exact, whatever the orbit.
     """
@@ -331,7 +399,7 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
     shape = (pts.shape[0], n)
     out = {name: np.full(shape, np.nan) for name in
            ("history_time", "history_displacement", "history_excitation", "history_relative_displacement",
-            "history_relative_velocity")}
+            "history_relative_velocity", "history_friction_force")}
     frac = np.arange(samples_per_period) / samples_per_period
     for i in range(pts.shape[0]):
         k = orbit[i]
@@ -348,12 +416,13 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         periods = k + (delay != 0.0)
         sq = np.empty((periods, samples_per_period))
         sv = np.empty((periods, samples_per_period))
+        sw = np.full((periods, samples_per_period), np.nan)  # the Jenkins slider's position
         q0, v0, mode0 = raw[i, steady.OUT_END_Q], raw[i, steady.OUT_END_V], int(raw[i, steady.OUT_END_MODE])
         if kappa > 0.0 and np.isfinite(raw[i, jenkins_steady.JOUT_END_W]):
             status = jenkins_steady.sample_orbit_jenkins(
                 q0, v0, raw[i, jenkins_steady.JOUT_END_W], mode0,
                 JenkinsPoint(A[i], r[i], bk[i], bs[i], zeta[i], c[i], kappa), sett[SET_STOP_TOL],
-                int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
+                int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv, sw)
         else:  # the rigid model's (a Jenkins point without friction is one: no slider position)
             status = steady.sample_orbit(q0, v0, mode0, Point(A[i], r[i], bk[i], bs[i], zeta[i], c[i]),
                                          sett[SET_STOP_TOL], int(sett[SET_WORK_BUDGET]), periods, kts, sq, sv)
@@ -368,6 +437,12 @@ def time_histories(excitation: str, points, samples_per_period: int, effects=Non
         out["history_relative_velocity"][i, :m] = v_at
         out["history_excitation"][i, :m] = np.cos(angle)
         out["history_displacement"][i, :m] = q_at + c[i] * np.cos(angle)
+        w_at = sw.ravel()[wrapped:wrapped + m]
+        if np.isfinite(w_at).all():  # the Jenkins contact: its spring's force, kappa (q - w)
+            out["history_friction_force"][i, :m] = kappa * (q_at - w_at)
+        else:
+            out["history_friction_force"][i, :m] = friction_force(q_at, v_at, A[i] * np.cos(angle + lead[i]), bk[i],
+                                                                  bs[i])
     out["history_orbit_period"] = orbit.astype(float)
     out["history_regime"] = raw[:, steady.OUT_REGIME].astype(np.int8)
     return out

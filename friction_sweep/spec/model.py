@@ -471,6 +471,7 @@ class Spec(_Sourced):
     def _consistent(self):
         """Every rule that ties fields together, all reported at once."""
         _raise_all("Spec", [*self._excitation_problems(), *self._output_problems(), *self._history_problems(),
+                            *self._harmonic_problems(),
                             *self._sweep_problems(), *self._accuracy_problems(), *self._effect_problems(),
                             *self._map_system()])
         return self
@@ -584,6 +585,25 @@ class Spec(_Sourced):
                          "...]}`", ("outputs",))
         if not wanted and self.time_history is not None:
             yield _error("history_unused", "time_history is given but not listed in outputs", ("time_history",))
+
+    def _harmonic_problems(self):
+        """The output `harmonics` (settings.harmonics: its highest harmonic H): a plane of H + 1 values per grid
+        point, not for a swept run."""
+        wanted = "harmonics" in self.outputs
+        if not wanted and "harmonics" in self.settings:
+            yield _error("harmonics_unused", "given, but harmonics is not listed in outputs",
+                         ("settings", "harmonics"))
+        if not wanted:
+            return
+        if self.sweep is not None:
+            yield _error("harmonics_sweep", "a swept run does not store harmonics: run the grid without sweep",
+                         ("sweep",))
+        H = self.settings.get("harmonics", METHODS[self.method].defaults.get("harmonics", 0))
+        r, beta = self.grid.values("frequency_ratio"), self.grid.values("force_ratio")
+        if isinstance(H, int) and r is not None and beta is not None and r.size * beta.size * (H + 1) > g.MAX_POINTS:
+            yield _error("harmonics_size", f"{r.size * beta.size} grid points x {H + 1} harmonics exceeds "
+                         f"{g.MAX_POINTS} values per variable", ("settings", "harmonics") if "harmonics" in
+                         self.settings else ("outputs",))
 
     def _sweep_problems(self):
         if self.sweep is None:

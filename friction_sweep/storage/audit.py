@@ -68,7 +68,7 @@ class Problem:
 
 #: every coordinate a cube may have: the grid's, the physical ones of a spec with a system, the scalar ones
 #: (the scene's effects, the system's constants)
-_COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS, **schema.SCALAR_COORDS, **schema.HISTORY_COORDS}
+_COORDS = {**schema.COORDS, **schema.PHYSICAL_COORDS, **schema.SCALAR_COORDS, **schema.ARRAY_COORDS}
 
 
 def provenance(ds: xr.Dataset) -> list[Problem]:

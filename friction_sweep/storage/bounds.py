@@ -35,8 +35,8 @@ from friction_sweep.spec.grid import MAX_POINTS
 from friction_sweep.spec.model import MAX_HISTORY_SAMPLES
 from friction_sweep.spec.structure import MAX_NAMES
 from friction_sweep.storage.schema import (
+    ARRAY_COORDS,
     COORDS,
-    HISTORY_COORDS,
     HISTORY_DIM,
     PHYSICAL_COORDS,
     SCALAR_COORDS,
@@ -48,13 +48,13 @@ from friction_sweep.storage.schema import (
 #: the most values one array of a cube holds: its grid's points, or a time history's samples
 MAX_VALUES = max(MAX_POINTS, MAX_HISTORY_SAMPLES)
 #: every variable and coordinate the schema knows, and a dimension scale for each dim it names
-MAX_DATASETS = max(len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + len(HISTORY_COORDS),
+MAX_DATASETS = max(len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + len(ARRAY_COORDS),
                    len(STRUCTURE_VARIABLES) + len(STRUCTURE_COORDS)) + 8
 #: the largest cube a run can write: every schema variable at its largest (grid variables at MAX_POINTS
 #: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
 MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if HISTORY_DIM in v.dims else MAX_POINTS)
                      for v in (*VARIABLES.values(), *COORDS.values(), *PHYSICAL_COORDS.values(),
-                               *HISTORY_COORDS.values()))
+                               *ARRAY_COORDS.values()))
 #: the most bytes a file's compressed (filtered) variables may expand to per byte of the file. fsweep writes
 #: its cubes compressed (storage.encoding), a few times smaller than their values (the paper's planes 3-4
 #: times: a grid's varied floats barely compress, its flags and constant variables do), so a reader loads at

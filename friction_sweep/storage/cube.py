@@ -27,6 +27,7 @@ from friction_sweep.storage import atomic, provenance
 from friction_sweep.storage.encoding import COMPRESSION, encoding, h5netcdf_options
 from friction_sweep.storage.outputs import file_kind
 from friction_sweep.storage.schema import (
+    ARRAY_COORDS,
     CONVENTIONS,
     COORDS,
     HISTORY_COORDS,
@@ -62,7 +63,8 @@ def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, t
     physical coordinates (storage.physical) beside the grid's; `physical_dims`: a cube at constant base
     acceleration, whose dims are the physical coordinates (schema.cube_dims); `scalars`: the scalar
     coordinates (schema.SCALAR_COORDS: the scene's effects, the system's constants) by name. The arrays
-    named in schema.HISTORY_COORDS (where each time history lies) become coordinates on its dim."""
+    named in schema.ARRAY_COORDS (where each time history lies, the harmonics' numbers) become coordinates on
+    their dims."""
     coords: Entries = {}
     for name, values in (("frequency_ratio", frequency_ratio), ("force_ratio", force_ratio),
                          *(physical or {}).items(), *(scalars or {}).items()):
@@ -71,9 +73,9 @@ def cube_parts(arrays: dict, *, frequency_ratio, force_ratio, excitation: str, t
         coords[name] = (dims, np.asarray(values, dtype=var.dtype), var.attrs(excitation))
     data_vars: Entries = {}
     for name, values in arrays.items():
-        var = HISTORY_COORDS.get(name) or VARIABLES[name]  # KeyError: a method produced an undeclared variable
+        var = ARRAY_COORDS.get(name) or VARIABLES[name]  # KeyError: a method produced an undeclared variable
         dims = cube_dims(name, var.dims, physical_dims)
-        (coords if name in HISTORY_COORDS else data_vars)[name] = (dims, np.asarray(values, dtype=var.dtype),
+        (coords if name in ARRAY_COORDS else data_vars)[name] = (dims, np.asarray(values, dtype=var.dtype),
                                                                    var.attrs(excitation))
     return CubeParts(coords, data_vars, {"Conventions": CONVENTIONS, "title": title, "history": history, **attrs})
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from friction_sweep import codes
-from friction_sweep.catalogue import EFFECTS
+from friction_sweep.catalogue import EFFECTS, MAX_HARMONIC
 from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.theory.phase import PHASE_RANGE_DEG
 
@@ -26,6 +26,10 @@ HISTORY_DIM = "history_point"
 #: the name a cube written before issue 33 gave that dim (storage.cube.open_cube maps it)
 LEGACY_HISTORY_DIM = "history"
 HISTORY_DIMS = (HISTORY_DIM, "sample")
+#: the dim of the output `harmonics`: the harmonic number k = 0..H of the forcing frequency, first so that a
+#: plane of one harmonic is a grid plane
+HARMONIC_DIM = "harmonic"
+HARMONIC_DIMS = (HARMONIC_DIM, *GRID_DIMS)
 CONVENTIONS = "CF-1.10"
 #: No variable has a CF standard_name or axis. The standard-name table holds none of these quantities but
 #: `time`, which CF then wants in units "since an epoch" (a history's time is elapsed from a section), and
@@ -149,6 +153,26 @@ HISTORY_COORDS = {
     "history_force_ratio": Variable((HISTORY_DIM,), np.float64, "force ratio beta of the time-history point", "1",
                                     valid_range=NONNEGATIVE),
 }
+
+#: the coordinate of the harmonics' dim (outputs: harmonics; the run writes it beside them)
+HARMONIC_COORDS = {
+    HARMONIC_DIM: Variable((HARMONIC_DIM,), np.int64, "harmonic number k (frequency k r of the forcing's r)", "1",
+                           valid_range=(0.0, float(MAX_HARMONIC)), integral=True),
+}
+#: coordinates a run writes among its arrays (not the grid's): each lies on a dim of its own
+ARRAY_COORDS = {**HISTORY_COORDS, **HARMONIC_COORDS}
+
+_HARMONIC_NOTE = ("one-sided complex Fourier coefficient of the steady orbit, exact (integrated in closed form over "
+                  "the event kernel's pieces): {what}(t) = Re sum_k c_k exp(i k omega t), c_k = real + i imag, t from "
+                  "a maximum of the excitation, so that |c_1| is the first-harmonic {first} and its lag "
+                  "-arg(c_1) the phase; Parseval: mean square = c_0^2 + (sum over k >= 1 of |c_k|^2) / 2 (period-1 "
+                  "orbits; an orbit of n > 1 periods has subharmonics besides)")
+
+
+def _harmonic(what: str, symbol: str, part: str, first: str) -> Variable:
+    return Variable(HARMONIC_DIMS, np.float64, f"{part} part of the harmonics of {what}", "1",
+                    valid_range=DISPLACEMENT_VALID,
+                    comment=_HARMONIC_NOTE.replace("{what}", symbol).replace("{first}", first))
 
 
 def _effect(name: str, long_name: str) -> Variable:
@@ -312,6 +336,18 @@ VARIABLES = {
         HISTORY_DIMS, np.float64, "velocity in the equation of motion / ({ref} omega_n)", "1",
         valid_range=DISPLACEMENT_VALID, comment="dx/dt; dz/dt for joined; in {ref} per 1/omega_n",
     ),
+    "history_friction_force": Variable(
+        HISTORY_DIMS, np.float64, "friction force on the mass / ({force_ref})", "1",
+        valid_range=DISPLACEMENT_VALID,
+        comment="the contact's force in the equation of motion (sgn v times the kinetic friction while slipping, the "
+        "force that holds the mass while stuck; the Jenkins contact's spring force); against "
+        "history_relative_displacement: the hysteresis loop",
+    ),
+    # exact harmonics (outputs: harmonics), in the units of their time histories
+    "response_harmonic_real": _harmonic("the response x / {ref}", "x", "real", "transmissibility"),
+    "response_harmonic_imag": _harmonic("the response x / {ref}", "x", "imaginary", "transmissibility"),
+    "friction_harmonic_real": _harmonic("friction / ({force_ref})", "f", "real", "friction force"),
+    "friction_harmonic_imag": _harmonic("friction / ({force_ref})", "f", "imaginary", "friction force"),
     # joined base-wall excitation only: the relative motion z = x - y (paper Sect. 4)
     "relative_peak_amplitude": Variable(
         GRID_DIMS, np.float64, "peak relative mass-wall displacement |Z|/|Y| (paper Eq. 34)", "1",
