@@ -31,9 +31,9 @@ def structure_def(spec: StructureSpec):
     st = spec.structure
     contacts = tuple(ContactDef(name=c.name, between=c.between, friction=c.friction, stiffness=c.stiffness,
                                 static_friction_ratio=c.static_friction_ratio) for c in st.contacts)
-    return StructureDef(excitation=spec.scene.excitation, masses=dict(st.masses), springs=tuple(st.springs),
+    return StructureDef(excitation=spec.scene.excitation, masses=dict(st.masses or {}), springs=tuple(st.springs),
                         dampers=tuple(st.dampers), contacts=contacts, forcing=dict(st.forcing or {}),
-                        base_amplitude=st.base_motion)
+                        base_amplitude=st.base_motion, dofs=st.dofs, matrices=st.given_matrices)
 
 
 def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -61,7 +61,7 @@ def checkpoint_key(spec: StructureSpec, settings: dict[str, Any], extra_attrs: d
         spec=spec.model_dump(mode="json", exclude={"output"}), frequency=np.asarray(spec.frequency, dtype=float),
         friction_scale=np.asarray(spec.friction_scale, dtype=float), tile=TILE_FREQUENCIES, settings=settings,
         recorded=recorded_settings(spec, settings), accuracy=extra_attrs, version=friction_sweep.__version__,
-        code=code_version())
+        code=code_version(), model=_model_digest(spec))
 
 
 def tile_grids(spec: StructureSpec) -> list[dict[str, np.ndarray]]:
@@ -105,7 +105,7 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
 
     frequency, scale = spec.frequency, spec.friction_scale
     definition = structure_def(spec)
-    sizes = {"dof": len(spec.structure.masses), "contact": len(spec.structure.contacts)}
+    sizes = {"dof": len(spec.structure.dofs), "contact": len(spec.structure.contacts)}
     parts = tiles(frequency.size)
     work = [(definition, frequency[p], scale, spec.variables, spec.outputs, dict(settings)) for p in parts]
     results: dict[str, np.ndarray] = {
@@ -137,11 +137,33 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
 def structure_attribute(spec: StructureSpec) -> str:
     """The solved structure as the cube's `structure` attribute (JSON)."""
     st = spec.structure
+    if st.matrices is not None:  # the file's name and what it held: a reduced model's matrices stay in its file
+        model: dict[str, Any] = {"matrices": {**st.matrices.model_dump(mode="json"), "sha256": _model_digest(spec)}}
+    elif st.modes is not None:
+        model = {"modes": st.modes.model_dump(mode="json")}
+    else:
+        model = {"masses": st.masses}
     return json.dumps({
-        "masses": st.masses, "springs": [list(e) for e in st.springs], "dampers": [list(e) for e in st.dampers],
+        **model, "springs": [list(e) for e in st.springs], "dampers": [list(e) for e in st.dampers],
         "contacts": [c.model_dump(mode="json") for c in st.contacts], "forcing": st.forcing or {},
         **({"base_amplitude": st.base_motion} if spec.scene.excitation == "base" else {}),
     })
+
+
+def _model_digest(spec: StructureSpec) -> str:
+    """The reduced model's digest (a file's matrices are no part of the spec's text), or "" without one."""
+    given = spec.structure.given_matrices
+    return "" if given is None else _digest(given)
+
+
+def _digest(matrices) -> str:
+    """SHA-256 of the model's M, K and C as solved (float64, C order): which model a cube came from."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for a in matrices:
+        h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+    return h.hexdigest()
 
 
 def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
@@ -153,9 +175,9 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
 
     excitation = spec.scene.excitation
     coords = {"friction_scale": spec.friction_scale, "frequency": spec.frequency,
-              "dof": np.array(list(spec.structure.masses), dtype=str),
+              "dof": np.array(list(spec.structure.dofs), dtype=str),
               "contact": np.array([c.name for c in spec.structure.contacts], dtype=str)}
-    n, m = len(spec.structure.masses), len(spec.structure.contacts)
+    n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,
         title=f"friction_sweep: structure of {n} masses and {m} contacts, {excitation} excitation, method {METHOD}",

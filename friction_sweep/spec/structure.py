@@ -30,10 +30,11 @@ the engine's singular-stiffness case), and damping restrains nothing.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import numpy as np
-from pydantic import BeforeValidator, Field, PrivateAttr, Strict, field_validator, model_validator
+from pydantic import BeforeValidator, Field, PrivateAttr, Strict, ValidationInfo, field_validator, model_validator
 
 from friction_sweep.printable import name_problem
 
@@ -69,6 +70,8 @@ DEFAULT_BASE_AMPLITUDE = 1.0
 KEY_PROBLEM = "key_problem"
 #: the most masses, and the most contacts, a structure has (a cube's `dof` and `contact` names)
 MAX_NAMES = 1024
+#: the ways a structure is given: masses with springs and dampers, a reduced model's matrices, or its modes
+MODEL_FORMS = ("masses", "matrices", "modes")
 #: the stiffness left to a motion with every contact stuck, relative to the largest, below which it is free
 RESTRAINT_RTOL = 1e-12
 
@@ -194,10 +197,131 @@ def _masses(v: Any) -> Any:
     return {str(k): float(x) for k, x in v.items()}
 
 
+def _dof_names(v: Any) -> Any:
+    """A list of DoF names (a reduced model's rows, in order): each a name, none twice, none a support."""
+    if not isinstance(v, list) or not v:
+        raise _error("dofs_type", f"must be a non-empty list of DoF names, one per row of the matrices (got {show(v)})")
+    if len(v) > MAX_NAMES:
+        raise _error("dofs_many", f"{len(v)} DoFs; a structure has at most {MAX_NAMES}")
+    problems = []
+    for i, name in enumerate(v):
+        if name in SUPPORTS:
+            problems.append(_error("dof_name", f"{name!r} names a support (ground, base), not a DoF", (i,)))
+        elif (reason := _name_problem(name)) is not None:
+            problems.append(_error("dof_name", reason, (i,)))
+        elif name in v[:i]:
+            problems.append(_error("dof_duplicate", f"DoF {name!r} is named twice (first at [{v.index(name)}])", (i,)))
+    _raise_all("dofs", problems)
+    return tuple(v)
+
+
+def _spec_folder(info: ValidationInfo) -> Path:
+    """The folder a spec's relative file names resolve against: its own (parse passes its source), else here."""
+    source = (info.context or {}).get("source") if isinstance(info.context, dict) else None
+    return Path(source).parent if source and not str(source).startswith("<") else Path(".")
+
+
+class Matrices(_Model):
+    """`structure.matrices`: a reduced model's M, K (and C) from a file (structures.reduced), its DoFs named
+    in the matrices' order; `damping_ratios` (one per mode, or one for all) where the file has no C."""
+
+    file: str
+    dofs: Annotated[tuple[str, ...], BeforeValidator(_dof_names)]
+    damping_ratios: tuple[NonNegativeNumber, ...] | None = None
+    _matrices: tuple[np.ndarray, np.ndarray, np.ndarray] | None = PrivateAttr(default=None)
+
+    @field_validator("file", mode="before")
+    @classmethod
+    def _file_name(cls, v: Any) -> Any:
+        if not isinstance(v, str) or not v:
+            raise _error("model_file", f"must be the name of a .npz or .mat file (got {show(v)})")
+        return v
+
+    @model_validator(mode="after")
+    def _load(self, info: ValidationInfo) -> Matrices:
+        from friction_sweep.structures.reduced import ModelError, load_matrices, modal_damping
+
+        path = Path(self.file)
+        path = path if path.is_absolute() else _spec_folder(info) / path
+        n = len(self.dofs)
+        try:
+            M, K, C = load_matrices(path, n)
+        except ModelError as err:
+            raise _error("model_file", str(err), ("file",)) from None
+        ratios = self.damping_ratios
+        if ratios is not None:
+            if C is not None:
+                raise _error("damping_twice", f"{path} holds C: give damping by C or by damping_ratios, not both",
+                             ("damping_ratios",))
+            if len(ratios) not in (1, n):
+                raise _error("damping_ratios_size", f"{len(ratios)} damping ratios for {n} modes: give one per mode "
+                             "(ascending frequency) or one for all", ("damping_ratios",))
+            C = modal_damping(M, K, np.broadcast_to(np.asarray(ratios, dtype=float), (n,)))
+        self._matrices = (M, K, np.zeros((n, n)) if C is None else C)
+        return self
+
+    @property
+    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(M, K, C), C zero where neither the file nor damping ratios give damping."""
+        assert self._matrices is not None
+        return self._matrices
+
+
+class Modes(_Model):
+    """`structure.modes`: a structure known by its modes (structures.reduced.from_modes): angular natural
+    frequencies (the structure's units), damping ratios, and mass-normalised shapes at as many named DoFs as
+    modes, `{dof: [value in mode 1, mode 2, ...]}`."""
+
+    frequencies: tuple[NonNegativeNumber, ...]
+    damping_ratios: tuple[NonNegativeNumber, ...] | None = None
+    shapes: dict[str, tuple[Finite, ...]]
+    _matrices: tuple[np.ndarray, np.ndarray, np.ndarray] | None = PrivateAttr(default=None)
+
+    @field_validator("shapes", mode="before")
+    @classmethod
+    def _shape_names(cls, v: Any) -> Any:
+        if not isinstance(v, dict) or not v:
+            raise _error("shapes_type", f"must be a mapping of DoF names to mode-shape values (got {show(v)})")
+        _dof_names(list(v))
+        return v
+
+    @model_validator(mode="after")
+    def _build(self) -> Modes:
+        from friction_sweep.structures.reduced import ModelError, from_modes
+
+        n = len(self.frequencies)
+        problems = []
+        if len(self.shapes) != n:
+            problems.append(_error("modes_size", f"{len(self.shapes)} DoFs for {n} modes: name as many DoFs as modes "
+                                   "(the shapes' matrix is square)", ("shapes",)))
+        for name, row in self.shapes.items():
+            if len(row) != n:
+                problems.append(_error("modes_size", f"{len(row)} values for {n} modes: give one per mode",
+                                       ("shapes", name)))
+        if self.damping_ratios is not None and len(self.damping_ratios) not in (1, n):
+            problems.append(_error("damping_ratios_size", f"{len(self.damping_ratios)} damping ratios for {n} modes: "
+                                   "give one per mode or one for all", ("damping_ratios",)))
+        _raise_all("modes", problems)
+        ratios = np.broadcast_to(np.asarray(self.damping_ratios or (0.0,), dtype=float), (n,))
+        try:
+            self._matrices = from_modes(np.asarray(self.frequencies, dtype=float), ratios,
+                                        np.array(list(self.shapes.values()), dtype=float).reshape(n, n))
+        except ModelError as err:
+            raise _error("modes_singular", str(err), ("shapes",)) from None
+        return self
+
+    @property
+    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        assert self._matrices is not None
+        return self._matrices
+
+
 class Structure(_Model):
     """`structure:` of a spec (the module's docstring says what is refused, and the restraint rule)."""
 
-    masses: Annotated[dict[str, float], BeforeValidator(_masses)]
+    masses: Annotated[dict[str, float] | None, BeforeValidator(_masses)] = None
+    matrices: Matrices | None = None
+    modes: Modes | None = None
     springs: Springs = ()
     dampers: Dampers = ()
     contacts: tuple[Contact, ...]
@@ -216,6 +340,16 @@ class Structure(_Model):
 
     @model_validator(mode="after")
     def _connected(self) -> Structure:
+        forms = [k for k in MODEL_FORMS if getattr(self, k) is not None]
+        if len(forms) != 1:
+            raise _error("model_form", "give the structure one way: masses (with springs and dampers), matrices "
+                         f"(a reduced model's file) or modes (got {' and '.join(forms) or 'none of them'})",
+                         (forms[-1],) if forms else ())
+        if self.masses is None:
+            extra = [k for k in ("springs", "dampers") if getattr(self, k)]
+            if extra:
+                raise _error("model_elements", f"{extra[0]} are for a structure of masses: a reduced model's "
+                             "stiffness and damping are in its matrices", (extra[0],))
         problems = list(self._end_problems())
         names: dict[str, int] = {}
         for j, c in enumerate(self.contacts):
@@ -224,16 +358,31 @@ class Structure(_Model):
                                        f"contacts[{names[c.name]}])", ("contacts", j, "name")))
             names.setdefault(c.name, j)
         for name in self.forcing or {}:
-            if name not in self.masses:
+            if name not in self.dofs:
                 problems.append(_error(KEY_PROBLEM, f"{show(name)} is no mass (masses: "
-                                       f"{', '.join(self.masses)})", ("forcing", name)))
+                                       f"{', '.join(self.dofs)})", ("forcing", name)))
         _raise_all("structure", problems)
         _raise_all("structure", self._restraint_problems())
         return self
 
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        """The structure's degrees of freedom by name, in the cube's dof order."""
+        if self.matrices is not None:
+            return self.matrices.dofs
+        if self.modes is not None:
+            return tuple(self.modes.shapes)
+        return tuple(self.masses or ())
+
+    @property
+    def given_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """(M, K, C) of a reduced model (matrices or modes); None for a structure of masses."""
+        form = self.matrices if self.matrices is not None else self.modes
+        return None if form is None else form.matrices
+
     def _end_problems(self):
-        ends = set(self.masses) | set(SUPPORTS)
-        known = f"a mass ({', '.join(self.masses)}), ground or base"
+        ends = set(self.dofs) | set(SUPPORTS)
+        known = f"a mass ({', '.join(self.dofs)}), ground or base"
         items = [("springs", i, (a, b), (i,)) for i, (a, b, _) in enumerate(self.springs)]
         items += [("dampers", i, (a, b), (i,)) for i, (a, b, _) in enumerate(self.dampers)]
         items += [("contacts", j, c.between, (j, "between")) for j, c in enumerate(self.contacts)]
@@ -254,8 +403,8 @@ class Structure(_Model):
                              (key, *at, 1))
 
     def _restraint_problems(self):
-        n = len(self.masses)
-        index = {name: i for i, name in enumerate(self.masses)}
+        n = len(self.dofs)
+        index = {name: i for i, name in enumerate(self.dofs)}
 
         def direction(a: str, b: str) -> np.ndarray:
             w = np.zeros(n)
@@ -265,7 +414,8 @@ class Structure(_Model):
                 w[index[b]] -= 1.0
             return w
 
-        K = np.zeros((n, n))
+        given = self.given_matrices
+        K = np.zeros((n, n)) if given is None else given[1].copy()
         for a, b, k in self.springs:
             w = direction(a, b)
             K += k * np.outer(w, w)
@@ -288,11 +438,18 @@ class Structure(_Model):
         if held[0] > RESTRAINT_RTOL * scale and scale > 0:
             return []
         motion = N @ vectors[:, 0]
-        moving = [name for name, x in zip(self.masses, motion, strict=True) if abs(x) > 1e-6 * np.abs(motion).max()]
-        return [_error(KEY_PROBLEM, f"unrestrained: with every contact stuck, nothing holds the motion of "
+        moving = [name for name, x in zip(self.dofs, motion, strict=True) if abs(x) > 1e-6 * np.abs(motion).max()]
+        at = {"masses": ("masses", moving[0]), "matrices": ("matrices", "dofs", self.dofs.index(moving[0])),
+              "modes": ("modes", "shapes", moving[0])}[self.form]
+        return [_error(KEY_PROBLEM if self.form != "matrices" else "unrestrained",
+                       f"unrestrained: with every contact stuck, nothing holds the motion of "
                        f"{', '.join(map(repr, moving))} (a rigid-body motion): connect it to ground or base by a "
-                       "spring or a contact",
-                       ("masses", moving[0]))]
+                       "spring or a contact", at)]
+
+    @property
+    def form(self) -> str:
+        """How the structure is given: "masses", "matrices" or "modes" (MODEL_FORMS)."""
+        return next(k for k in MODEL_FORMS if getattr(self, k) is not None)
 
     @property
     def base_motion(self) -> float:
@@ -301,7 +458,13 @@ class Structure(_Model):
 
     def describe(self) -> list[str]:
         """The structure in a few lines (fsweep validate and info)."""
-        lines = ["masses: " + ", ".join(f"{k} {v:g}" for k, v in self.masses.items())]
+        if self.matrices is not None:
+            lines = [f"matrices: {self.matrices.file}, dofs " + ", ".join(self.matrices.dofs)]
+        elif self.modes is not None:
+            lines = ["modes: angular frequencies " + ", ".join(f"{w:g}" for w in self.modes.frequencies)
+                     + " at dofs " + ", ".join(self.modes.shapes)]
+        else:
+            lines = ["masses: " + ", ".join(f"{k} {v:g}" for k, v in (self.masses or {}).items())]
         if self.springs:
             lines.append("springs: " + ", ".join(f"{a}-{b} {k:g}" for a, b, k in self.springs))
         if self.dampers:

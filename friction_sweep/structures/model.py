@@ -36,6 +36,9 @@ class StructureDef:
     contacts: tuple[ContactDef, ...] = ()
     forcing: dict[str, float] = field(default_factory=dict)  # force excitation: amplitude per mass
     base_amplitude: float = 1.0  # base excitation
+    #: a reduced model (structures.reduced): its DoF names and (M, K, C), in place of masses, springs, dampers
+    dofs: tuple[str, ...] = ()
+    matrices: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
 @dataclass(frozen=True)
@@ -93,18 +96,25 @@ def assemble(d: StructureDef) -> Assembled:
     cannot be solved."""
     if d.excitation not in EXCITATIONS:
         raise ValueError(f"excitation: {d.excitation!r} is not one of {', '.join(EXCITATIONS)}")
-    names = tuple(d.masses)
+    if d.matrices is not None and (d.masses or d.springs or d.dampers):
+        raise ValueError("matrices: given with masses, springs or dampers (a reduced model's are in its matrices)")
+    names = tuple(d.masses) if d.matrices is None else tuple(d.dofs)
     if not names:
         raise ValueError("masses: none")
     index = {name: i for i, name in enumerate(names)}
     for name in names:
         if name in (GROUND, BASE):
             raise ValueError(f"masses: {name!r} is a reserved node name")
-        if not (np.isfinite(d.masses[name]) and d.masses[name] > 0):
+        if d.matrices is None and not (np.isfinite(d.masses[name]) and d.masses[name] > 0):
             raise ValueError(f"masses: {name}: {d.masses[name]!r} is not a positive mass")
     n = len(names)
-    M = np.diag([float(d.masses[name]) for name in names])
-    K, C = np.zeros((n, n)), np.zeros((n, n))
+    if d.matrices is None:
+        M = np.diag([float(d.masses[name]) for name in names])
+        K, C = np.zeros((n, n)), np.zeros((n, n))
+    else:  # checked where read (structures.reduced.check_matrices); copied so the definition stays as given
+        M, K, C = (np.array(a, dtype=np.float64, order="C") for a in d.matrices)
+        if not all(a.shape == (n, n) for a in (M, K, C)):
+            raise ValueError(f"matrices: M, K and C must be {n}x{n} for {n} dofs")
     Kb, Cb = np.zeros(n), np.zeros(n)
     for kind, items, mat, to_base in (("springs", d.springs, K, Kb), ("dampers", d.dampers, C, Cb)):
         for a, b, value in items:
