@@ -25,7 +25,13 @@ log = logging.getLogger("friction_sweep")
 
 
 def structure_def(spec: StructureSpec):
-    """The engine's description of the spec's structure (friction_sweep.structures.StructureDef)."""
+    """The engine's description of the spec's structure (friction_sweep.structures.StructureDef): a physical
+    structure's dimensionless one (spec.structure_units)."""
+    return si_structure_def(spec) if spec.physical is None else spec.physical.definition
+
+
+def si_structure_def(spec: StructureSpec):
+    """The spec's structure as it is written (SI where it is physical), as a StructureDef."""
     from friction_sweep.structures import ContactDef, StructureDef
 
     st = spec.structure
@@ -134,6 +140,32 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
     return results
 
 
+def physical_coordinates(spec: StructureSpec) -> dict[str, Any]:
+    """The frequency over the first natural frequency with every contact stuck and free, and a physical
+    structure's physical coordinates and scales (storage.schema.STRUCTURE_PHYSICAL_COORDS)."""
+    from friction_sweep.spec.structure_units import first_frequency
+    from friction_sweep.structures import assemble, natural_frequencies
+
+    si = assemble(si_structure_def(spec))
+    phys = spec.physical
+    # the grid's angular frequencies in the structure's units as written (rad/s where physical)
+    omega = spec.frequency if phys is None else spec.frequency * phys.omega
+    out: dict[str, Any] = {}
+    for reference in ("stuck", "free"):
+        if phys is not None and reference == phys.reference:
+            ratio = spec.frequency  # as solved, bit for bit
+        else:
+            ratio = omega / first_frequency(natural_frequencies(si, reference))
+        out[f"frequency_ratio_{reference}"] = np.asarray(ratio, dtype=np.float64)
+    if phys is None:
+        return out
+    friction = np.array([c.friction for c in spec.structure.contacts])
+    return {**out, "frequency_hz": omega / (2.0 * np.pi), "friction_force": np.outer(spec.friction_scale, friction),
+            "reference_frequency": np.float64(phys.omega), "mass_scale": np.float64(phys.mass),
+            "stiffness_scale": np.float64(phys.stiffness), "force_scale": np.float64(phys.force),
+            "length_scale": np.float64(phys.length)}
+
+
 def structure_attribute(spec: StructureSpec) -> str:
     """The solved structure as the cube's `structure` attribute (JSON)."""
     st = spec.structure
@@ -176,7 +208,8 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
     excitation = spec.scene.excitation
     coords = {"friction_scale": spec.friction_scale, "frequency": spec.frequency,
               "dof": np.array(list(spec.structure.dofs), dtype=str),
-              "contact": np.array([c.name for c in spec.structure.contacts], dtype=str)}
+              "contact": np.array([c.name for c in spec.structure.contacts], dtype=str),
+              **physical_coordinates(spec)}
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,

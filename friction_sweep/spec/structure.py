@@ -30,11 +30,21 @@ the engine's singular-stiffness case), and damping restrains nothing.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BeforeValidator, Field, PrivateAttr, Strict, ValidationInfo, field_validator, model_validator
+from pydantic import (
+    BeforeValidator,
+    Field,
+    PrivateAttr,
+    Strict,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 from friction_sweep.printable import name_problem
 
@@ -45,6 +55,8 @@ from .base import problem as _error
 from .base import raise_all as _raise_all
 from .base import show
 from .model import _array_axis, _axis, _axis_size, _axis_values, _bound_problem, _Range, checked_output_path
+from .structure_units import DEFAULT_REFERENCE, REFERENCES, StructureMap, frequency_axis_is_physical, is_physical
+from .structure_units import to_si_structure as _to_si_structure
 
 #: the two supports an element may connect a mass to: `base` moves under base excitation, `ground` never
 SUPPORTS = ("ground", "base")
@@ -327,6 +339,17 @@ class Structure(_Model):
     contacts: tuple[Contact, ...]
     forcing: dict[str, Finite] | None = None
     base_amplitude: PositiveNumber | None = None
+    #: "physical": every quantity with its unit, read in SI (spec.structure_units); set where any is written so
+    units: Literal["physical"] | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _si(cls, data: Any) -> Any:
+        if not is_physical(data):
+            return data
+        converted, problems = _to_si_structure(data)
+        _raise_all("structure", problems)
+        return converted
 
     @field_validator("contacts", mode="before")
     @classmethod
@@ -510,17 +533,33 @@ class StructureGrid(_Model):
     """The plane: angular frequencies of the excitation (the structure's units) by friction scales (a
     factor on every contact's friction; absent: 1, the friction as given)."""
 
-    frequency: FrequencyAxis
+    frequency: FrequencyAxis | None = None
+    frequency_ratio: FrequencyAxis | None = None
+    reference: Literal["stuck", "free"] = DEFAULT_REFERENCE  # type: ignore[assignment]
     friction_scale: ScaleAxis = 1.0
     _values: dict[str, np.ndarray] = PrivateAttr(default_factory=dict)
 
+    @field_validator("reference", mode="before")
+    @classmethod
+    def _reference(cls, v: Any) -> Any:
+        if v not in REFERENCES:
+            raise _error("reference", f"the natural frequency a frequency ratio is taken against: one of "
+                         f"{', '.join(REFERENCES)} (every contact stuck, or every contact free) (got {show(v)})")
+        return v
+
     @model_validator(mode="after")
     def _build(self):
-        nf, ns = _axis_size(self.frequency), _axis_size(self.friction_scale)
+        given = [k for k in ("frequency", "frequency_ratio") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise _error("frequency_axis", "give the frequencies one way: frequency (angular, or with its unit in a "
+                         "physical structure) or frequency_ratio (against the first natural frequency) (got "
+                         f"{' and '.join(given) or 'neither'})", (given[-1],) if given else ())
+        axis_name = given[0]
+        nf, ns = _axis_size(getattr(self, axis_name)), _axis_size(self.friction_scale)
         if nf * ns > g.MAX_POINTS:
             raise _error("too_many_points", f"grid has {nf * ns} points ({ns} x {nf}); at most {g.MAX_POINTS} "
                          "are allowed")
-        for name in ("frequency", "friction_scale"):
+        for name in (axis_name, "friction_scale"):
             axis = getattr(self, name)
             values = _axis_values(axis)
             if isinstance(axis, _Range) and (g.first_not_increasing(values) is not None or values[-1] > axis.stop):
@@ -595,10 +634,77 @@ class StructureSpec(_Sourced):
         _raise_all("settings", problems)
         return v
 
+    _map: StructureMap | None = PrivateAttr(default=None)
+    _frequency: np.ndarray | None = PrivateAttr(default=None)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _physical_frequency(cls, data: Any) -> Any:
+        """A physical structure's grid frequency, with its unit, as angular frequencies in rad/s; a plain one's
+        refused where it carries a unit (and the reverse)."""
+        from pydantic_core import PydanticCustomError
+
+        from .quantities import FREQUENCY
+        from .system import physical_axis
+
+        if not isinstance(data, dict) or not isinstance(data.get("grid"), dict) or "frequency" not in data["grid"]:
+            return data
+        axis = data["grid"]["frequency"]
+        physical, written = is_physical(data.get("structure")), frequency_axis_is_physical(axis)
+        if not physical:
+            if written:
+                raise _error("frequency_unit", "a frequency with a unit needs a physical structure (masses, "
+                             "stiffnesses and frictions with their units); here it is the structure's angular "
+                             "frequency, a number", ("grid", "frequency"))
+            return data
+        try:
+            hz = physical_axis(axis, FREQUENCY)
+        except PydanticCustomError as err:
+            raise _error(err.type, err.message(), ("grid", "frequency", *(err.context or {}).get("at", ()))) from None
+        except ValidationError as err:
+            _raise_all("grid", [_error(e["type"], e["msg"], ("grid", "frequency", *(e.get("ctx") or {}).get("at", ())))
+                                for e in err.errors()])
+        return {**data, "grid": {**data["grid"], "frequency": [2.0 * math.pi * f for f in hz]}}
+
     @model_validator(mode="after")
     def _excitation(self):
         _raise_all("Spec", list(self._excitation_problems()))
+        self._scale()
         return self
+
+    def _scale(self) -> None:
+        """A physical structure's map to the dimensionless one (spec.structure_units), and the engine's
+        frequencies: omega / omega_0, or the frequency ratios as given (a plain structure: its frequencies, or
+        the ratios times its reference natural frequency)."""
+        from friction_sweep.batch.structure_sweep import si_structure_def
+
+        from .structure_units import structure_map
+        from .system import ratios
+
+        grid = self.grid
+        by_ratio = grid.frequency_ratio is not None
+        if self.structure.units != "physical" and not by_ratio:
+            return
+        try:
+            mapped = structure_map(si_structure_def(self), grid.reference)
+        except ValueError as err:
+            raise _error("reference", str(err), ("grid", "reference")) from None
+        given = grid.values("frequency_ratio" if by_ratio else "frequency")
+        if self.structure.units == "physical":
+            self._map = mapped
+            frequency = given if by_ratio else ratios(given, mapped.omega)
+        else:
+            frequency = given * mapped.omega
+        if not (np.isfinite(frequency).all() and (frequency > 0).all()):
+            raise _error("frequency_range", "the frequencies over the reference natural frequency leave a double's "
+                         "range", ("grid",))
+        frequency.flags.writeable = False
+        self._frequency = frequency
+
+    @property
+    def physical(self) -> StructureMap | None:
+        """A physical structure's scales and dimensionless definition (spec.structure_units), else None."""
+        return self._map
 
     def _excitation_problems(self):
         st, excitation = self.structure, self.scene.excitation
@@ -625,6 +731,10 @@ class StructureSpec(_Sourced):
 
     @property
     def frequency(self) -> np.ndarray:
+        """The engine's angular frequencies (a physical structure's: over omega_0, spec.structure_units)."""
+        if self._frequency is not None:
+            self._frequency.flags.writeable = False  # re-set after unpickling
+            return self._frequency
         return self.grid.values("frequency")
 
     @property
