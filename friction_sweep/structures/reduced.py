@@ -109,7 +109,8 @@ def check_matrices(where: str, n: int, M: object, K: object, C: object | None
                              "DoF per row, in the matrices' order")
         if not np.isfinite(arr).all():
             bad = np.argwhere(~np.isfinite(arr))[0]
-            raise ModelError(f"{where}: {name}[{bad[0]}, {bad[1]}] is {arr[tuple(bad)]!r}: every entry must be finite")
+            value = float(arr[tuple(bad)])
+            raise ModelError(f"{where}: {name}[{bad[0]}, {bad[1]}] is {value!r}: every entry must be finite")
         scale = float(np.abs(arr).max(initial=0.0))
         asym = float(np.abs(arr - arr.T).max(initial=0.0))
         if asym > SYMMETRY_RTOL * scale:
