@@ -159,7 +159,7 @@ def validate(spec: Path, output: str | None, overwrite: bool, jobs: int, yes: bo
                    f"{len(s.structure.contacts)} contacts, excitation {s.scene.excitation}, method {s.method}, "
                    f"{n_s} friction scales x {n_f} frequencies = {n_s * n_f} points, outputs {', '.join(s.outputs)}, "
                    f"output {escape(out)}")
-        for line in s.structure.describe():
+        for line in s.describe():
             click.echo(f"  {escape(line)}")
         click.echo(f"  settings: {json.dumps(plan.recorded)}")
         click.echo(f"  estimate: {plan.cost.describe()}")

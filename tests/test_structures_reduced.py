@@ -229,3 +229,17 @@ def test_a_free_reference_with_a_mass_held_only_by_a_contact_is_refused(tmp_path
     text = text.replace("frequency: {start: 10 Hz, stop: 60 Hz, num: 6}", "frequency_ratio: [1.0]\n  reference: free")
     with pytest.raises(fs.SpecError, match="rigid-body motion"):
         parse_spec_text(text)
+
+
+@pytest.mark.parametrize("text", [PHYSICAL, AS_MASSES.replace(", [b, c, 3.0]]", "]")], ids=["physical", "held-by-contact"])
+def test_the_written_cube_passes_the_readers_audit(text, tmp_path):
+    """fsweep info audits a cube on opening: the physical coordinates and scales are the schema's; a structure
+    with a mass held only by a contact has no free natural frequency, and no free frequency ratio."""
+    spec = _write(tmp_path, text, "spec.yaml")
+    out = tmp_path / "out.h5"
+    assert CliRunner().invoke(main, ["run", str(spec), "-o", str(out), "-q"]).exit_code == 0
+    res = CliRunner().invoke(main, ["info", str(out)])
+    assert res.exit_code == 0, res.output
+    with xr.open_dataset(out, engine="h5netcdf") as cube:
+        assert ("frequency_ratio_free" in cube.coords) == (text == PHYSICAL)
+        assert "frequency_ratio_stuck" in cube.coords

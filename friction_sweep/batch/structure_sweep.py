@@ -153,10 +153,11 @@ def physical_coordinates(spec: StructureSpec) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for reference in ("stuck", "free"):
         if phys is not None and reference == phys.reference:
-            ratio = spec.frequency  # as solved, bit for bit
-        else:
-            ratio = omega / first_frequency(natural_frequencies(si, reference))
-        out[f"frequency_ratio_{reference}"] = np.asarray(ratio, dtype=np.float64)
+            out[f"frequency_ratio_{reference}"] = spec.frequency  # as solved, bit for bit
+            continue
+        first = first_frequency(natural_frequencies(si, reference))
+        if np.isfinite(first):  # none free where a mass is held only by a contact: a grid coordinate is never NaN
+            out[f"frequency_ratio_{reference}"] = omega / first
     if phys is None:
         return out
     friction = np.array([c.friction for c in spec.structure.contacts])

@@ -701,6 +701,15 @@ class StructureSpec(_Sourced):
         frequency.flags.writeable = False
         self._frequency = frequency
 
+    def describe(self) -> list[str]:
+        """The structure in a few lines, and a physical one's map to the dimensionless one (fsweep validate)."""
+        lines = self.structure.describe()
+        if self.structure.units == "physical":
+            lines[0] = "in SI units (kg, N/m, N s/m, N, m): " + lines[0]
+        if self._map is not None:
+            lines += self._map.describe()
+        return lines
+
     @property
     def physical(self) -> StructureMap | None:
         """A physical structure's scales and dimensionless definition (spec.structure_units), else None."""

@@ -162,6 +162,14 @@ class StructureMap:
     definition: Any  # the dimensionless structures.StructureDef
 
 
+    def describe(self) -> list[str]:
+        """What the cube's dimensionless numbers mean physically (fsweep validate)."""
+        return [f"omega_0 = {self.omega:.6g} rad/s (f_0 = {self.omega / (2 * math.pi):.6g} Hz), the first natural "
+                f"frequency with every contact {self.reference}: the cube's frequency is omega / omega_0",
+                f"amplitudes in L = {self.length:.6g} m, forces in F_0 = {self.force:.6g} N, masses in m_0 = "
+                f"{self.mass:.6g} kg, stiffnesses in k_0 = {self.stiffness:.6g} N/m"]
+
+
 def first_frequency(values: np.ndarray) -> float:
     """The least natural frequency that is no rigid-body motion's (NaN where every one is)."""
     values = np.asarray(values, dtype=float)

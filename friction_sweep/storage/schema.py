@@ -400,17 +400,19 @@ STRUCTURE_COORDS = {
                           {"comment": "radians per the structure's time unit"}, valid_range=POSITIVE),
     "dof": Variable(("dof",), str, "mass (degree of freedom) of the structure", ""),
     "contact": Variable(("contact",), str, "friction contact of the structure", ""),
+}
+
+#: a structure cube's coordinates where they apply (a cube need not have them): the frequency ratios, and a
+#: physical structure's physical coordinates and scales (spec.structure_units: frequency is then
+#: omega / omega_0, an amplitude times length_scale metres, a friction energy times force_scale x
+#: length_scale joules)
+STRUCTURE_EXTRA_COORDS = {
     # the first natural frequencies of the linear structure, every contact stuck or every contact free
-    # (structures.model.natural_frequencies; free: NaN where a mass is held only by a contact)
+    # (structures.model.natural_frequencies; free: left out where a mass is held only by a contact)
     "frequency_ratio_stuck": Variable(("frequency",), np.float64, "frequency over the first natural frequency, "
                                       "contacts stuck", "1", valid_range=POSITIVE),
     "frequency_ratio_free": Variable(("frequency",), np.float64, "frequency over the first natural frequency, "
                                      "contacts free", "1", valid_range=POSITIVE),
-}
-
-#: a physical structure's coordinates (spec.structure_units: frequency is then omega / omega_0, an amplitude
-#: times length_scale metres, a friction energy times force_scale x length_scale joules)
-STRUCTURE_PHYSICAL_COORDS = {
     "frequency_hz": Variable(("frequency",), np.float64, "forcing frequency f = omega omega_0 / (2 pi)", "Hz",
                              valid_range=POSITIVE),
     "friction_force": Variable(("friction_scale", "contact"), np.float64, "kinetic friction force of the contact",
