@@ -27,7 +27,11 @@ log = logging.getLogger("friction_sweep")
 def structure_def(spec: StructureSpec):
     """The engine's description of the spec's structure (friction_sweep.structures.StructureDef): a physical
     structure's dimensionless one (spec.structure_units)."""
-    return si_structure_def(spec) if spec.physical is None else spec.physical.definition
+    from friction_sweep.structures.model import scaled
+
+    p = spec.physical
+    return si_structure_def(spec) if p is None else scaled(si_structure_def(spec), p.mass, p.stiffness, p.damping,
+                                                           p.force, p.length)
 
 
 def si_structure_def(spec: StructureSpec):

@@ -234,7 +234,7 @@ def _spec_folder(info: ValidationInfo) -> Path:
 
 
 class Matrices(_Model):
-    """`structure.matrices`: a reduced model's M, K (and C) from a file (structures.reduced), its DoFs named
+    """`structure.matrices`: a reduced model's M, K (and C) from a file (spec.reduced), its DoFs named
     in the matrices' order; `damping_ratios` (one per mode, or one for all) where the file has no C."""
 
     file: str
@@ -251,7 +251,7 @@ class Matrices(_Model):
 
     @model_validator(mode="after")
     def _load(self, info: ValidationInfo) -> Matrices:
-        from friction_sweep.structures.reduced import ModelError, load_matrices, modal_damping
+        from .reduced import ModelError, load_matrices, modal_damping
 
         path = Path(self.file)
         path = path if path.is_absolute() else _spec_folder(info) / path
@@ -280,7 +280,7 @@ class Matrices(_Model):
 
 
 class Modes(_Model):
-    """`structure.modes`: a structure known by its modes (structures.reduced.from_modes): angular natural
+    """`structure.modes`: a structure known by its modes (spec.reduced.from_modes): angular natural
     frequencies (the structure's units), damping ratios, and mass-normalised shapes at as many named DoFs as
     modes, `{dof: [value in mode 1, mode 2, ...]}`."""
 
@@ -299,7 +299,7 @@ class Modes(_Model):
 
     @model_validator(mode="after")
     def _build(self) -> Modes:
-        from friction_sweep.structures.reduced import ModelError, from_modes
+        from .reduced import ModelError, from_modes
 
         n = len(self.frequencies)
         problems = []
@@ -425,7 +425,9 @@ class Structure(_Model):
                 yield _error("no_mass", f"{what} between {a} and {b} holds no mass: one end must be a mass",
                              (key, *at, 1))
 
-    def _restraint_problems(self):
+    def linear(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(M, K, W, kt): the linear structure's mass and stiffness (springs or a model's), each contact's
+        direction w_j (rows) and Jenkins stiffness (0 for a rigid contact), as spec.linear takes them."""
         n = len(self.dofs)
         index = {name: i for i, name in enumerate(self.dofs)}
 
@@ -438,17 +440,22 @@ class Structure(_Model):
             return w
 
         given = self.given_matrices
-        K = np.zeros((n, n)) if given is None else given[1].copy()
-        for a, b, k in self.springs:
-            w = direction(a, b)
-            K += k * np.outer(w, w)
-        rigid = []
-        for c in self.contacts:
-            w = direction(*c.between)
-            if c.stiffness is None:
-                rigid.append(w)
-            else:
-                K += c.stiffness * np.outer(w, w)
+        if given is None:
+            M, K = np.diag([(self.masses or {})[name] for name in self.dofs]), np.zeros((n, n))
+            for a, b, k in self.springs:
+                w = direction(a, b)
+                K += k * np.outer(w, w)
+        else:
+            M, K = given[0], given[1].copy()
+        W = np.array([direction(*c.between) for c in self.contacts]).reshape(len(self.contacts), n)
+        kt = np.array([0.0 if c.stiffness is None else c.stiffness for c in self.contacts])
+        return M, K, W, kt
+
+    def _restraint_problems(self):
+        _, K, W, kt = self.linear()
+        n = len(self.dofs)
+        K = K + (W.T * kt) @ W  # with every contact stuck: a Jenkins contact as its spring
+        rigid = list(W[kt == 0.0])
         N = np.eye(n)
         if rigid:  # the motions the stuck rigid contacts allow: the null space of their directions
             _, s, vt = np.linalg.svd(np.array(rigid), full_matrices=True)
@@ -676,8 +683,6 @@ class StructureSpec(_Sourced):
         """A physical structure's map to the dimensionless one (spec.structure_units), and the engine's
         frequencies: omega / omega_0, or the frequency ratios as given (a plain structure: its frequencies, or
         the ratios times its reference natural frequency)."""
-        from friction_sweep.batch.structure_sweep import si_structure_def
-
         from .structure_units import structure_map
         from .system import ratios
 
@@ -686,7 +691,7 @@ class StructureSpec(_Sourced):
         if self.structure.units != "physical" and not by_ratio:
             return
         try:
-            mapped = structure_map(si_structure_def(self), grid.reference)
+            mapped = structure_map(self.structure, self.scene.excitation, grid.reference)
         except ValueError as err:
             raise _error("reference", str(err), ("grid", "reference")) from None
         given = grid.values("frequency_ratio" if by_ratio else "frequency")

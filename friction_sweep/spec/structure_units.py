@@ -23,7 +23,8 @@ physical spec gives, bit for bit, the cube of the plain spec holding these ratio
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+import re
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -39,8 +40,13 @@ DEFAULT_REFERENCE = "stuck"
 RIGID_RTOL = 1e-9
 
 
+#: text that reads as a quantity: a number first ("2 kg", "-1.5e3 N", ".5 m"); other text ("heavy") is no
+#: quantity, and a plain structure's refusal says what it is
+_QUANTITY = re.compile(r"\s*[-+]?(\d|\.\d)")
+
+
 def _quantity(value: Any) -> bool:
-    return isinstance(value, str) or isinstance(value, dict)
+    return isinstance(value, dict) or (isinstance(value, str) and _QUANTITY.match(value) is not None)
 
 
 def is_physical(structure: Any) -> bool:
@@ -142,15 +148,16 @@ def _signed_force(value: Any, at: tuple, problems: list) -> Any:
 def frequency_axis_is_physical(value: Any) -> bool:
     """Whether a raw grid frequency axis is written with units (a quantity, a list of them, or a range)."""
     if isinstance(value, list):
-        return any(isinstance(v, str) for v in value)
+        return any(isinstance(v, str) and _quantity(v) for v in value)
     if isinstance(value, dict):
-        return any(isinstance(value.get(k), str) for k in ("start", "stop", "step"))
-    return isinstance(value, str)
+        return any(isinstance(value.get(k), str) and _quantity(value.get(k)) for k in ("start", "stop", "step"))
+    return isinstance(value, str) and _quantity(value)
 
 
 @dataclass(frozen=True)
 class StructureMap:
-    """A physical structure's scales (SI) and the dimensionless structure the engine solves (module docstring)."""
+    """A physical structure's scales (SI), which divide it into the dimensionless structure the engine solves
+    (module docstring; structures.model.scaled)."""
 
     reference: str  # "stuck" | "free": which natural frequency omega_0 is
     mass: float  # m_0, kg
@@ -159,7 +166,6 @@ class StructureMap:
     damping: float  # c_0, N s/m
     force: float  # F_0, N
     length: float  # L, m
-    definition: Any  # the dimensionless structures.StructureDef
 
 
     def describe(self) -> list[str]:
@@ -178,33 +184,23 @@ def first_frequency(values: np.ndarray) -> float:
     return float(moving[0]) if moving.size and moving[0] == values[0] else math.nan
 
 
-def structure_map(si, reference: str) -> StructureMap:
-    """The map of the SI structure definition `si` (structures.StructureDef) against its first natural
-    frequency with every contact `reference` ("stuck" | "free"); ValueError with the reason where that
-    structure has a rigid-body motion (no such frequency)."""
-    from friction_sweep.structures.model import assemble, natural_frequencies
+def structure_map(structure, excitation: str, reference: str) -> StructureMap:
+    """The map of the SI structure (spec.structure.Structure) against its first natural frequency with every
+    contact `reference` ("stuck" | "free"); ValueError with the reason where that structure has a rigid-body
+    motion (no such frequency)."""
+    from .linear import natural_frequencies
 
-    a = assemble(si)
-    omega = first_frequency(natural_frequencies(a, reference))
+    M, K, W, kt = structure.linear()
+    omega = first_frequency(natural_frequencies(M, K, W, kt, reference))
     if not math.isfinite(omega):
         raise ValueError(f"with every contact {reference}, the structure has a rigid-body motion (a natural frequency "
                          "of 0): take the frequency ratio against the stuck structure (reference: stuck)")
-    m0 = float(a.M[0, 0])
+    m0 = float(M[0, 0])
     k0 = m0 * omega * omega
-    c0 = m0 * omega
-    if si.excitation == "force":
-        force = float(np.abs(a.F_cos).max())
+    if excitation == "force":
+        force = float(max(abs(v) for v in (structure.forcing or {}).values()))
         length = force / k0
     else:
-        length = float(si.base_amplitude)
+        length = float(structure.base_motion)
         force = k0 * length
-    contacts = tuple(replace(c, friction=c.friction / force,
-                             stiffness=None if c.stiffness is None else c.stiffness / k0) for c in si.contacts)
-    definition = replace(
-        si, masses={k: v / m0 for k, v in si.masses.items()},
-        springs=tuple((p, q, v / k0) for p, q, v in si.springs),
-        dampers=tuple((p, q, v / c0) for p, q, v in si.dampers), contacts=contacts,
-        forcing={k: v / force for k, v in si.forcing.items()},
-        base_amplitude=si.base_amplitude / length if si.excitation == "base" else si.base_amplitude,
-        matrices=None if si.matrices is None else (si.matrices[0] / m0, si.matrices[1] / k0, si.matrices[2] / c0))
-    return StructureMap(reference, m0, omega, k0, c0, force, length, definition)
+    return StructureMap(reference, m0, omega, k0, m0 * omega, force, length)
