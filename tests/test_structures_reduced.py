@@ -281,3 +281,17 @@ def test_physical_modes_take_their_frequencies_in_hz(tmp_path):
     M_got, K_got, _ = spec.structure.given_matrices
     np.testing.assert_allclose(M_got, M, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(K_got, K, rtol=1e-10, atol=1e-6)
+
+
+def test_a_physical_base_excitation_maps_lengths_to_the_base_amplitude(tmp_path):
+    """Under base excitation L = Y and F_0 = k_0 Y: the plain spec has base_amplitude 1 and the same cube."""
+    text = (PHYSICAL.replace("{excitation: force}", "{excitation: base}").replace("  forcing: {blade: 30 N}\n",
+                                                                                  "  base_amplitude: 0.5 mm\n")
+            .replace("[[ground, blade, 40 kN/m]", "[[base, blade, 40 kN/m]"))
+    cube = fs.sweep(_write(tmp_path, text, "physical.yaml"))
+    assert float(cube["length_scale"]) == 0.5e-3
+    assert float(cube["force_scale"]) == float(cube["stiffness_scale"]) * 0.5e-3
+    plain = (_dimensionless(cube).replace("{excitation: force}", "{excitation: base}")
+             .replace("springs: [[ground, blade,", "springs: [[base, blade,"))
+    plain = "\n".join(line for line in plain.splitlines() if not line.startswith("  forcing:")) + "\n"
+    _same_cube(fs.sweep(_write(tmp_path, plain.replace("grid:", "  base_amplitude: 1.0\ngrid:"))), cube)
