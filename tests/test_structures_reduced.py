@@ -295,3 +295,16 @@ def test_a_physical_base_excitation_maps_lengths_to_the_base_amplitude(tmp_path)
              .replace("springs: [[ground, blade,", "springs: [[base, blade,"))
     plain = "\n".join(line for line in plain.splitlines() if not line.startswith("  forcing:")) + "\n"
     _same_cube(fs.sweep(_write(tmp_path, plain.replace("grid:", "  base_amplitude: 1.0\ngrid:"))), cube)
+
+
+def test_a_checkpoint_of_another_model_file_is_not_reused(tmp_path):
+    """The matrices are no part of the spec's text: the checkpoint's fingerprint holds their digest."""
+    from friction_sweep.batch.structure_sweep import checkpoint_key
+
+    M, K, C = _chain()
+    np.savez(tmp_path / "rom.npz", M=M, K=K, C=C)
+    spec = _write(tmp_path, _as_matrices("rom.npz"))
+    before = checkpoint_key(load_spec(spec), {}, {})
+    assert checkpoint_key(load_spec(spec), {}, {}) == before
+    np.savez(tmp_path / "rom.npz", M=M, K=K * 1.01, C=C)
+    assert checkpoint_key(load_spec(spec), {}, {}) != before
