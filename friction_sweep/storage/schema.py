@@ -391,7 +391,8 @@ STRUCTURE_DIMS = ("friction_scale", "frequency")
 DOF_DIMS = (*STRUCTURE_DIMS, "dof")
 CONTACT_DIMS = (*STRUCTURE_DIMS, "contact")
 _STRUCTURE_UNITS = {"comment": "in the structure's own units: force excitation, its length unit; base excitation, "
-                    "over base_amplitude (a transmissibility)"}
+                    "over base_amplitude (a transmissibility); a physical structure's length unit is length_scale "
+                    "metres"}
 
 STRUCTURE_COORDS = {
     "friction_scale": Variable(("friction_scale",), np.float64, "factor on every contact's friction force", "1",
