@@ -11,6 +11,13 @@
       forcing: {blade: 1.0}                    # force excitation; base excitation: base_amplitude
     grid: {frequency: {start: 0.2, stop: 3.0, num: 561}, friction_scale: [0.5, 1.0]}
 
+In place of masses, springs and dampers, a structure may be a reduced model (issue 31): `matrices: {file,
+dofs, damping_ratios}` (M, K, C from a .npz or .mat, spec.reduced) or `modes: {frequencies,
+damping_ratios, shapes}`; exactly one of masses, matrices, modes. Written with units it is physical
+(spec.structure_units: read in SI, solved dimensionless); the grid may then give `frequency` with its
+unit, and any structure `frequency_ratio` against its first natural frequency with every contact stuck or
+free (`grid.reference`).
+
 Refused, each at its key (`file:line:column: key: reason`): a mass, spring, dashpot or contact end that
 names no mass (nor ground, nor base); an element or contact between a mass and itself, or between two
 supports (ground and base hold no mass between them); a mass that is not positive; a stiffness, damping
@@ -19,6 +26,11 @@ a static friction ratio outside [1, 100]; two contacts of one name, a mass named
 name no cube may hold; `forcing` under base excitation, `base_amplitude` under force excitation (where the
 base holds still, as ground does), base excitation with nothing connected to the base, force excitation
 without a nonzero force; no masses or no contacts; and a structure with an unrestrained rigid-body motion.
+A reduced model's file is refused at `file` with the reason spec.reduced gives (missing, foreign, too
+large, without M or K, a matrix not square, of another size than dofs, not finite, not symmetric, not
+definite where it must be), and so are springs or dashpots beside it, damping given twice, and shapes
+that are singular or not square; a physical structure's number without its unit or of another dimension,
+and a frequency ratio against a reference that has a rigid-body motion.
 
 The restraint rule: with every contact stuck (a Jenkins contact as its spring k_t, a rigid contact as a
 rigid link w_jᵀx = 0), the stiffness must hold every motion: K_stuck restricted to the motions the rigid
