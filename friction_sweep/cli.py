@@ -155,11 +155,11 @@ def validate(spec: Path, output: str | None, overwrite: bool, jobs: int, yes: bo
     s, out = plan.spec, plan.out
     if _is_structure(s):
         n_s, n_f = s.friction_scale.size, s.frequency.size
-        click.echo(f"{escape(spec)}: ok: structure of {len(s.structure.masses)} masses and "
+        click.echo(f"{escape(spec)}: ok: structure of {len(s.structure.dofs)} masses and "
                    f"{len(s.structure.contacts)} contacts, excitation {s.scene.excitation}, method {s.method}, "
                    f"{n_s} friction scales x {n_f} frequencies = {n_s * n_f} points, outputs {', '.join(s.outputs)}, "
                    f"output {escape(out)}")
-        for line in s.structure.describe():
+        for line in s.describe():
             click.echo(f"  {escape(line)}")
         click.echo(f"  settings: {json.dumps(plan.recorded)}")
         click.echo(f"  estimate: {plan.cost.describe()}")
@@ -460,7 +460,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
     click.echo(f"wrote {escape(out)}")
     if _is_structure(s):
         n_s, n_f = s.friction_scale.size, s.frequency.size
-        click.echo(f"  structure of {len(s.structure.masses)} masses and {len(s.structure.contacts)} contacts, "
+        click.echo(f"  structure of {len(s.structure.dofs)} masses and {len(s.structure.contacts)} contacts, "
                    f"{s.scene.excitation} excitation, method {s.method}: {n_s} friction scales x {n_f} frequencies "
                    f"= {n_s * n_f} points in {elapsed:.2f} s")
         _echo_contact_regimes({name: (dims, values) for name, (dims, values, _) in parts.data_vars.items()},

@@ -491,6 +491,140 @@ STRUCTURE_BASE = STRUCTURE.replace("{excitation: force}", "{excitation: base}").
 #: the same on a small plane (4 x 8 points), for cubes
 SMALL_STRUCTURE = STRUCTURE.replace("num: 561", "num: 8")
 
+# ---- issue 31: reduced models and physical units (each row changes one thing) -----------------------------
+
+#: a reduced model: M and K of the blade and damper from rom.npz, which each row's set-up writes
+ROM = """\
+scene: {excitation: force}
+structure:
+  matrices: {file: rom.npz, dofs: [blade, damper]}
+  contacts:
+    - {name: platform, between: [damper, ground], friction: 0.3}
+  forcing: {blade: 1.0}
+grid:
+  frequency: {start: 0.2, stop: 3.0, num: 8}
+output: out.h5
+"""
+ROM_ARRAYS = {"M": [[1.0, 0.0], [0.0, 0.1]], "K": [[3.0, -2.0], [-2.0, 2.0]]}
+#: the structure as modes (frequencies and mass-normalised shapes at blade and damper)
+MODES = ROM.replace("  matrices: {file: rom.npz, dofs: [blade, damper]}\n",
+                    "  modes: {frequencies: [1.0, 2.0], shapes: {blade: [0.6, 0.8], damper: [0.8, -0.6]}}\n")
+#: the same structure in physical units
+PHYSICAL = """\
+scene: {excitation: force}
+structure:
+  masses: {blade: 2 kg, damper: 0.2 kg}
+  springs: [[ground, blade, 40 kN/m], [blade, damper, 80 kN/m]]
+  contacts:
+    - {name: platform, between: [damper, ground], friction: 12 N}
+  forcing: {blade: 30 N}
+grid:
+  frequency: {start: 10 Hz, stop: 60 Hz, num: 8}
+output: out.h5
+"""
+
+
+def _rom_file(name: str = "rom.npz", **arrays) -> Callable[[Path], None]:
+    """A set-up writing the model file `name`: ROM_ARRAYS with `arrays` over them (None: left out)."""
+    def setup(d: Path) -> None:
+        given = {k: v for k, v in {**ROM_ARRAYS, **arrays}.items() if v is not None}
+        if name.endswith(".mat"):
+            import scipy.io
+
+            scipy.io.savemat(d / name, {k: np.asarray(v, dtype=float) for k, v in given.items()})
+        else:
+            np.savez(d / name, **{k: np.asarray(v) for k, v in given.items()})
+    return setup
+
+
+def _bytes_file(data: bytes, size: int | None = None) -> Callable[[Path], None]:
+    def setup(d: Path) -> None:
+        with open(d / "rom.npz", "wb") as fh:
+            fh.write(data)
+            if size is not None:
+                fh.truncate(size)  # sparse: the size without the disk
+    return setup
+
+
+def _edited(text: str, *edits: tuple[str, str]) -> str:
+    for old, new in edits:
+        assert old in text, old
+        text = text.replace(old, new)
+    return text
+
+
+def _rom_case(name: str, where: str, *edits: tuple[str, str], setup=None, words: tuple[str, ...] = (),
+              text: str = ROM) -> Case:
+    """A reduced-model or physical spec refused by run, at `where` (line:column: key)."""
+    return Case(name, _edited(text, *edits), setup=setup, words=(f"spec.yaml:{where}: ", *words))
+
+
+_FILE = "3:20: structure.matrices.file"
+ROM_CASES = [
+    _rom_case("rom: no such file", _FILE, words=("rom.npz: cannot read it: No such file",)),
+    _rom_case("rom: not a model file", _FILE, ("rom.npz", "rom.csv"), words=("a .npz or a .mat file",)),
+    _rom_case("rom: a damaged file", _FILE, setup=_bytes_file(b"not a zip"), words=("cannot read it as .npz",)),
+    _rom_case("rom: over the size", _FILE, setup=_bytes_file(b"PK", 64 * 2**20 + 1), words=("over the 64 MiB",)),
+    _rom_case("rom: a pickled array", _FILE, setup=lambda d: np.savez(d / "rom.npz", M=np.array([{}], dtype=object),
+                                                                     K=np.eye(2)), words=("cannot read it",)),
+    _rom_case("rom: no M", _FILE, setup=_rom_file(M=None), words=("no M in it (it holds: K)",)),
+    _rom_case("rom: not square", _FILE, setup=_rom_file(K=[[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]]),
+              words=("K is not square (shape 2x3)",)),
+    _rom_case("rom: not symmetric", _FILE, setup=_rom_file(K=[[3.0, -2.0], [-2.1, 2.0]]),
+              words=("K is not symmetric", "over 1e-10 x max|K|")),
+    _rom_case("rom: a mass matrix not positive definite", _FILE, setup=_rom_file(M=[[1.0, 0.0], [0.0, -0.1]]),
+              words=("M is not positive definite",)),
+    _rom_case("rom: a negative stiffness", _FILE, setup=_rom_file(K=[[-3.0, 0.0], [0.0, 2.0]]),
+              words=("K is not positive semi-definite",)),
+    _rom_case("rom: NaN", _FILE, setup=_rom_file(K=[[3.0, float("nan")], [-2.0, 2.0]]),
+              words=("K[0, 1] is nan: every entry must be finite",)),
+    _rom_case("rom: NaN in a .mat", "3:20: structure.matrices.file", ("rom.npz", "rom.mat"),
+              setup=_rom_file("rom.mat", C=[[0.0, 0.0], [0.0, float("nan")]]), words=("rom.mat: C[1, 1] is nan",)),
+    _rom_case("rom: DoF names not matching", _FILE, ("dofs: [blade, damper]", "dofs: [blade, damper, tip]"),
+              setup=_rom_file(), words=("M is 2x2, but dofs names 3 DoFs",)),
+    _rom_case("rom: a DoF named twice", "3:43: structure.matrices.dofs[1]", ("dofs: [blade, damper]", "dofs: [blade, blade]"),
+              setup=_rom_file(), words=("DoF 'blade' is named twice",)),
+    _rom_case("rom: C and damping ratios", "3:52: structure.matrices.damping_ratios",
+              ("dofs: [blade, damper]}", "dofs: [blade, damper], damping_ratios: [0.01]}"),
+              setup=_rom_file(C=[[0.1, 0.0], [0.0, 0.0]]), words=("give damping by C or by damping_ratios",)),
+    _rom_case("rom: damping ratios not one per mode", "3:52: structure.matrices.damping_ratios",
+              ("dofs: [blade, damper]}", "dofs: [blade, damper], damping_ratios: [0.01, 0.02, 0.03]}"),
+              setup=_rom_file(), words=("3 damping ratios for 2 modes",)),
+    _rom_case("rom: springs beside matrices", "4:3: structure.springs",
+              ("  contacts:", "  springs: [[ground, blade, 1.0]]\n  contacts:"), setup=_rom_file(),
+              words=("a reduced model's stiffness and damping are in its matrices",)),
+    _rom_case("rom: masses and matrices", "3:3: structure.matrices",
+              ("  contacts:", "  masses: {blade: 1.0, damper: 0.1}\n  contacts:"), setup=_rom_file(),
+              words=("give the structure one way",)),
+    _rom_case("rom: an unrestrained DoF", "3:43: structure.matrices.dofs[1]",
+              ("between: [damper, ground]", "between: [blade, ground]"), setup=_rom_file(K=[[1.0, 0.0], [0.0, 0.0]]),
+              words=("nothing holds the motion of 'damper'",)),
+    _rom_case("modes: singular shapes", "3:36: structure.modes.shapes", ("[0.8, -0.6]", "[1.2, 1.6]"), text=MODES,
+              words=("the shapes are singular",)),
+    _rom_case("modes: fewer DoFs than modes", "3:36: structure.modes.shapes", (", damper: [0.8, -0.6]", ""),
+              ("[damper, ground]", "[blade, ground]"), text=MODES,
+              words=("1 DoFs for 2 modes",)),
+    # physical units: every quantity with its unit, of its dimension
+    _rom_case("physical: a mass without its unit", "3:33: structure.masses.damper", ("0.2 kg", "0.2"),
+              text=PHYSICAL, words=("must be a mass with its unit", "a number without a unit")),
+    _rom_case("physical: a stiffness in kg", "4:29: structure.springs[0][2]", ("40 kN/m", "40 kg"),
+              text=PHYSICAL, words=("must be a stiffness such as '40 kN/m'",)),
+    _rom_case("physical: a friction of a coefficient without a load", "6:51: structure.contacts[0].friction",
+              ("friction: 12 N", "friction: {coefficient: 0.3}"), text=PHYSICAL, words=("a friction is a force",)),
+    _rom_case("physical: a frequency without its unit", "9:22: grid.frequency.start", ("start: 10 Hz", "start: 10"),
+              text=PHYSICAL, words=("must be a frequency with its unit",)),
+    _rom_case("plain: a frequency with a unit", "8:3: grid.frequency", ("{start: 0.2, stop: 3.0, num: 8}", "[2 Hz]"),
+              setup=_rom_file(),
+              words=("a frequency with a unit needs a physical structure",)),
+    _rom_case("physical: frequency and frequency_ratio", "10:3: grid.frequency_ratio",
+              ("num: 8}\n", "num: 8}\n  frequency_ratio: [1.0]\n"), text=PHYSICAL,
+              words=("give the frequencies one way",)),
+    _rom_case("physical: a free reference with a mass held only by a contact", "10:14: grid.reference",
+              ("[[ground, blade, 40 kN/m], [blade, damper, 80 kN/m]]", "[[ground, blade, 40 kN/m]]"),
+              ("frequency: {start: 10 Hz, stop: 60 Hz, num: 8}", "frequency_ratio: [1.0]\n  reference: free"),
+              text=PHYSICAL, words=("with every contact free, the structure has a rigid-body motion",)),
+]
+
 
 def _structure(*edits: tuple[str, str], base: bool = False) -> str:
     text = STRUCTURE_BASE if base else STRUCTURE
@@ -1244,6 +1378,7 @@ CASES = [
          setup=hc.edited(lambda f: f.attrs.update(structure="[" * 100 + "]" * 100)),
          words=("attribute structure nests deeper than 8 levels",)),
 ]
+CASES += ROM_CASES
 
 
 # cases whose set-up interrupts a real event run in a child process (seconds each), and the deepest YAML

@@ -236,7 +236,7 @@ def _structure_estimate(spec, settings: dict | None, *, jobs: int, executor: str
     numba's cache does not hold it (one compilation serves every structure)."""
     from friction_sweep.batch import kernel_cache
 
-    n, m = len(spec.structure.masses), len(spec.structure.contacts)
+    n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     knobs = {**METHODS["event"].defaults, **(spec.settings if settings is None else settings)}
     n_f, n_s = spec.frequency.size, spec.friction_scale.size
     points = n_f * n_s

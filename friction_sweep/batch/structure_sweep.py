@@ -25,15 +25,25 @@ log = logging.getLogger("friction_sweep")
 
 
 def structure_def(spec: StructureSpec):
-    """The engine's description of the spec's structure (friction_sweep.structures.StructureDef)."""
+    """The engine's description of the spec's structure (friction_sweep.structures.StructureDef): a physical
+    structure's dimensionless one (spec.structure_units)."""
+    from friction_sweep.structures.model import scaled
+
+    p = spec.physical
+    return si_structure_def(spec) if p is None else scaled(si_structure_def(spec), p.mass, p.stiffness, p.damping,
+                                                           p.force, p.length)
+
+
+def si_structure_def(spec: StructureSpec):
+    """The spec's structure as it is written (SI where it is physical), as a StructureDef."""
     from friction_sweep.structures import ContactDef, StructureDef
 
     st = spec.structure
     contacts = tuple(ContactDef(name=c.name, between=c.between, friction=c.friction, stiffness=c.stiffness,
                                 static_friction_ratio=c.static_friction_ratio) for c in st.contacts)
-    return StructureDef(excitation=spec.scene.excitation, masses=dict(st.masses), springs=tuple(st.springs),
+    return StructureDef(excitation=spec.scene.excitation, masses=dict(st.masses or {}), springs=tuple(st.springs),
                         dampers=tuple(st.dampers), contacts=contacts, forcing=dict(st.forcing or {}),
-                        base_amplitude=st.base_motion)
+                        base_amplitude=st.base_motion, dofs=st.dofs, matrices=st.given_matrices)
 
 
 def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -61,7 +71,7 @@ def checkpoint_key(spec: StructureSpec, settings: dict[str, Any], extra_attrs: d
         spec=spec.model_dump(mode="json", exclude={"output"}), frequency=np.asarray(spec.frequency, dtype=float),
         friction_scale=np.asarray(spec.friction_scale, dtype=float), tile=TILE_FREQUENCIES, settings=settings,
         recorded=recorded_settings(spec, settings), accuracy=extra_attrs, version=friction_sweep.__version__,
-        code=code_version())
+        code=code_version(), model=_model_digest(spec))
 
 
 def tile_grids(spec: StructureSpec) -> list[dict[str, np.ndarray]]:
@@ -105,7 +115,7 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
 
     frequency, scale = spec.frequency, spec.friction_scale
     definition = structure_def(spec)
-    sizes = {"dof": len(spec.structure.masses), "contact": len(spec.structure.contacts)}
+    sizes = {"dof": len(spec.structure.dofs), "contact": len(spec.structure.contacts)}
     parts = tiles(frequency.size)
     work = [(definition, frequency[p], scale, spec.variables, spec.outputs, dict(settings)) for p in parts]
     results: dict[str, np.ndarray] = {
@@ -134,14 +144,63 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
     return results
 
 
+def physical_coordinates(spec: StructureSpec) -> dict[str, Any]:
+    """The frequency over the first natural frequency with every contact stuck and free, and a physical
+    structure's physical coordinates and scales (storage.schema.STRUCTURE_PHYSICAL_COORDS)."""
+    from friction_sweep.spec.structure_units import first_frequency
+    from friction_sweep.structures import assemble, natural_frequencies
+
+    si = assemble(si_structure_def(spec))
+    phys = spec.physical
+    # the grid's angular frequencies in the structure's units as written (rad/s where physical)
+    omega = spec.frequency if phys is None else spec.frequency * phys.omega
+    out: dict[str, Any] = {}
+    for reference in ("stuck", "free"):
+        if phys is not None and reference == phys.reference:
+            out[f"frequency_ratio_{reference}"] = spec.frequency  # as solved, bit for bit
+            continue
+        first = first_frequency(natural_frequencies(si, reference))
+        if np.isfinite(first):  # none free where a mass is held only by a contact: a grid coordinate is never NaN
+            out[f"frequency_ratio_{reference}"] = omega / first
+    if phys is None:
+        return out
+    friction = np.array([c.friction for c in spec.structure.contacts])
+    return {**out, "frequency_hz": omega / (2.0 * np.pi), "friction_force": np.outer(spec.friction_scale, friction),
+            "reference_frequency": np.float64(phys.omega), "mass_scale": np.float64(phys.mass),
+            "stiffness_scale": np.float64(phys.stiffness), "force_scale": np.float64(phys.force),
+            "length_scale": np.float64(phys.length)}
+
+
 def structure_attribute(spec: StructureSpec) -> str:
     """The solved structure as the cube's `structure` attribute (JSON)."""
     st = spec.structure
+    if st.matrices is not None:  # the file's name and what it held: a reduced model's matrices stay in its file
+        model: dict[str, Any] = {"matrices": {**st.matrices.model_dump(mode="json"), "sha256": _model_digest(spec)}}
+    elif st.modes is not None:
+        model = {"modes": st.modes.model_dump(mode="json")}
+    else:
+        model = {"masses": st.masses}
     return json.dumps({
-        "masses": st.masses, "springs": [list(e) for e in st.springs], "dampers": [list(e) for e in st.dampers],
+        **model, "springs": [list(e) for e in st.springs], "dampers": [list(e) for e in st.dampers],
         "contacts": [c.model_dump(mode="json") for c in st.contacts], "forcing": st.forcing or {},
         **({"base_amplitude": st.base_motion} if spec.scene.excitation == "base" else {}),
     })
+
+
+def _model_digest(spec: StructureSpec) -> str:
+    """The reduced model's digest (a file's matrices are no part of the spec's text), or "" without one."""
+    given = spec.structure.given_matrices
+    return "" if given is None else _digest(given)
+
+
+def _digest(matrices) -> str:
+    """SHA-256 of the model's M, K and C as solved (float64, C order): which model a cube came from."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for a in matrices:
+        h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+    return h.hexdigest()
 
 
 def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str, Any], command: str,
@@ -153,9 +212,10 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
 
     excitation = spec.scene.excitation
     coords = {"friction_scale": spec.friction_scale, "frequency": spec.frequency,
-              "dof": np.array(list(spec.structure.masses), dtype=str),
-              "contact": np.array([c.name for c in spec.structure.contacts], dtype=str)}
-    n, m = len(spec.structure.masses), len(spec.structure.contacts)
+              "dof": np.array(list(spec.structure.dofs), dtype=str),
+              "contact": np.array([c.name for c in spec.structure.contacts], dtype=str),
+              **physical_coordinates(spec)}
+    n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,
         title=f"friction_sweep: structure of {n} masses and {m} contacts, {excitation} excitation, method {METHOD}",

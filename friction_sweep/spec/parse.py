@@ -13,7 +13,17 @@ from .errors import SpecError, SpecProblem
 from .grid import FORCE_RATIO_NOTE, FREQUENCY_RATIO_NOTE, MAX_POINTS
 from .load import Document, KeyPath, format_key, parse_yaml, read_text
 from .model import AXIS_TAGS, ForceRange, FrequencyRange, Grid, Scene, Spec, TimeHistory, show
-from .structure import KEY_PROBLEM, Contact, ScaleRange, Structure, StructureGrid, StructureScene, StructureSpec
+from .structure import (
+    KEY_PROBLEM,
+    Contact,
+    Matrices,
+    Modes,
+    ScaleRange,
+    Structure,
+    StructureGrid,
+    StructureScene,
+    StructureSpec,
+)
 from .structure import FrequencyRange as StructureFrequencyRange
 from .system import System
 
@@ -33,6 +43,8 @@ _STRUCTURE_MODELS: dict[KeyPath, type[BaseModel]] = {
     ("scene",): StructureScene,
     ("structure",): Structure,
     ("structure", "contacts", "*"): Contact,
+    ("structure", "matrices"): Matrices,
+    ("structure", "modes"): Modes,
     ("grid",): StructureGrid,
     ("grid", "frequency"): StructureFrequencyRange,
     ("grid", "friction_scale"): ScaleRange,
@@ -60,7 +72,7 @@ def spec_of_document(doc: Document, text: str) -> Spec | StructureSpec:
         raise SpecError.single(doc.source, reason, line=1, column=1)
     model, models = (StructureSpec, _STRUCTURE_MODELS) if "structure" in doc.data else (Spec, _MODELS)
     try:
-        spec = model.model_validate(doc.data)
+        spec = model.model_validate(doc.data, context={"source": doc.source})  # relative files: its folder
     except ValidationError as e:
         raise SpecError(problems_of(e, doc, models)) from None
     assert isinstance(spec, (Spec, StructureSpec))

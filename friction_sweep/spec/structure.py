@@ -11,6 +11,13 @@
       forcing: {blade: 1.0}                    # force excitation; base excitation: base_amplitude
     grid: {frequency: {start: 0.2, stop: 3.0, num: 561}, friction_scale: [0.5, 1.0]}
 
+In place of masses, springs and dampers, a structure may be a reduced model (issue 31): `matrices: {file,
+dofs, damping_ratios}` (M, K, C from a .npz or .mat, spec.reduced) or `modes: {frequencies,
+damping_ratios, shapes}`; exactly one of masses, matrices, modes. Written with units it is physical
+(spec.structure_units: read in SI, solved dimensionless); the grid may then give `frequency` with its
+unit, and any structure `frequency_ratio` against its first natural frequency with every contact stuck or
+free (`grid.reference`).
+
 Refused, each at its key (`file:line:column: key: reason`): a mass, spring, dashpot or contact end that
 names no mass (nor ground, nor base); an element or contact between a mass and itself, or between two
 supports (ground and base hold no mass between them); a mass that is not positive; a stiffness, damping
@@ -19,6 +26,11 @@ a static friction ratio outside [1, 100]; two contacts of one name, a mass named
 name no cube may hold; `forcing` under base excitation, `base_amplitude` under force excitation (where the
 base holds still, as ground does), base excitation with nothing connected to the base, force excitation
 without a nonzero force; no masses or no contacts; and a structure with an unrestrained rigid-body motion.
+A reduced model's file is refused at `file` with the reason spec.reduced gives (missing, foreign, too
+large, without M or K, a matrix not square, of another size than dofs, not finite, not symmetric, not
+definite where it must be), and so are springs or dashpots beside it, damping given twice, and shapes
+that are singular or not square; a physical structure's number without its unit or of another dimension,
+and a frequency ratio against a reference that has a rigid-body motion.
 
 The restraint rule: with every contact stuck (a Jenkins contact as its spring k_t, a rigid contact as a
 rigid link w_jᵀx = 0), the stiffness must hold every motion: K_stuck restricted to the motions the rigid
@@ -30,10 +42,21 @@ the engine's singular-stiffness case), and damping restrains nothing.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Any
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BeforeValidator, Field, PrivateAttr, Strict, field_validator, model_validator
+from pydantic import (
+    BeforeValidator,
+    Field,
+    PrivateAttr,
+    Strict,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 from friction_sweep.printable import name_problem
 
@@ -44,6 +67,8 @@ from .base import problem as _error
 from .base import raise_all as _raise_all
 from .base import show
 from .model import _array_axis, _axis, _axis_size, _axis_values, _bound_problem, _Range, checked_output_path
+from .structure_units import DEFAULT_REFERENCE, REFERENCES, StructureMap, frequency_axis_is_physical, is_physical
+from .structure_units import to_si_structure as _to_si_structure
 
 #: the two supports an element may connect a mass to: `base` moves under base excitation, `ground` never
 SUPPORTS = ("ground", "base")
@@ -69,6 +94,8 @@ DEFAULT_BASE_AMPLITUDE = 1.0
 KEY_PROBLEM = "key_problem"
 #: the most masses, and the most contacts, a structure has (a cube's `dof` and `contact` names)
 MAX_NAMES = 1024
+#: the ways a structure is given: masses with springs and dampers, a reduced model's matrices, or its modes
+MODEL_FORMS = ("masses", "matrices", "modes")
 #: the stiffness left to a motion with every contact stuck, relative to the largest, below which it is free
 RESTRAINT_RTOL = 1e-12
 
@@ -194,15 +221,147 @@ def _masses(v: Any) -> Any:
     return {str(k): float(x) for k, x in v.items()}
 
 
+def _dof_names(v: Any) -> Any:
+    """A list of DoF names (a reduced model's rows, in order): each a name, none twice, none a support."""
+    if not isinstance(v, list) or not v:
+        raise _error("dofs_type", f"must be a non-empty list of DoF names, one per row of the matrices (got {show(v)})")
+    if len(v) > MAX_NAMES:
+        raise _error("dofs_many", f"{len(v)} DoFs; a structure has at most {MAX_NAMES}")
+    problems = []
+    for i, name in enumerate(v):
+        if name in SUPPORTS:
+            problems.append(_error("dof_name", f"{name!r} names a support (ground, base), not a DoF", (i,)))
+        elif (reason := _name_problem(name)) is not None:
+            problems.append(_error("dof_name", reason, (i,)))
+        elif name in v[:i]:
+            problems.append(_error("dof_duplicate", f"DoF {name!r} is named twice (first at [{v.index(name)}])", (i,)))
+    _raise_all("dofs", problems)
+    return tuple(v)
+
+
+def _spec_folder(info: ValidationInfo) -> Path:
+    """The folder a spec's relative file names resolve against: its own (parse passes its source), else here."""
+    source = (info.context or {}).get("source") if isinstance(info.context, dict) else None
+    return Path(source).parent if source and not str(source).startswith("<") else Path(".")
+
+
+class Matrices(_Model):
+    """`structure.matrices`: a reduced model's M, K (and C) from a file (spec.reduced), its DoFs named
+    in the matrices' order; `damping_ratios` (one per mode, or one for all) where the file has no C."""
+
+    file: str
+    dofs: Annotated[tuple[str, ...], BeforeValidator(_dof_names)]
+    damping_ratios: tuple[NonNegativeNumber, ...] | None = None
+    _matrices: tuple[np.ndarray, np.ndarray, np.ndarray] | None = PrivateAttr(default=None)
+
+    @field_validator("file", mode="before")
+    @classmethod
+    def _file_name(cls, v: Any) -> Any:
+        if not isinstance(v, str) or not v:
+            raise _error("model_file", f"must be the name of a .npz or .mat file (got {show(v)})")
+        return v
+
+    @model_validator(mode="after")
+    def _load(self, info: ValidationInfo) -> Matrices:
+        from .reduced import ModelError, load_matrices, modal_damping
+
+        path = Path(self.file)
+        path = path if path.is_absolute() else _spec_folder(info) / path
+        n = len(self.dofs)
+        try:
+            M, K, C = load_matrices(path, n)
+        except ModelError as err:
+            raise _error("model_file", str(err), ("file",)) from None
+        ratios = self.damping_ratios
+        if ratios is not None:
+            if C is not None:
+                raise _error("damping_twice", f"{path} holds C: give damping by C or by damping_ratios, not both",
+                             ("damping_ratios",))
+            if len(ratios) not in (1, n):
+                raise _error("damping_ratios_size", f"{len(ratios)} damping ratios for {n} modes: give one per mode "
+                             "(ascending frequency) or one for all", ("damping_ratios",))
+            C = modal_damping(M, K, np.broadcast_to(np.asarray(ratios, dtype=float), (n,)))
+        self._matrices = (M, K, np.zeros((n, n)) if C is None else C)
+        return self
+
+    @property
+    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(M, K, C), C zero where neither the file nor damping ratios give damping."""
+        assert self._matrices is not None
+        return self._matrices
+
+
+class Modes(_Model):
+    """`structure.modes`: a structure known by its modes (spec.reduced.from_modes): angular natural
+    frequencies (the structure's units), damping ratios, and mass-normalised shapes at as many named DoFs as
+    modes, `{dof: [value in mode 1, mode 2, ...]}`."""
+
+    frequencies: tuple[NonNegativeNumber, ...]
+    damping_ratios: tuple[NonNegativeNumber, ...] | None = None
+    shapes: dict[str, tuple[Finite, ...]]
+    _matrices: tuple[np.ndarray, np.ndarray, np.ndarray] | None = PrivateAttr(default=None)
+
+    @field_validator("shapes", mode="before")
+    @classmethod
+    def _shape_names(cls, v: Any) -> Any:
+        if not isinstance(v, dict) or not v:
+            raise _error("shapes_type", f"must be a mapping of DoF names to mode-shape values (got {show(v)})")
+        _dof_names(list(v))
+        return v
+
+    @model_validator(mode="after")
+    def _build(self) -> Modes:
+        from .reduced import ModelError, from_modes
+
+        n = len(self.frequencies)
+        problems = []
+        if len(self.shapes) != n:
+            problems.append(_error("modes_size", f"{len(self.shapes)} DoFs for {n} modes: name as many DoFs as modes "
+                                   "(the shapes' matrix is square)", ("shapes",)))
+        for name, row in self.shapes.items():
+            if len(row) != n:
+                problems.append(_error("modes_size", f"{len(row)} values for {n} modes: give one per mode",
+                                       ("shapes", name)))
+        if self.damping_ratios is not None and len(self.damping_ratios) not in (1, n):
+            problems.append(_error("damping_ratios_size", f"{len(self.damping_ratios)} damping ratios for {n} modes: "
+                                   "give one per mode or one for all", ("damping_ratios",)))
+        _raise_all("modes", problems)
+        ratios = np.broadcast_to(np.asarray(self.damping_ratios or (0.0,), dtype=float), (n,))
+        try:
+            self._matrices = from_modes(np.asarray(self.frequencies, dtype=float), ratios,
+                                        np.array(list(self.shapes.values()), dtype=float).reshape(n, n))
+        except ModelError as err:
+            raise _error("modes_singular", str(err), ("shapes",)) from None
+        return self
+
+    @property
+    def matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        assert self._matrices is not None
+        return self._matrices
+
+
 class Structure(_Model):
     """`structure:` of a spec (the module's docstring says what is refused, and the restraint rule)."""
 
-    masses: Annotated[dict[str, float], BeforeValidator(_masses)]
+    masses: Annotated[dict[str, float] | None, BeforeValidator(_masses)] = None
+    matrices: Matrices | None = None
+    modes: Modes | None = None
     springs: Springs = ()
     dampers: Dampers = ()
     contacts: tuple[Contact, ...]
     forcing: dict[str, Finite] | None = None
     base_amplitude: PositiveNumber | None = None
+    #: "physical": every quantity with its unit, read in SI (spec.structure_units); set where any is written so
+    units: Literal["physical"] | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _si(cls, data: Any) -> Any:
+        if not is_physical(data):
+            return data
+        converted, problems = _to_si_structure(data)
+        _raise_all("structure", problems)
+        return converted
 
     @field_validator("contacts", mode="before")
     @classmethod
@@ -216,6 +375,16 @@ class Structure(_Model):
 
     @model_validator(mode="after")
     def _connected(self) -> Structure:
+        forms = [k for k in MODEL_FORMS if getattr(self, k) is not None]
+        if len(forms) != 1:
+            raise _error("model_form", "give the structure one way: masses (with springs and dampers), matrices "
+                         f"(a reduced model's file) or modes (got {' and '.join(forms) or 'none of them'})",
+                         (forms[-1],) if forms else ())
+        if self.masses is None:
+            extra = [k for k in ("springs", "dampers") if getattr(self, k)]
+            if extra:
+                raise _error("model_elements", f"{extra[0]} are for a structure of masses: a reduced model's "
+                             "stiffness and damping are in its matrices", (extra[0],))
         problems = list(self._end_problems())
         names: dict[str, int] = {}
         for j, c in enumerate(self.contacts):
@@ -224,16 +393,31 @@ class Structure(_Model):
                                        f"contacts[{names[c.name]}])", ("contacts", j, "name")))
             names.setdefault(c.name, j)
         for name in self.forcing or {}:
-            if name not in self.masses:
+            if name not in self.dofs:
                 problems.append(_error(KEY_PROBLEM, f"{show(name)} is no mass (masses: "
-                                       f"{', '.join(self.masses)})", ("forcing", name)))
+                                       f"{', '.join(self.dofs)})", ("forcing", name)))
         _raise_all("structure", problems)
         _raise_all("structure", self._restraint_problems())
         return self
 
+    @property
+    def dofs(self) -> tuple[str, ...]:
+        """The structure's degrees of freedom by name, in the cube's dof order."""
+        if self.matrices is not None:
+            return self.matrices.dofs
+        if self.modes is not None:
+            return tuple(self.modes.shapes)
+        return tuple(self.masses or ())
+
+    @property
+    def given_matrices(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """(M, K, C) of a reduced model (matrices or modes); None for a structure of masses."""
+        form = self.matrices if self.matrices is not None else self.modes
+        return None if form is None else form.matrices
+
     def _end_problems(self):
-        ends = set(self.masses) | set(SUPPORTS)
-        known = f"a mass ({', '.join(self.masses)}), ground or base"
+        ends = set(self.dofs) | set(SUPPORTS)
+        known = f"a mass ({', '.join(self.dofs)}), ground or base"
         items = [("springs", i, (a, b), (i,)) for i, (a, b, _) in enumerate(self.springs)]
         items += [("dampers", i, (a, b), (i,)) for i, (a, b, _) in enumerate(self.dampers)]
         items += [("contacts", j, c.between, (j, "between")) for j, c in enumerate(self.contacts)]
@@ -253,9 +437,11 @@ class Structure(_Model):
                 yield _error("no_mass", f"{what} between {a} and {b} holds no mass: one end must be a mass",
                              (key, *at, 1))
 
-    def _restraint_problems(self):
-        n = len(self.masses)
-        index = {name: i for i, name in enumerate(self.masses)}
+    def linear(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(M, K, W, kt): the linear structure's mass and stiffness (springs or a model's), each contact's
+        direction w_j (rows) and Jenkins stiffness (0 for a rigid contact), as spec.linear takes them."""
+        n = len(self.dofs)
+        index = {name: i for i, name in enumerate(self.dofs)}
 
         def direction(a: str, b: str) -> np.ndarray:
             w = np.zeros(n)
@@ -265,17 +451,23 @@ class Structure(_Model):
                 w[index[b]] -= 1.0
             return w
 
-        K = np.zeros((n, n))
-        for a, b, k in self.springs:
-            w = direction(a, b)
-            K += k * np.outer(w, w)
-        rigid = []
-        for c in self.contacts:
-            w = direction(*c.between)
-            if c.stiffness is None:
-                rigid.append(w)
-            else:
-                K += c.stiffness * np.outer(w, w)
+        given = self.given_matrices
+        if given is None:
+            M, K = np.diag([(self.masses or {})[name] for name in self.dofs]), np.zeros((n, n))
+            for a, b, k in self.springs:
+                w = direction(a, b)
+                K += k * np.outer(w, w)
+        else:
+            M, K = given[0], given[1].copy()
+        W = np.array([direction(*c.between) for c in self.contacts]).reshape(len(self.contacts), n)
+        kt = np.array([0.0 if c.stiffness is None else c.stiffness for c in self.contacts])
+        return M, K, W, kt
+
+    def _restraint_problems(self):
+        _, K, W, kt = self.linear()
+        n = len(self.dofs)
+        K = K + (W.T * kt) @ W  # with every contact stuck: a Jenkins contact as its spring
+        rigid = list(W[kt == 0.0])
         N = np.eye(n)
         if rigid:  # the motions the stuck rigid contacts allow: the null space of their directions
             _, s, vt = np.linalg.svd(np.array(rigid), full_matrices=True)
@@ -288,11 +480,18 @@ class Structure(_Model):
         if held[0] > RESTRAINT_RTOL * scale and scale > 0:
             return []
         motion = N @ vectors[:, 0]
-        moving = [name for name, x in zip(self.masses, motion, strict=True) if abs(x) > 1e-6 * np.abs(motion).max()]
-        return [_error(KEY_PROBLEM, f"unrestrained: with every contact stuck, nothing holds the motion of "
+        moving = [name for name, x in zip(self.dofs, motion, strict=True) if abs(x) > 1e-6 * np.abs(motion).max()]
+        at = {"masses": ("masses", moving[0]), "matrices": ("matrices", "dofs", self.dofs.index(moving[0])),
+              "modes": ("modes", "shapes", moving[0])}[self.form]
+        return [_error(KEY_PROBLEM if self.form != "matrices" else "unrestrained",
+                       f"unrestrained: with every contact stuck, nothing holds the motion of "
                        f"{', '.join(map(repr, moving))} (a rigid-body motion): connect it to ground or base by a "
-                       "spring or a contact",
-                       ("masses", moving[0]))]
+                       "spring or a contact", at)]
+
+    @property
+    def form(self) -> str:
+        """How the structure is given: "masses", "matrices" or "modes" (MODEL_FORMS)."""
+        return next(k for k in MODEL_FORMS if getattr(self, k) is not None)
 
     @property
     def base_motion(self) -> float:
@@ -301,7 +500,13 @@ class Structure(_Model):
 
     def describe(self) -> list[str]:
         """The structure in a few lines (fsweep validate and info)."""
-        lines = ["masses: " + ", ".join(f"{k} {v:g}" for k, v in self.masses.items())]
+        if self.matrices is not None:
+            lines = [f"matrices: {self.matrices.file}, dofs " + ", ".join(self.matrices.dofs)]
+        elif self.modes is not None:
+            lines = ["modes: angular frequencies " + ", ".join(f"{w:g}" for w in self.modes.frequencies)
+                     + " at dofs " + ", ".join(self.modes.shapes)]
+        else:
+            lines = ["masses: " + ", ".join(f"{k} {v:g}" for k, v in (self.masses or {}).items())]
         if self.springs:
             lines.append("springs: " + ", ".join(f"{a}-{b} {k:g}" for a, b, k in self.springs))
         if self.dampers:
@@ -347,17 +552,33 @@ class StructureGrid(_Model):
     """The plane: angular frequencies of the excitation (the structure's units) by friction scales (a
     factor on every contact's friction; absent: 1, the friction as given)."""
 
-    frequency: FrequencyAxis
+    frequency: FrequencyAxis | None = None
+    frequency_ratio: FrequencyAxis | None = None
+    reference: Literal["stuck", "free"] = DEFAULT_REFERENCE  # type: ignore[assignment]
     friction_scale: ScaleAxis = 1.0
     _values: dict[str, np.ndarray] = PrivateAttr(default_factory=dict)
 
+    @field_validator("reference", mode="before")
+    @classmethod
+    def _reference(cls, v: Any) -> Any:
+        if v not in REFERENCES:
+            raise _error("reference", f"the natural frequency a frequency ratio is taken against: one of "
+                         f"{', '.join(REFERENCES)} (every contact stuck, or every contact free) (got {show(v)})")
+        return v
+
     @model_validator(mode="after")
     def _build(self):
-        nf, ns = _axis_size(self.frequency), _axis_size(self.friction_scale)
+        given = [k for k in ("frequency", "frequency_ratio") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise _error("frequency_axis", "give the frequencies one way: frequency (angular, or with its unit in a "
+                         "physical structure) or frequency_ratio (against the first natural frequency) (got "
+                         f"{' and '.join(given) or 'neither'})", (given[-1],) if given else ())
+        axis_name = given[0]
+        nf, ns = _axis_size(getattr(self, axis_name)), _axis_size(self.friction_scale)
         if nf * ns > g.MAX_POINTS:
             raise _error("too_many_points", f"grid has {nf * ns} points ({ns} x {nf}); at most {g.MAX_POINTS} "
                          "are allowed")
-        for name in ("frequency", "friction_scale"):
+        for name in (axis_name, "friction_scale"):
             axis = getattr(self, name)
             values = _axis_values(axis)
             if isinstance(axis, _Range) and (g.first_not_increasing(values) is not None or values[-1] > axis.stop):
@@ -432,10 +653,84 @@ class StructureSpec(_Sourced):
         _raise_all("settings", problems)
         return v
 
+    _map: StructureMap | None = PrivateAttr(default=None)
+    _frequency: np.ndarray | None = PrivateAttr(default=None)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _physical_frequency(cls, data: Any) -> Any:
+        """A physical structure's grid frequency, with its unit, as angular frequencies in rad/s; a plain one's
+        refused where it carries a unit (and the reverse)."""
+        from pydantic_core import PydanticCustomError
+
+        from .quantities import FREQUENCY
+        from .system import physical_axis
+
+        if not isinstance(data, dict) or not isinstance(data.get("grid"), dict) or "frequency" not in data["grid"]:
+            return data
+        axis = data["grid"]["frequency"]
+        physical, written = is_physical(data.get("structure")), frequency_axis_is_physical(axis)
+        if not physical:
+            if written:
+                raise _error("frequency_unit", "a frequency with a unit needs a physical structure (masses, "
+                             "stiffnesses and frictions with their units); here it is the structure's angular "
+                             "frequency, a number", ("grid", "frequency"))
+            return data
+        try:
+            hz = physical_axis(axis, FREQUENCY)
+        except PydanticCustomError as err:
+            raise _error(err.type, err.message(), ("grid", "frequency", *(err.context or {}).get("at", ()))) from None
+        except ValidationError as err:
+            _raise_all("grid", [_error(e["type"], e["msg"], ("grid", "frequency", *(e.get("ctx") or {}).get("at", ())))
+                                for e in err.errors()])
+        return {**data, "grid": {**data["grid"], "frequency": [2.0 * math.pi * f for f in hz]}}
+
     @model_validator(mode="after")
     def _excitation(self):
         _raise_all("Spec", list(self._excitation_problems()))
+        self._scale()
         return self
+
+    def _scale(self) -> None:
+        """A physical structure's map to the dimensionless one (spec.structure_units), and the engine's
+        frequencies: omega / omega_0, or the frequency ratios as given (a plain structure: its frequencies, or
+        the ratios times its reference natural frequency)."""
+        from .structure_units import structure_map
+        from .system import ratios
+
+        grid = self.grid
+        by_ratio = grid.frequency_ratio is not None
+        if self.structure.units != "physical" and not by_ratio:
+            return
+        try:
+            mapped = structure_map(self.structure, self.scene.excitation, grid.reference)
+        except ValueError as err:
+            raise _error("reference", str(err), ("grid", "reference")) from None
+        given = grid.values("frequency_ratio" if by_ratio else "frequency")
+        if self.structure.units == "physical":
+            self._map = mapped
+            frequency = given if by_ratio else ratios(given, mapped.omega)
+        else:
+            frequency = given * mapped.omega
+        if not (np.isfinite(frequency).all() and (frequency > 0).all()):
+            raise _error("frequency_range", "the frequencies over the reference natural frequency leave a double's "
+                         "range", ("grid",))
+        frequency.flags.writeable = False
+        self._frequency = frequency
+
+    def describe(self) -> list[str]:
+        """The structure in a few lines, and a physical one's map to the dimensionless one (fsweep validate)."""
+        lines = self.structure.describe()
+        if self.structure.units == "physical":
+            lines[0] = "in SI units (kg, N/m, N s/m, N, m): " + lines[0]
+        if self._map is not None:
+            lines += self._map.describe()
+        return lines
+
+    @property
+    def physical(self) -> StructureMap | None:
+        """A physical structure's scales and dimensionless definition (spec.structure_units), else None."""
+        return self._map
 
     def _excitation_problems(self):
         st, excitation = self.structure, self.scene.excitation
@@ -462,6 +757,10 @@ class StructureSpec(_Sourced):
 
     @property
     def frequency(self) -> np.ndarray:
+        """The engine's angular frequencies (a physical structure's: over omega_0, spec.structure_units)."""
+        if self._frequency is not None:
+            self._frequency.flags.writeable = False  # re-set after unpickling
+            return self._frequency
         return self.grid.values("frequency")
 
     @property

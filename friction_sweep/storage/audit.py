@@ -134,7 +134,8 @@ def audit(ds: xr.Dataset) -> list[Problem]:
     problems: list[Problem] = []
     # a structure cube has its own table (schema.STRUCTURE_VARIABLES), and its coordinates all
     structure = schema.is_structure(ds.attrs)
-    coords, variables = (schema.STRUCTURE_COORDS, schema.STRUCTURE_VARIABLES) if structure else \
+    coords, variables = ({**schema.STRUCTURE_COORDS, **schema.STRUCTURE_EXTRA_COORDS},
+                         schema.STRUCTURE_VARIABLES) if structure else \
         (_COORDS, schema.VARIABLES)
     # a cube at constant base acceleration has the physical dims (schema.ACCELERATION_DIMS)
     physical_dims = not structure and set(schema.ACCELERATION_DIMS.values()) <= set(map(str, ds.dims))

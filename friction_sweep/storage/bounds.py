@@ -41,6 +41,7 @@ from friction_sweep.storage.schema import (
     PHYSICAL_COORDS,
     SCALAR_COORDS,
     STRUCTURE_COORDS,
+    STRUCTURE_EXTRA_COORDS,
     STRUCTURE_VARIABLES,
     VARIABLES,
 )
@@ -49,7 +50,7 @@ from friction_sweep.storage.schema import (
 MAX_VALUES = max(MAX_POINTS, MAX_HISTORY_SAMPLES)
 #: every variable and coordinate the schema knows, and a dimension scale for each dim it names
 MAX_DATASETS = max(len(VARIABLES) + len(COORDS) + len(PHYSICAL_COORDS) + len(SCALAR_COORDS) + len(ARRAY_COORDS),
-                   len(STRUCTURE_VARIABLES) + len(STRUCTURE_COORDS)) + 8
+                   len(STRUCTURE_VARIABLES) + len(STRUCTURE_COORDS) + len(STRUCTURE_EXTRA_COORDS)) + 8
 #: the largest cube a run can write: every schema variable at its largest (grid variables at MAX_POINTS
 #: points, histories at MAX_HISTORY_SAMPLES), each coordinate a grid axis at its longest
 MAX_CUBE_BYTES = sum(np.dtype(v.dtype).itemsize * (MAX_HISTORY_SAMPLES if HISTORY_DIM in v.dims else MAX_POINTS)

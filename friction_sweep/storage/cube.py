@@ -36,6 +36,7 @@ from friction_sweep.storage.schema import (
     PHYSICAL_COORDS,
     SCALAR_COORDS,
     STRUCTURE_COORDS,
+    STRUCTURE_EXTRA_COORDS,
     STRUCTURE_VARIABLES,
     VARIABLES,
     cube_dims,
@@ -85,7 +86,7 @@ def structure_cube_parts(arrays: dict, *, coords: dict, excitation: str, title: 
     """A structure cube's parts: `coords` (friction_scale, frequency, dof, contact) and `arrays` labelled and
     given CF attributes from the schema's structure table (schema.STRUCTURE_VARIABLES)."""
     labelled: list[Entries] = []
-    for table, given in ((STRUCTURE_COORDS, coords), (STRUCTURE_VARIABLES, arrays)):
+    for table, given in (({**STRUCTURE_COORDS, **STRUCTURE_EXTRA_COORDS}, coords), (STRUCTURE_VARIABLES, arrays)):
         entries: Entries = {}
         for name, values in given.items():
             var = table[name]  # KeyError here means an undeclared variable

@@ -427,7 +427,8 @@ STRUCTURE_DIMS = ("friction_scale", "frequency")
 DOF_DIMS = (*STRUCTURE_DIMS, "dof")
 CONTACT_DIMS = (*STRUCTURE_DIMS, "contact")
 _STRUCTURE_UNITS = {"comment": "in the structure's own units: force excitation, its length unit; base excitation, "
-                    "over base_amplitude (a transmissibility)"}
+                    "over base_amplitude (a transmissibility); a physical structure's length unit is length_scale "
+                    "metres"}
 
 STRUCTURE_COORDS = {
     "friction_scale": Variable(("friction_scale",), np.float64, "factor on every contact's friction force", "1",
@@ -436,6 +437,30 @@ STRUCTURE_COORDS = {
                           {"comment": "radians per the structure's time unit"}, valid_range=POSITIVE),
     "dof": Variable(("dof",), str, "mass (degree of freedom) of the structure", ""),
     "contact": Variable(("contact",), str, "friction contact of the structure", ""),
+}
+
+#: a structure cube's coordinates where they apply (a cube need not have them): the frequency ratios, and a
+#: physical structure's physical coordinates and scales (spec.structure_units: frequency is then
+#: omega / omega_0, an amplitude times length_scale metres, a friction energy times force_scale x
+#: length_scale joules)
+STRUCTURE_EXTRA_COORDS = {
+    # the first natural frequencies of the linear structure, every contact stuck or every contact free
+    # (structures.model.natural_frequencies; free: left out where a mass is held only by a contact)
+    "frequency_ratio_stuck": Variable(("frequency",), np.float64, "frequency over the first natural frequency, "
+                                      "contacts stuck", "1", valid_range=POSITIVE),
+    "frequency_ratio_free": Variable(("frequency",), np.float64, "frequency over the first natural frequency, "
+                                     "contacts free", "1", valid_range=POSITIVE),
+    "frequency_hz": Variable(("frequency",), np.float64, "forcing frequency f = omega omega_0 / (2 pi)", "Hz",
+                             valid_range=POSITIVE),
+    "friction_force": Variable(("friction_scale", "contact"), np.float64, "kinetic friction force of the contact",
+                               "N", valid_range=NONNEGATIVE),
+    "reference_frequency": Variable((), np.float64, "angular frequency unit omega_0 (the first natural frequency, "
+                                    "contacts as grid.reference says)", "rad s-1", valid_range=POSITIVE),
+    "mass_scale": Variable((), np.float64, "mass unit m_0 (the first DoF's mass)", "kg", valid_range=POSITIVE),
+    "stiffness_scale": Variable((), np.float64, "stiffness unit k_0 = m_0 omega_0^2", "N m-1", valid_range=POSITIVE),
+    "force_scale": Variable((), np.float64, "force unit F_0 (largest forcing, or k_0 Y)", "N", valid_range=POSITIVE),
+    "length_scale": Variable((), np.float64, "length unit L = F_0 / k_0 (or Y) of the amplitudes", "m",
+                             valid_range=POSITIVE),
 }
 
 STRUCTURE_VARIABLES = {

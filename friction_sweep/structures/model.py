@@ -9,9 +9,11 @@ masses, one entry where the other end is ground or the base; e_j = 1 where that 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
+
+from friction_sweep.spec import linear
 
 #: the two nodes that are not masses
 GROUND, BASE = "ground", "base"
@@ -36,6 +38,9 @@ class StructureDef:
     contacts: tuple[ContactDef, ...] = ()
     forcing: dict[str, float] = field(default_factory=dict)  # force excitation: amplitude per mass
     base_amplitude: float = 1.0  # base excitation
+    #: a reduced model (spec.reduced): its DoF names and (M, K, C), in place of masses, springs, dampers
+    dofs: tuple[str, ...] = ()
+    matrices: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
 
 @dataclass(frozen=True)
@@ -66,6 +71,22 @@ class Assembled:
         return self.base_amplitude if self.excitation == BASE else 1.0
 
 
+def scaled(d: StructureDef, mass: float, stiffness: float, damping: float, force: float,
+           length: float) -> StructureDef:
+    """The dimensionless structure of the SI structure d (spec.structure_units): masses over m_0,
+    stiffnesses over k_0, dashpots over c_0, frictions and forcing over F_0, the base's amplitude over L."""
+    contacts = tuple(replace(c, friction=c.friction / force,
+                             stiffness=None if c.stiffness is None else c.stiffness / stiffness) for c in d.contacts)
+    return replace(
+        d, masses={k: v / mass for k, v in d.masses.items()},
+        springs=tuple((p, q, v / stiffness) for p, q, v in d.springs),
+        dampers=tuple((p, q, v / damping) for p, q, v in d.dampers), contacts=contacts,
+        forcing={k: v / force for k, v in d.forcing.items()},
+        base_amplitude=d.base_amplitude / length if d.excitation == BASE else d.base_amplitude,
+        matrices=None if d.matrices is None else (d.matrices[0] / mass, d.matrices[1] / stiffness,
+                                                  d.matrices[2] / damping))
+
+
 def _ends(a: str, b: str, index: dict[str, int], what: str) -> None:
     for node in (a, b):
         if node not in index and node not in (GROUND, BASE):
@@ -93,18 +114,25 @@ def assemble(d: StructureDef) -> Assembled:
     cannot be solved."""
     if d.excitation not in EXCITATIONS:
         raise ValueError(f"excitation: {d.excitation!r} is not one of {', '.join(EXCITATIONS)}")
-    names = tuple(d.masses)
+    if d.matrices is not None and (d.masses or d.springs or d.dampers):
+        raise ValueError("matrices: given with masses, springs or dampers (a reduced model's are in its matrices)")
+    names = tuple(d.masses) if d.matrices is None else tuple(d.dofs)
     if not names:
         raise ValueError("masses: none")
     index = {name: i for i, name in enumerate(names)}
     for name in names:
         if name in (GROUND, BASE):
             raise ValueError(f"masses: {name!r} is a reserved node name")
-        if not (np.isfinite(d.masses[name]) and d.masses[name] > 0):
+        if d.matrices is None and not (np.isfinite(d.masses[name]) and d.masses[name] > 0):
             raise ValueError(f"masses: {name}: {d.masses[name]!r} is not a positive mass")
     n = len(names)
-    M = np.diag([float(d.masses[name]) for name in names])
-    K, C = np.zeros((n, n)), np.zeros((n, n))
+    if d.matrices is None:
+        M = np.diag([float(d.masses[name]) for name in names])
+        K, C = np.zeros((n, n)), np.zeros((n, n))
+    else:  # checked where read (spec.reduced.check_matrices); copied so the definition stays as given
+        M, K, C = (np.array(a, dtype=np.float64, order="C") for a in d.matrices)
+        if not all(a.shape == (n, n) for a in (M, K, C)):
+            raise ValueError(f"matrices: M, K and C must be {n}x{n} for {n} dofs")
     Kb, Cb = np.zeros(n), np.zeros(n)
     for kind, items, mat, to_base in (("springs", d.springs, K, Kb), ("dampers", d.dampers, C, Cb)):
         for a, b, value in items:
@@ -161,50 +189,25 @@ def assemble(d: StructureDef) -> Assembled:
     return out
 
 
-def _null_space(A: np.ndarray, n: int) -> np.ndarray:
-    """An orthonormal basis (columns) of {x : A x = 0}."""
-    if A.shape[0] == 0:
-        return np.eye(n)
-    _, s, vt = np.linalg.svd(A)
-    rank = int(np.sum(s > 1e-12 * max(s.max(initial=0.0), 1.0)))
-    return vt[rank:].T
-
-
 def _restrained(a: Assembled) -> None:
     """Refuse a rigid-body motion that no spring and no contact resists (x with K x = 0 and w_j.x = 0)."""
     n = a.M.shape[0]
     scale = max(np.abs(a.K).max(initial=0.0), 1.0)
-    null = _null_space(np.vstack([a.K / scale, a.W]), n)
+    null = linear.null_space(np.vstack([a.K / scale, a.W]), n)
     if null.shape[1]:
         free = ", ".join(name for name, v in zip(a.dof_names, np.abs(null).max(axis=1), strict=True) if v > 1e-9)
         raise ValueError(f"structure: unrestrained rigid-body motion of {free} (no spring or contact holds it)")
 
 
 def stuck_matrices(a: Assembled) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(N, M_r, K_r): the linear structure with every contact stuck, in coordinates x = N q (N a basis
-    of the rigid contacts' w_j.x = 0), Jenkins contacts as their springs."""
-    n = a.M.shape[0]
-    rigid = a.kt == 0.0
-    basis = _null_space(a.W[rigid], n)
-    K = a.K + (a.W.T * a.kt) @ a.W
-    return basis, basis.T @ a.M @ basis, basis.T @ K @ basis
+    """(N, M_r, K_r): the linear structure with every contact stuck (spec.linear.stuck_matrices)."""
+    return linear.stuck_matrices(a.M, a.K, a.W, a.kt)
 
 
 def natural_frequencies(a: Assembled, contacts: str) -> np.ndarray:
     """The linear structure's natural angular frequencies, ascending: contacts "free" (no friction) or
-    "stuck" (rigid contacts as constraints, Jenkins contacts as their springs)."""
-    if contacts == "free":
-        M, K = a.M, a.K
-    elif contacts == "stuck":
-        _, M, K = stuck_matrices(a)
-    else:
-        raise ValueError(f"contacts: {contacts!r} is not 'stuck' or 'free'")
-    if M.shape[0] == 0:
-        return np.zeros(0)
-    L = np.linalg.cholesky(M)
-    Li = np.linalg.inv(L)
-    lam = np.linalg.eigvalsh(Li @ K @ Li.T)
-    return np.sqrt(np.clip(lam, 0.0, None))
+    "stuck" (rigid contacts as constraints, Jenkins contacts as their springs; spec.linear)."""
+    return linear.natural_frequencies(a.M, a.K, a.W, a.kt, contacts)
 
 
 def rest_state(a: Assembled) -> np.ndarray:
