@@ -607,8 +607,14 @@ def _info_structure(result: Path, ds, a: dict) -> None:
         click.echo(f"  structure: unreadable ({escape(err)})")
     if isinstance(st, dict):
         masses = st.get("masses")
-        masses = masses if isinstance(masses, dict) else {}
-        click.echo("  masses: " + ", ".join(f"{escape(k)} {escape(v)}" for k, v in masses.items()))
+        if isinstance(masses, dict):
+            click.echo("  masses: " + ", ".join(f"{escape(k)} {escape(v)}" for k, v in masses.items()))
+        for form in ("matrices", "modes"):  # a reduced model: where it came from, its dofs
+            source = st.get(form)
+            if isinstance(source, dict):
+                where = f" from {escape(source.get('file'))} (sha256 {escape(source.get('sha256'))})" \
+                    if form == "matrices" else ""
+                click.echo(f"  reduced model ({form}){where}, dofs: {', '.join(map(escape, st.get('dofs') or ()))}")
         for key in ("springs", "dampers"):
             if st.get(key):
                 click.echo(f"  {key}: " + ", ".join(escape(" ".join(map(str, e))) for e in st[key]))

@@ -308,3 +308,33 @@ def test_a_checkpoint_of_another_model_file_is_not_reused(tmp_path):
     assert checkpoint_key(load_spec(spec), {}, {}) == before
     np.savez(tmp_path / "rom.npz", M=M, K=K * 1.01, C=C)
     assert checkpoint_key(load_spec(spec), {}, {}) != before
+
+
+@pytest.mark.parametrize("form", ["npz", "physical"])
+def test_check_and_info_read_the_structure_a_reduced_or_physical_cube_solved(form, tmp_path):
+    """A reduced model's cube records the matrices solved (its file may be gone), a physical cube its SI
+    structure and the scales: `fsweep check` holds the cube to the linear limits of the structure the engine
+    solved (the dimensionless one) and `fsweep info` gives its natural frequencies in the cube's frequency
+    units (stuck: 1 where omega_0 is the stuck structure's, by the map's definition)."""
+    if form == "npz":
+        np.savez(tmp_path / "rom.npz", **dict(zip("MKC", _chain(), strict=True)))
+        text = _as_matrices("rom.npz").replace("friction_scale: [0.5, 2.0]", "friction_scale: [0.0, 2.0, 1000.0]")
+    else:
+        text = PHYSICAL.replace("friction_scale: [0.5, 1.0]", "friction_scale: [0.0, 1.0, 1000.0]")
+    spec = _write(tmp_path, text, "spec.yaml")
+    out = tmp_path / "out.h5"
+    assert CliRunner().invoke(main, ["run", str(spec), "-o", str(out), "-q"]).exit_code == 0
+    (tmp_path / "rom.npz").unlink(missing_ok=True)
+    res = CliRunner().invoke(main, ["check", str(out)])
+    assert res.exit_code == 0 and "free_limit  ok" in res.output, res.output
+    info = CliRunner().invoke(main, ["info", str(out)]).output
+    stuck = next(line for line in info.splitlines() if "every contact stuck" in line)
+    if form == "physical":
+        assert float(stuck.split(":")[-1]) == pytest.approx(1.0, rel=1e-12)
+        assert "stuck_limit ok" in res.output
+    else:  # the chain with c held and a's root stuck: K + 20 e_a e_a^T on (a, b) with c fixed
+        M, K, _ = _chain()
+        Ks = K[:2, :2] + np.diag([20.0, 0.0])
+        assert float(stuck.split(":")[-1].split(",")[0]) == pytest.approx(math.sqrt(eigh(Ks, M[:2, :2],
+                                                                                     eigvals_only=True)[0]), rel=1e-5)
+        assert "reduced model (matrices) from rom.npz" in info

@@ -174,12 +174,16 @@ def physical_coordinates(spec: StructureSpec) -> dict[str, Any]:
 def structure_attribute(spec: StructureSpec) -> str:
     """The solved structure as the cube's `structure` attribute (JSON)."""
     st = spec.structure
-    if st.matrices is not None:  # the file's name and what it held: a reduced model's matrices stay in its file
+    if st.matrices is not None:  # the file's name and digest, and the matrices it held (the file may be gone)
         model: dict[str, Any] = {"matrices": {**st.matrices.model_dump(mode="json"), "sha256": _model_digest(spec)}}
     elif st.modes is not None:
         model = {"modes": st.modes.model_dump(mode="json")}
     else:
         model = {"masses": st.masses}
+    if st.given_matrices is not None:  # what the engine solved (as written, SI where physical): `recorded` reads it
+        model["dofs"] = list(st.dofs)
+        model["solved_matrices"] = {name: values.tolist()
+                                    for name, values in zip("MKC", st.given_matrices, strict=True)}
     return json.dumps({
         **model, "springs": [list(e) for e in st.springs], "dampers": [list(e) for e in st.dampers],
         "contacts": [c.model_dump(mode="json") for c in st.contacts], "forcing": st.forcing or {},

@@ -15,7 +15,14 @@ from typing import Any
 import numpy as np
 
 from friction_sweep.storage.schema import STRUCTURE_ATTRIBUTE
-from friction_sweep.structures.model import Assembled, ContactDef, StructureDef, assemble, natural_frequencies
+from friction_sweep.structures.model import (
+    Assembled,
+    ContactDef,
+    StructureDef,
+    assemble,
+    natural_frequencies,
+    scaled,
+)
 
 
 class UnreadableStructure(ValueError):
@@ -45,11 +52,21 @@ def definition(attrs: Mapping, excitation: str) -> StructureDef:
                        stiffness=None if c.get("stiffness") is None else float(c["stiffness"]),
                        static_friction_ratio=float(c.get("static_friction_ratio", 1.0)))
             for c in st.get("contacts") or [])
+        masses: dict[str, float] = {}
+        dofs: tuple[str, ...] = ()
+        matrices = None
+        if "masses" in st:
+            masses = {str(k): float(v) for k, v in dict(st["masses"]).items()}
+        else:  # a reduced model (matrices or modes): the matrices the run solved, recorded beside their source
+            dofs = tuple(str(name) for name in st["dofs"])
+            solved = dict(st["solved_matrices"])
+            M, K, C = (np.array(solved[name], dtype=float).reshape(len(dofs), len(dofs)) for name in "MKC")
+            matrices = (M, K, C)
         return StructureDef(
-            excitation=excitation, masses={str(k): float(v) for k, v in dict(st["masses"]).items()},
+            excitation=excitation, masses=masses,
             springs=_triples(st.get("springs") or [], "springs"), dampers=_triples(st.get("dampers") or [], "dampers"),
             contacts=contacts, forcing={str(k): float(v) for k, v in dict(st.get("forcing") or {}).items()},
-            base_amplitude=float(st.get("base_amplitude", 1.0)))
+            base_amplitude=float(st.get("base_amplitude", 1.0)), dofs=dofs, matrices=matrices)
     except (KeyError, IndexError, TypeError, ValueError, AttributeError) as err:
         raise UnreadableStructure(f"attribute {STRUCTURE_ATTRIBUTE}: {type(err).__name__}: {err}") from None
 
@@ -58,6 +75,15 @@ def assembled(ds) -> Assembled:
     """The assembled structure of cube `ds` (UnreadableStructure with the reason), checked against the
     cube's dof and contact coordinates (the same names in the same order)."""
     d = definition(ds.attrs, str(ds.attrs.get("excitation", "")))
+    if "mass_scale" in ds.coords:
+        # a physical structure: the attribute holds it as written (SI), the cube the dimensionless structure
+        # the engine solved (batch.structure_sweep.structure_def; spec.structure_units: c_0 = m_0 omega_0)
+        try:
+            mass, omega = (float(ds[name]) for name in ("mass_scale", "reference_frequency"))
+            d = scaled(d, mass, float(ds["stiffness_scale"]), mass * omega, float(ds["force_scale"]),
+                       float(ds["length_scale"]))
+        except (KeyError, TypeError, ValueError) as err:
+            raise UnreadableStructure(f"the physical scales: {type(err).__name__}: {err}") from None
     try:
         a = assemble(d)
     except ValueError as err:
