@@ -22,7 +22,8 @@ LAYERS = {
     "kernels": 3,
     "storage": 4,
     "methods": 5, "structures": 5,
-    "bench": 6, "consistency": 6, "design": 6, "quicklook": 6, "measured": 6,
+    "bench": 6, "consistency": 6, "consistency_structure": 6, "design": 6, "quicklook": 6, "quicklook_structure": 6,
+    "measured": 6,
     "batch": 7, "calibration": 7,
     "api": 8, "cli": 8, "validation": 8, "__main__": 8,
 }

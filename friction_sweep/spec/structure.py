@@ -439,7 +439,7 @@ class Structure(_Model):
 
     def linear(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(M, K, W, kt): the linear structure's mass and stiffness (springs or a model's), each contact's
-        direction w_j (rows) and Jenkins stiffness (0 for a rigid contact), as spec.linear takes them."""
+        direction w_j (rows) and Jenkins stiffness (0 for a rigid contact), as spec.natural_frequencies takes them."""
         n = len(self.dofs)
         index = {name: i for i, name in enumerate(self.dofs)}
 

@@ -188,7 +188,7 @@ def structure_map(structure, excitation: str, reference: str) -> StructureMap:
     """The map of the SI structure (spec.structure.Structure) against its first natural frequency with every
     contact `reference` ("stuck" | "free"); ValueError with the reason where that structure has a rigid-body
     motion (no such frequency)."""
-    from .linear import natural_frequencies
+    from .natural_frequencies import natural_frequencies
 
     M, K, W, kt = structure.linear()
     omega = first_frequency(natural_frequencies(M, K, W, kt, reference))

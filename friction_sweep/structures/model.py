@@ -13,7 +13,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from friction_sweep.spec import linear
+from friction_sweep.spec import natural_frequencies as linear_modes
 
 #: the two nodes that are not masses
 GROUND, BASE = "ground", "base"
@@ -193,21 +193,21 @@ def _restrained(a: Assembled) -> None:
     """Refuse a rigid-body motion that no spring and no contact resists (x with K x = 0 and w_j.x = 0)."""
     n = a.M.shape[0]
     scale = max(np.abs(a.K).max(initial=0.0), 1.0)
-    null = linear.null_space(np.vstack([a.K / scale, a.W]), n)
+    null = linear_modes.null_space(np.vstack([a.K / scale, a.W]), n)
     if null.shape[1]:
         free = ", ".join(name for name, v in zip(a.dof_names, np.abs(null).max(axis=1), strict=True) if v > 1e-9)
         raise ValueError(f"structure: unrestrained rigid-body motion of {free} (no spring or contact holds it)")
 
 
 def stuck_matrices(a: Assembled) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(N, M_r, K_r): the linear structure with every contact stuck (spec.linear.stuck_matrices)."""
-    return linear.stuck_matrices(a.M, a.K, a.W, a.kt)
+    """(N, M_r, K_r): the linear structure with every contact stuck (spec.natural_frequencies.stuck_matrices)."""
+    return linear_modes.stuck_matrices(a.M, a.K, a.W, a.kt)
 
 
 def natural_frequencies(a: Assembled, contacts: str) -> np.ndarray:
     """The linear structure's natural angular frequencies, ascending: contacts "free" (no friction) or
-    "stuck" (rigid contacts as constraints, Jenkins contacts as their springs; spec.linear)."""
-    return linear.natural_frequencies(a.M, a.K, a.W, a.kt, contacts)
+    "stuck" (rigid contacts as constraints, Jenkins contacts as their springs; spec.natural_frequencies)."""
+    return linear_modes.natural_frequencies(a.M, a.K, a.W, a.kt, contacts)
 
 
 def rest_state(a: Assembled) -> np.ndarray:
