@@ -1359,10 +1359,7 @@ CASES = [
                     words=("unknown setting 'starts' for a structure",)),
     Case("structure: validate refuses as run does", _structure(("damper: 0.1}", "damper: 0}")),
          args=("validate", "{spec}"), words=("spec.yaml:3:32: structure.masses.damper: a mass must be > 0",)),
-    # a structure cube: audited against its own table; the commands that read 1-DoF cubes refuse it
-    *(Case(f"structure: {command} a structure cube", SMALL_STRUCTURE, args=(command, "{d}/c.h5"), setup=hc.sound,
-           words=(f"c.h5 is a structure cube (several masses and contacts): fsweep {command} reads the 1-DoF cubes",),
-           absent=("c.png",)) for command in ("check", "plot")),
+    # a structure cube: audited against its own table (check and plot read it: tests/test_structure_commands.py)
     Case("structure: info on a regime code no run writes", SMALL_STRUCTURE, args=("info", "{d}/c.h5"),
          setup=hc.value("regime", (0, 1, 1), 9),
          words=("regime: 1 of 64 values are not valid regime codes (e.g. 9 at friction_scale=0.25, frequency=0.6, "
