@@ -10,13 +10,20 @@ that starts at zero):
 - a stuck Jenkins slider whose force reaches +-mus slips that way; where mus > mu the massless slider
   unloads at once to +-mu (p jumps), dissipating (mus^2 - mu^2) / (2 kt);
 - a rigid contact that stops, or whose constraint force reaches +-mus, is resolved with every rigid
-  contact at zero relative velocity (stuck ones, and slipping ones within stop_tol of zero) together:
-  the present statuses with the switching contact's change are kept where they are consistent
-  (below); otherwise the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in the issue's tests), the first
-  consistent one with the most stuck contacts, contacts in lexical order: every stuck force within its
-  static band |lambda_j| <= mus_j, every released contact accelerating in its slip direction
-  (sig u'' > 0, under kinetic friction), and a contact breaking away slips. Their relative velocities are
-  then set to zero exactly (an M^-1-weighted projection, a change at rounding level).
+  contact at zero relative velocity (Z: stuck ones, and slipping ones within stop_tol of zero) together.
+  Their relative velocities are first set to zero exactly (an M^-1-weighted projection, a change at
+  rounding level); then the present statuses with the switching contact's change are kept where they
+  are consistent (below); otherwise the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in
+  the issue's tests), the first consistent one with the most stuck contacts, contacts in lexical order.
+  The rule (one for several contacts changing at the same instant): in the trial mode every stuck force
+  stays within its static band (mus_j - |lambda_j| >= 0, and where that is zero to rounding it moves
+  inwards), every released contact accelerates in its slip direction (sig u' grows from zero, under
+  kinetic friction), and a contact breaking away slips; each judged by its first derivative that is not
+  zero to rounding (roots.at_start, the test first_root applies at the mode's start, so the chosen mode
+  does not switch again at once). With static = kinetic friction a break-away has no jump in force
+  (u'' = 0 there): two contacts reaching their bands together (a symmetric structure) break away
+  together, told by the third derivative and the forces' rates. Where no assignment is consistent, the
+  least violating one.
 
 Monodromy (jac): J = dz(t)/dz_dyn(0) is carried as J <- exp(A s) J on each piece and J <- S J at each
 switch, S = R + (f+ - R f-) c^T / (c . f-) (R: the switch's reset, linear in z; c: the event's gradient;
@@ -54,7 +61,7 @@ from friction_sweep.kernels.structure.flow import (
     solve_small,
     taylor_state,
 )
-from friction_sweep.kernels.structure.roots import first_root
+from friction_sweep.kernels.structure.roots import ZERO_RTOL, at_start, first_root
 
 _GX, _GW = np.polynomial.legendre.leggauss(8)
 GAUSS_X = 0.5 * (_GX + 1.0)
@@ -174,33 +181,71 @@ def _project(z, Z, nz, Minv, W, cp, omega, R):
 
 
 @jit
+def _leaves(c, z, A, dk, at_zero):
+    """How far g = c . z(t) in mode A misses staying >= 0 from z (0: it stays; the same test as first_root's
+    at a mode's start, roots.at_start, so a chosen mode never fires at once): g > 0 beyond rounding, or
+    zero to rounding (at_zero: zero by construction) and its first derivative not zero to rounding
+    positive. Otherwise -g where it is negative, else the tiny 1e-300 (an outward derivative: the contact
+    would switch again at once)."""
+    N = z.shape[0]
+    ck = c.copy()
+    d = np.empty(dk.shape[0])
+    dmag = np.empty(dk.shape[0])
+    for k in range(dk.shape[0]):
+        if k > 0:
+            ck = ck @ A
+        acc = 0.0
+        mag = 0.0
+        for i in range(N):
+            acc += ck[i] * z[i]
+            mag += abs(ck[i] * z[i])
+        d[k] = acc
+        dmag[k] = mag
+    if at_zero:
+        d[0] = 0.0
+    elif abs(d[0]) > ZERO_RTOL * dmag[0]:
+        return 0.0 if d[0] > 0.0 else -d[0]
+    return 0.0 if at_start(d, dmag) else 1e-300
+
+
+@jit
 def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L):
-    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): stuck forces
-    beyond their static bands, released contacts not accelerating in their slip direction."""
+    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): a stuck force
+    beyond its static band or on its edge moving out, a released contact (at zero relative velocity) not
+    accelerating in its slip direction; judged by the first derivative not zero to rounding, so that two
+    contacts whose forces reach their bands together (static = kinetic friction: no jump in force, u'' = 0
+    at the break-away) are told by the next derivatives."""
     n = W.shape[1]
     N = z.shape[0]
     if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
         return np.inf
+    c = np.empty(N)
+    dk = np.empty(4)
     bad = 0.0
     for a in range(nz):
         j = Z[a]
         if trial[j] == STUCK:
-            bad += max(0.0, abs(L[j] @ z) - cp[j, CP_MUS])
+            for e in (1.0, -1.0):
+                for k in range(N):
+                    c[k] = -e * L[j, k]
+                c[N - 1] += cp[j, CP_MUS]
+                bad += _leaves(c, z, A, dk, False)
         else:
-            acc = cp[j, CP_EY] * omega * omega * z[N - 3]
+            c[:] = 0.0
             for i in range(n):
-                acc += W[j, i] * (A[n + i] @ z)
-            bad += max(0.0, -trial[j] * acc)
-            if trial[j] * acc <= 0.0:
-                bad += 1e-300
+                c[n + i] = trial[j] * W[j, i]
+            c[N - 2] = trial[j] * cp[j, CP_EY] * omega
+            # g = sig u' is zero here (resolve projected it); the slip holds where it grows
+            bad += _leaves(c, z, A, dk, True)
     return bad
 
 
 @jit
 def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
     """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way;
-    j0 < 0: the start), projecting z and filling R; False where the projection fails. First the present
-    statuses with j0's switch (stuck, or slipping sig0), if consistent; else the enumeration of the module
+    j0 < 0: the start), projecting z and filling R; False where the projection fails. The relative
+    velocities of the contacts at zero (Z) are projected to zero first; then the present statuses with
+    j0's switch (stuck, or slipping sig0) are kept if consistent; else the enumeration of the module
     docstring (each trial costs one unit of budget)."""
     m = W.shape[0]
     n = W.shape[1]
@@ -218,12 +263,14 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
         if j == j0 or st[j] == STUCK or abs(rel_velocity(z, W, cp, j, n, N, omega)) <= vtol * vscale:
             Z[nz] = j
             nz += 1
+    if not _project(z, Z, nz, Minv, W, cp, omega, R):
+        return False
     trial = st.copy()
     if j0 >= 0:
         trial[j0] = STUCK if sig0 == 0 else sig0
         if _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L) == 0.0:
             st[:] = trial
-            return _project(z, Z, nz, Minv, W, cp, omega, R)
+            return True
     best = st.copy()
     best_bad = np.inf
     found = False
@@ -256,7 +303,7 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
         if found or budget[0] < 0:
             break
     st[:] = best
-    return _project(z, Z, nz, Minv, W, cp, omega, R)
+    return True
 
 
 @jit
