@@ -33,9 +33,12 @@ Measurement (meas): the first harmonic of every x_i by 8-point Gauss-Legendre qu
 (exact to rounding: the integrand's Taylor series on a step falls like 2^-k / k!), max |x_i| at the
 nodes and at every zero of v_i (refined on its Taylor polynomial), and per contact its stops (rigid:
 slip to stick; Jenkins: a stick during which the relative velocity returns to zero, the contact then
-holding the mass, as the 1-DoF Jenkins kernel labels it, without its creep rule yet), slips (Jenkins:
-slider slip phases), stuck time (Jenkins: the time held) and friction energy (mu x sliding distance, plus
-the unloading loss above).
+holding the mass, as the 1-DoF Jenkins kernel labels it, with its creep rule: a slip begun from a held
+stick during which the load never drives the contact, sig u'' <= 0 throughout (_driven_step; the mass
+coasts on the contact spring's swing), leaves the contact holding the mass, held from the next stick's
+start and no new stop), slips (Jenkins: slider slip phases), stuck time (Jenkins: the time held) and
+friction energy (mu x sliding distance, plus the unloading loss above). The label state (the columns outside MC_SUMS)
+carries over a period's end: steady._measure sets it by one pass over the orbit before it measures.
 """
 
 from __future__ import annotations
@@ -76,8 +79,15 @@ _QUICK_MARGIN = 1.25
 #: advance's status
 OK, BUDGET, FAILED = 0, 1, 2
 #: per-contact measurement columns
-MC_STOPS, MC_SLIPS, MC_STUCK, MC_ENERGY, MC_HELD, MC_SIGN = 0, 1, 2, 3, 4, 5
-MC_SIZE = 6
+MC_STOPS, MC_SLIPS, MC_STUCK, MC_ENERGY, MC_HELD, MC_SIGN, MC_ANCHOR = 0, 1, 2, 3, 4, 5, 6
+MC_SIZE = 7
+#: the columns that are sums over the measured periods (the others, MC_HELD, MC_SIGN, MC_ANCHOR, are a Jenkins
+#: contact's label state, which carries across a period's end)
+MC_SUMS = (MC_STOPS, MC_SLIPS, MC_STUCK, MC_ENERGY)
+#: samples of u'' per step when judging whether the load drives a Jenkins slip (_driven_step), and the
+#: golden-section iterations refining the largest (jenkins.DRIVEN_REFINE's rule)
+_DRIVEN_SAMPLES = 16
+_DRIVEN_REFINE = 40
 
 
 @jit
@@ -367,6 +377,54 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F)
 
 
 @jit
+def _driven_step(zk, s, j, sig, n, W, cp, N, omega):
+    """Whether the load drives contact j's slip (direction sig) somewhere on a step (Taylor coefficients
+    zk, length s): sig u'' > 0, the relative acceleration under kinetic friction (jenkins._driven's test,
+    sig q'' > 0, for a structure). u'' is sampled _DRIVEN_SAMPLES times and its largest sample's
+    bracket refined by golden section."""
+    K1 = zk.shape[0]
+    a = np.empty(K1)  # Taylor coefficients of u'
+    for k in range(K1):
+        a[k] = cp[j, CP_EY] * omega * zk[k, N - 2] + W[j] @ zk[k, n:2 * n]
+    h = s / _DRIVEN_SAMPLES
+    best = -np.inf
+    jbest = 0
+    for q in range(_DRIVEN_SAMPLES + 1):
+        f = sig * _u2(a, q * h)
+        if f > 0.0:
+            return True
+        if f > best:
+            best = f
+            jbest = q
+    lo = max(0.0, (jbest - 1) * h)
+    hi = min(s, (jbest + 1) * h)
+    g = (np.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(_DRIVEN_REFINE):
+        x1 = hi - g * (hi - lo)
+        x2 = lo + g * (hi - lo)
+        f1 = sig * _u2(a, x1)
+        f2 = sig * _u2(a, x2)
+        if f1 > 0.0 or f2 > 0.0:
+            return True
+        if f1 >= f2:
+            hi = x2
+        else:
+            lo = x1
+    return False
+
+
+@jit
+def _u2(a, x):
+    """u''(x) from u''s Taylor coefficients a (u'(x) = sum_k a[k] x^k / k!)."""
+    acc = 0.0
+    c = 1.0
+    for k in range(1, a.shape[0]):
+        acc += c * a[k]
+        c *= x / k
+    return acc
+
+
+@jit
 def _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc):
     """Add one step (Taylor coefficients zk, length s) to the per-contact measures mc: stuck time,
     sliding energy, a held Jenkins stick's reversal (its stop)."""
@@ -405,6 +463,8 @@ def _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc):
             if cp[j, CP_KT] > 0.0:
                 slot = 2 * n + int(cp[j, CP_SLOT])
                 mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(zend[slot] - z0[slot])
+                if mc[j, MC_ANCHOR] == 1.0 and _driven_step(zk, s, j, st[j], n, W, cp, N, omega):
+                    mc[j, MC_ANCHOR] = 0.0
             else:
                 mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(rel_position(zend, W, cp, j, n, N)
                                                        - rel_position(z0, W, cp, j, n, N))
@@ -522,11 +582,22 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
         if old != STUCK:
             if cp[j, CP_KT] > 0.0:
                 st[j] = STUCK
-                R[:, :] = np.eye(N)
+                # its relative velocity set to zero exactly (as a rigid stick's): the root leaves a rounding
+                # residue that the stuck slider's first derivative kt u' would read as a release at once
+                Zj = np.full(1, j)
+                if not _project(z, Zj, 1, Minv, W, cp, omega, R):
+                    return FAILED
                 if meas:
-                    # right after the stick u' has the sign opposite to the slip's (it decelerated to zero)
-                    mc[j, MC_HELD] = 0.0
-                    mc[j, MC_SIGN] = -old
+                    if mc[j, MC_ANCHOR] == 1.0:
+                        # a creep: a slip from a held stick that the load never drove (the mass coasted
+                        # on the contact spring's swing); the contact still holds the mass, no new stop
+                        mc[j, MC_HELD] = 1.0
+                    else:
+                        # right after the stick u' has the sign opposite to the slip's (it decelerated
+                        # to zero); a stop once it returns to zero
+                        mc[j, MC_HELD] = 0.0
+                        mc[j, MC_SIGN] = -old
+                    mc[j, MC_ANCHOR] = 0.0
             else:
                 if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
                     return FAILED
@@ -545,6 +616,8 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 z[:] = R @ z
                 if meas:
                     mc[j, MC_SLIPS] += 1.0
+                    # a slip from a held stick is a creep until the load drives it (_driven_step)
+                    mc[j, MC_ANCHOR] = mc[j, MC_HELD]
                     mus = cp[j, CP_MUS]
                     mu = cp[j, CP_MU]
                     mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
