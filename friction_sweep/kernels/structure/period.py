@@ -6,7 +6,9 @@ each step every armed event function is checked by roots.first_root, and the ear
 
 Switches (the mode decision is taken from the forces, never by re-arming a root finder on a function
 that starts at zero):
-- a slipping Jenkins slider whose relative velocity reaches zero sticks (its force is continuous there);
+- a slipping Jenkins slider whose relative velocity reaches zero sticks (its force is continuous there; the
+  relative velocity is then set to zero exactly, by the projection below, so that the stuck slider's force
+  rate kt u' does not read the root's rounding residue as a release);
 - a stuck Jenkins slider whose force reaches +-mus slips that way; where mus > mu the massless slider
   unloads at once to +-mu (p jumps), dissipating (mus^2 - mu^2) / (2 kt);
 - a rigid contact that stops, or whose constraint force reaches +-mus, is resolved with every rigid
