@@ -87,15 +87,25 @@ def test_one_mass_static_friction_reproduces_the_1dof_kernels():
     _compare("base", ratio=1.3, betas=(0.3, 0.6, 0.9))
 
 
-def test_one_mass_jenkins_reproduces_the_1dof_kernels_in_transmissibility():
-    r = np.array([0.3, 0.6, 0.9, 1.3, 2.0])
+@pytest.mark.parametrize("scene", ["force", "base", "joined"])
+def test_one_mass_jenkins_reproduces_the_1dof_kernels(scene):
+    """Transmissibility, and exactly regime, stops and slips: the 1-DoF Jenkins kernel's labels, its creep
+    rule included (stick-slip at r = 0.3, where the held mass creeps several times per stop)."""
+    from friction_sweep.kernels.jenkins_steady import JOUT_SLIPS
+
+    r = np.array([0.3, 0.5, 0.6, 0.8, 0.9, 1.3, 1.5, 2.0])
     for beta in (0.2, 0.6):
-        a = assemble(one_mass("base", 1.0, kappa=10.0))
+        a = assemble(one_mass(scene, 1.0, kappa=10.0))
         got = solve_points(a, r, np.full(r.size, beta))
-        ref = event.solve_flat("base", r, np.full(r.size, beta), {"contact_stiffness": 10.0})
+        ref = event.solve_flat("base" if scene == "force" else scene, r, np.full(r.size, beta),
+                               {"contact_stiffness": 10.0})
         ok = ref[:, one_dof.OUT_STEADY_STATE] == SteadyState.CONVERGED
         assert ok.all()
         np.testing.assert_allclose(got["amplitude"][:, 0], ref[:, one_dof.OUT_TRANSMISSIBILITY], atol=1e-10)
+        np.testing.assert_array_equal(got["regime"][:, 0], ref[:, one_dof.OUT_REGIME].astype(np.int8))
+        np.testing.assert_array_equal(got["stops_per_period"][:, 0], ref[:, one_dof.OUT_STOPS_PER_PERIOD])
+        np.testing.assert_array_equal(got["slips_per_period"][:, 0], ref[:, JOUT_SLIPS])
+    assert Regime.STICK_SLIP in got["regime"] or scene == "joined"
 
 
 def chain(n: int, contacts: int = 0, kt: float | None = None, damping: float = 0.02, friction: float = 0.3,

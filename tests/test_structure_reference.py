@@ -78,25 +78,6 @@ STRUCTURES = {
                        contact("c7", "m7", "m6", 0.05)], {"m0": 1.0}),
 }
 
-#: engine failures open at c30-ref's hard stop (c30-engine 73b5a7b; /work/brief/c30-notes.md 18:2x): the symmetric
-#: structure's moving points come back NaN; a Jenkins contact's regime reads stick_slip where it never stops
-ENGINE_NAN = pytest.mark.xfail(strict=True, reason="engine: NaN at a symmetric structure's moving points")
-ENGINE_LABEL = pytest.mark.xfail(strict=True, reason="engine: Jenkins contact regime stick_slip without stops")
-OPEN = {("symmetric", 1.2, 2.0): ENGINE_NAN, ("symmetric", 0.9, 1.0): ENGINE_NAN,
-        ("symmetric", 2.0, 1.0): ENGINE_NAN, ("jenkins", 0.8, 1.0): ENGINE_LABEL, ("jenkins", 1.5, 0.5): ENGINE_LABEL}
-
-
-def marked(points, labels_only=False):
-    """The points with the open engine failures marked (labels_only: only the NaN ones fail the energy)."""
-    out = []
-    for p in points:
-        mark = OPEN.get(p) if isinstance(p, tuple) else None
-        if mark is not None and not (labels_only and mark is ENGINE_LABEL):
-            p = pytest.param(p, marks=mark)
-        out.append(p)
-    return out
-
-
 #: (structure, angular frequency, friction_scale): every regime per structure where it has one
 POINTS = [
     ("chain", 0.4, 1.0), ("chain", 0.8, 1.0), ("chain", 1.2, 0.1), ("chain", 0.8, 5.0), ("chain", 2.0, 5.0),
@@ -118,10 +99,6 @@ ADVERSARIAL = [
     ("chain", 2.0, 0.411572265625), ("chain", 2.0, 0.4113525390625),
     pytest.param(("long", 0.5, 1.0), marks=pytest.mark.slow),
 ]
-#: open at the last stop (CI trial on the merged main): the engine labels the second of the eight-mass
-#: structure's three contacts stick_slip where the reference finds it continuous (amplitudes not reached)
-LONG_LABEL_BUG = pytest.param(("long", 0.5, 1.0), marks=[pytest.mark.slow, pytest.mark.xfail(
-    strict=True, reason="engine: contact 2 of 'long' at w=0.5 labelled stick_slip, the reference says continuous")])
 
 
 @functools.cache
@@ -243,7 +220,7 @@ def _id(point):
     return "-".join(map(str, point))
 
 
-@pytest.mark.parametrize("point", marked(POINTS) + ADVERSARIAL[:-1] + [LONG_LABEL_BUG], ids=_id)
+@pytest.mark.parametrize("point", POINTS + ADVERSARIAL, ids=_id)
 def test_engine_matches_the_reference(point):
     name, w, scale = point
     auto, _, ref = reference(name, w, scale)
@@ -260,7 +237,7 @@ def test_engine_matches_the_reference(point):
     np.testing.assert_allclose(got["friction_energy"], ref["friction_energy"], rtol=1e-8, atol=1e-12 * ref["work"])
 
 
-@pytest.mark.parametrize("point", marked(POINTS, labels_only=True) + ADVERSARIAL, ids=_id)
+@pytest.mark.parametrize("point", POINTS + ADVERSARIAL, ids=_id)
 def test_engine_energy_balances_per_period(point):
     """The engine's friction energy plus the viscous loss is the forcing's work, per period (the loss and the
     work by quadrature of the reference orbit; for force excitation the work also from the engine's own first
@@ -276,10 +253,7 @@ def test_engine_energy_balances_per_period(point):
 
 
 FLOQUET = [("chain", 1.2, 0.1), ("between", 1.2, 1.0), ("three", 2.0, 1.0), ("chain", 0.8, 1.0),
-           ("base", 0.4, 0.1),
-           pytest.param(("jenkins", 0.8, 1.0), marks=pytest.mark.xfail(
-               strict=True, reason="engine: floquet_multiplier NaN with a Jenkins contact (period map smooth there: "
-                                   "0.79495 by central differences)"))]
+           ("base", 0.4, 0.1), ("jenkins", 0.8, 1.0)]
 
 
 @pytest.mark.parametrize("point", FLOQUET, ids=_id)

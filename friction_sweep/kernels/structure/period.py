@@ -6,17 +6,26 @@ each step every armed event function is checked by roots.first_root, and the ear
 
 Switches (the mode decision is taken from the forces, never by re-arming a root finder on a function
 that starts at zero):
-- a slipping Jenkins slider whose relative velocity reaches zero sticks (its force is continuous there);
+- a slipping Jenkins slider whose relative velocity reaches zero sticks (its force is continuous there; the
+  relative velocity is then set to zero exactly, by the projection below, so that the stuck slider's force
+  rate kt u' does not read the root's rounding residue as a release);
 - a stuck Jenkins slider whose force reaches +-mus slips that way; where mus > mu the massless slider
   unloads at once to +-mu (p jumps), dissipating (mus^2 - mu^2) / (2 kt);
 - a rigid contact that stops, or whose constraint force reaches +-mus, is resolved with every rigid
-  contact at zero relative velocity (stuck ones, and slipping ones within stop_tol of zero) together:
-  the present statuses with the switching contact's change are kept where they are consistent
-  (below); otherwise the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in the issue's tests), the first
-  consistent one with the most stuck contacts, contacts in lexical order: every stuck force within its
-  static band |lambda_j| <= mus_j, every released contact accelerating in its slip direction
-  (sig u'' > 0, under kinetic friction), and a contact breaking away slips. Their relative velocities are
-  then set to zero exactly (an M^-1-weighted projection, a change at rounding level).
+  contact at zero relative velocity (Z: stuck ones, and slipping ones within stop_tol of zero) together.
+  Their relative velocities are first set to zero exactly (an M^-1-weighted projection, a change at
+  rounding level); then the present statuses with the switching contact's change are kept where they
+  are consistent (below); otherwise the stick set is chosen by enumeration (3^|Z| assignments, m <= 8 in
+  the issue's tests), the first consistent one with the most stuck contacts, contacts in lexical order.
+  The rule (one for several contacts changing at the same instant): in the trial mode every stuck force
+  stays within its static band (mus_j - |lambda_j| >= 0, and where that is zero to rounding it moves
+  inwards), every released contact accelerates in its slip direction (sig u' grows from zero, under
+  kinetic friction), and a contact breaking away slips; each judged by its first derivative that is not
+  zero to rounding (roots.at_start, the test first_root applies at the mode's start, so the chosen mode
+  does not switch again at once). With static = kinetic friction a break-away has no jump in force
+  (u'' = 0 there): two contacts reaching their bands together (a symmetric structure) break away
+  together, told by the third derivative and the forces' rates. Where no assignment is consistent, the
+  least violating one.
 
 Monodromy (jac): J = dz(t)/dz_dyn(0) is carried as J <- exp(A s) J on each piece and J <- S J at each
 switch, S = R + (f+ - R f-) c^T / (c . f-) (R: the switch's reset, linear in z; c: the event's gradient;
@@ -26,9 +35,12 @@ Measurement (meas): the first harmonic of every x_i by 8-point Gauss-Legendre qu
 (exact to rounding: the integrand's Taylor series on a step falls like 2^-k / k!), max |x_i| at the
 nodes and at every zero of v_i (refined on its Taylor polynomial), and per contact its stops (rigid:
 slip to stick; Jenkins: a stick during which the relative velocity returns to zero, the contact then
-holding the mass, as the 1-DoF Jenkins kernel labels it, without its creep rule yet), slips (Jenkins:
-slider slip phases), stuck time (Jenkins: the time held) and friction energy (mu x sliding distance, plus
-the unloading loss above).
+holding the mass, as the 1-DoF Jenkins kernel labels it, with its creep rule: a slip begun from a held
+stick during which the load never drives the contact, sig u'' <= 0 throughout (_driven_step; the mass
+coasts on the contact spring's swing), leaves the contact holding the mass, held from the next stick's
+start and no new stop), slips (Jenkins: slider slip phases), stuck time (Jenkins: the time held) and
+friction energy (mu x sliding distance, plus the unloading loss above). The label state (the columns outside MC_SUMS)
+carries over a period's end: steady._measure sets it by one pass over the orbit before it measures.
 """
 
 from __future__ import annotations
@@ -54,7 +66,7 @@ from friction_sweep.kernels.structure.flow import (
     solve_small,
     taylor_state,
 )
-from friction_sweep.kernels.structure.roots import first_root
+from friction_sweep.kernels.structure.roots import ZERO_RTOL, at_start, first_root
 
 _GX, _GW = np.polynomial.legendre.leggauss(8)
 GAUSS_X = 0.5 * (_GX + 1.0)
@@ -69,8 +81,15 @@ _QUICK_MARGIN = 1.25
 #: advance's status
 OK, BUDGET, FAILED = 0, 1, 2
 #: per-contact measurement columns
-MC_STOPS, MC_SLIPS, MC_STUCK, MC_ENERGY, MC_HELD, MC_SIGN = 0, 1, 2, 3, 4, 5
-MC_SIZE = 6
+MC_STOPS, MC_SLIPS, MC_STUCK, MC_ENERGY, MC_HELD, MC_SIGN, MC_ANCHOR = 0, 1, 2, 3, 4, 5, 6
+MC_SIZE = 7
+#: the columns that are sums over the measured periods (the others, MC_HELD, MC_SIGN, MC_ANCHOR, are a Jenkins
+#: contact's label state, which carries across a period's end)
+MC_SUMS = (MC_STOPS, MC_SLIPS, MC_STUCK, MC_ENERGY)
+#: samples of u'' per step when judging whether the load drives a Jenkins slip (_driven_step), and the
+#: golden-section iterations refining the largest (jenkins.DRIVEN_REFINE's rule)
+_DRIVEN_SAMPLES = 16
+_DRIVEN_REFINE = 40
 
 
 @jit
@@ -174,33 +193,71 @@ def _project(z, Z, nz, Minv, W, cp, omega, R):
 
 
 @jit
+def _leaves(c, z, A, dk, at_zero):
+    """How far g = c . z(t) in mode A misses staying >= 0 from z (0: it stays; the same test as first_root's
+    at a mode's start, roots.at_start, so a chosen mode never fires at once): g > 0 beyond rounding, or
+    zero to rounding (at_zero: zero by construction) and its first derivative not zero to rounding
+    positive. Otherwise -g where it is negative, else the tiny 1e-300 (an outward derivative: the contact
+    would switch again at once)."""
+    N = z.shape[0]
+    ck = c.copy()
+    d = np.empty(dk.shape[0])
+    dmag = np.empty(dk.shape[0])
+    for k in range(dk.shape[0]):
+        if k > 0:
+            ck = ck @ A
+        acc = 0.0
+        mag = 0.0
+        for i in range(N):
+            acc += ck[i] * z[i]
+            mag += abs(ck[i] * z[i])
+        d[k] = acc
+        dmag[k] = mag
+    if at_zero:
+        d[0] = 0.0
+    elif abs(d[0]) > ZERO_RTOL * dmag[0]:
+        return 0.0 if d[0] > 0.0 else -d[0]
+    return 0.0 if at_start(d, dmag) else 1e-300
+
+
+@jit
 def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L):
-    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): stuck forces
-    beyond their static bands, released contacts not accelerating in their slip direction."""
+    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): a stuck force
+    beyond its static band or on its edge moving out, a released contact (at zero relative velocity) not
+    accelerating in its slip direction; judged by the first derivative not zero to rounding, so that two
+    contacts whose forces reach their bands together (static = kinetic friction: no jump in force, u'' = 0
+    at the break-away) are told by the next derivatives."""
     n = W.shape[1]
     N = z.shape[0]
     if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
         return np.inf
+    c = np.empty(N)
+    dk = np.empty(4)
     bad = 0.0
     for a in range(nz):
         j = Z[a]
         if trial[j] == STUCK:
-            bad += max(0.0, abs(L[j] @ z) - cp[j, CP_MUS])
+            for e in (1.0, -1.0):
+                for k in range(N):
+                    c[k] = -e * L[j, k]
+                c[N - 1] += cp[j, CP_MUS]
+                bad += _leaves(c, z, A, dk, False)
         else:
-            acc = cp[j, CP_EY] * omega * omega * z[N - 3]
+            c[:] = 0.0
             for i in range(n):
-                acc += W[j, i] * (A[n + i] @ z)
-            bad += max(0.0, -trial[j] * acc)
-            if trial[j] * acc <= 0.0:
-                bad += 1e-300
+                c[n + i] = trial[j] * W[j, i]
+            c[N - 2] = trial[j] * cp[j, CP_EY] * omega
+            # g = sig u' is zero here (resolve projected it); the slip holds where it grows
+            bad += _leaves(c, z, A, dk, True)
     return bad
 
 
 @jit
 def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
     """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way;
-    j0 < 0: the start), projecting z and filling R; False where the projection fails. First the present
-    statuses with j0's switch (stuck, or slipping sig0), if consistent; else the enumeration of the module
+    j0 < 0: the start), projecting z and filling R; False where the projection fails. The relative
+    velocities of the contacts at zero (Z) are projected to zero first; then the present statuses with
+    j0's switch (stuck, or slipping sig0) are kept if consistent; else the enumeration of the module
     docstring (each trial costs one unit of budget)."""
     m = W.shape[0]
     n = W.shape[1]
@@ -218,12 +275,14 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
         if j == j0 or st[j] == STUCK or abs(rel_velocity(z, W, cp, j, n, N, omega)) <= vtol * vscale:
             Z[nz] = j
             nz += 1
+    if not _project(z, Z, nz, Minv, W, cp, omega, R):
+        return False
     trial = st.copy()
     if j0 >= 0:
         trial[j0] = STUCK if sig0 == 0 else sig0
         if _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L) == 0.0:
             st[:] = trial
-            return _project(z, Z, nz, Minv, W, cp, omega, R)
+            return True
     best = st.copy()
     best_bad = np.inf
     found = False
@@ -256,7 +315,7 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
         if found or budget[0] < 0:
             break
     st[:] = best
-    return _project(z, Z, nz, Minv, W, cp, omega, R)
+    return True
 
 
 @jit
@@ -320,6 +379,54 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F)
 
 
 @jit
+def _driven_step(zk, s, j, sig, n, W, cp, N, omega):
+    """Whether the load drives contact j's slip (direction sig) somewhere on a step (Taylor coefficients
+    zk, length s): sig u'' > 0, the relative acceleration under kinetic friction (jenkins._driven's test,
+    sig q'' > 0, for a structure). u'' is sampled _DRIVEN_SAMPLES times and its largest sample's
+    bracket refined by golden section."""
+    K1 = zk.shape[0]
+    a = np.empty(K1)  # Taylor coefficients of u'
+    for k in range(K1):
+        a[k] = cp[j, CP_EY] * omega * zk[k, N - 2] + W[j] @ zk[k, n:2 * n]
+    h = s / _DRIVEN_SAMPLES
+    best = -np.inf
+    jbest = 0
+    for q in range(_DRIVEN_SAMPLES + 1):
+        f = sig * _u2(a, q * h)
+        if f > 0.0:
+            return True
+        if f > best:
+            best = f
+            jbest = q
+    lo = max(0.0, (jbest - 1) * h)
+    hi = min(s, (jbest + 1) * h)
+    g = (np.sqrt(5.0) - 1.0) / 2.0
+    for _ in range(_DRIVEN_REFINE):
+        x1 = hi - g * (hi - lo)
+        x2 = lo + g * (hi - lo)
+        f1 = sig * _u2(a, x1)
+        f2 = sig * _u2(a, x2)
+        if f1 > 0.0 or f2 > 0.0:
+            return True
+        if f1 >= f2:
+            hi = x2
+        else:
+            lo = x1
+    return False
+
+
+@jit
+def _u2(a, x):
+    """u''(x) from u''s Taylor coefficients a (u'(x) = sum_k a[k] x^k / k!)."""
+    acc = 0.0
+    c = 1.0
+    for k in range(1, a.shape[0]):
+        acc += c * a[k]
+        c *= x / k
+    return acc
+
+
+@jit
 def _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc):
     """Add one step (Taylor coefficients zk, length s) to the per-contact measures mc: stuck time,
     sliding energy, a held Jenkins stick's reversal (its stop)."""
@@ -358,6 +465,8 @@ def _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc):
             if cp[j, CP_KT] > 0.0:
                 slot = 2 * n + int(cp[j, CP_SLOT])
                 mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(zend[slot] - z0[slot])
+                if mc[j, MC_ANCHOR] == 1.0 and _driven_step(zk, s, j, st[j], n, W, cp, N, omega):
+                    mc[j, MC_ANCHOR] = 0.0
             else:
                 mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(rel_position(zend, W, cp, j, n, N)
                                                        - rel_position(z0, W, cp, j, n, N))
@@ -475,11 +584,22 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
         if old != STUCK:
             if cp[j, CP_KT] > 0.0:
                 st[j] = STUCK
-                R[:, :] = np.eye(N)
+                # its relative velocity set to zero exactly (as a rigid stick's): the root leaves a rounding
+                # residue that the stuck slider's first derivative kt u' would read as a release at once
+                Zj = np.full(1, j)
+                if not _project(z, Zj, 1, Minv, W, cp, omega, R):
+                    return FAILED
                 if meas:
-                    # right after the stick u' has the sign opposite to the slip's (it decelerated to zero)
-                    mc[j, MC_HELD] = 0.0
-                    mc[j, MC_SIGN] = -old
+                    if mc[j, MC_ANCHOR] == 1.0:
+                        # a creep: a slip from a held stick that the load never drove (the mass coasted
+                        # on the contact spring's swing); the contact still holds the mass, no new stop
+                        mc[j, MC_HELD] = 1.0
+                    else:
+                        # right after the stick u' has the sign opposite to the slip's (it decelerated
+                        # to zero); a stop once it returns to zero
+                        mc[j, MC_HELD] = 0.0
+                        mc[j, MC_SIGN] = -old
+                    mc[j, MC_ANCHOR] = 0.0
             else:
                 if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
                     return FAILED
@@ -498,6 +618,8 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 z[:] = R @ z
                 if meas:
                     mc[j, MC_SLIPS] += 1.0
+                    # a slip from a held stick is a creep until the load drives it (_driven_step)
+                    mc[j, MC_ANCHOR] = mc[j, MC_HELD]
                     mus = cp[j, CP_MUS]
                     mu = cp[j, CP_MU]
                     mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)

@@ -38,6 +38,7 @@ from friction_sweep.kernels.structure.period import (
     MC_SLIPS,
     MC_STOPS,
     MC_STUCK,
+    MC_SUMS,
     OK,
     advance,
     new_cache,
@@ -188,9 +189,23 @@ def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, 
     N = z.shape[0]
     Nd = N - 3
     pt = 3 * n + 4 * m
+    mc[:, :] = 0.0
+    jenkins = False
+    for j in range(m):
+        jenkins = jenkins or (cp[j, CP_KT] > 0.0 and st[j] != INACTIVE)
+    if jenkins:
+        # a Jenkins contact's labels depend on its label state at the section (a held stick or a creep
+        # begun before t = 0): the orbit's own, from one pass over it (jenkins_steady.shoot_jenkins's rule)
+        zm = z.copy()
+        stm = st.copy()
+        code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
+                        True, harm, xmax, mc)
+        if code != OK:
+            return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+        for col in MC_SUMS:
+            mc[:, col] = 0.0
     harm[:, :] = 0.0
     xmax[:] = 0.0
-    mc[:, :] = 0.0
     zm = z.copy()
     stm = st.copy()
     code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
