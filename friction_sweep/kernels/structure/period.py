@@ -70,6 +70,9 @@ CACHE = 16
 _QUICK = 5
 _QUICK_MARGIN = 1.25
 
+#: halvings of the node interval that brackets a zero of a velocity (the extreme of its displacement)
+_EXTREME_HALVINGS = 30
+
 #: advance's status
 OK, BUDGET, FAILED = 0, 1, 2
 #: per-contact measurement columns
@@ -80,8 +83,8 @@ MC_SIZE = 6
 @jit
 def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
-    Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, a state): the hot
-    loops allocate nothing."""
+    Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
+    Gauss nodes): the hot loops allocate nothing."""
     m1 = max(m, 1)
     return (np.full((CACHE, m1), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
             np.zeros((CACHE, m1, N)), np.zeros((CACHE, 2 * m1, N)),
@@ -90,7 +93,7 @@ def new_cache(n, m, N):
             np.empty((KT + 1, N)), np.empty(N), np.empty(KT + 1), np.empty(4), np.empty((N, N)),
             np.empty((N, N)), np.empty((m1, N)), np.empty((N, N - 3)), np.empty((N, N - 3)), np.empty((3, N)),
             np.empty(N),
-            np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty(N))
+            np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)))
 
 
 @jit
@@ -288,11 +291,15 @@ def _taylor_at(zk, col, s):
 
 
 @jit
-def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zt):
+def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq):
     """Add one step (Taylor coefficients zk, length s) to the measurement; harm[:, 2] and harm[:, 3] (first
-    rows) gather the excitation's work and the viscous dissipation (see energy_work); zt: a workspace."""
-    for q in range(GAUSS_X.shape[0]):
-        taylor_state(zk, GAUSS_X[q] * s, zt)
+    rows) gather the excitation's work and the viscous dissipation (see energy_work); zq: a workspace for
+    the state at the Gauss nodes and at s (the extremes' search reads its velocities there)."""
+    nq = GAUSS_X.shape[0]
+    for q in range(nq + 1):
+        taylor_state(zk, s if q == nq else GAUSS_X[q] * s, zq[q])
+    for q in range(nq):
+        zt = zq[q]
         wq = GAUSS_W[q] * s
         for i in range(n):
             harm[i, 0] += wq * zt[i] * zt[N - 3]
@@ -310,28 +317,30 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F,
                 vis += zt[n + i] * Cmat[i, k] * zt[n + k]
         harm[0, 2] += wq * pin
         harm[0, 3] += wq * vis
-    # extremes: at both ends and at every zero of v_i (sampled at the nodes, refined by bisection)
+    # extremes: at both ends and at every zero of v_i (sampled at the nodes, refined by bisection to
+    # 2^-_EXTREME_HALVINGS of the node interval: x is stationary there, so its value is then exact to
+    # rounding, the root's error entering squared)
     for i in range(n):
         prev_s = 0.0
         prev_v = zk[0, n + i]
         xmax[i] = max(xmax[i], abs(zk[0, i]))
-        for q in range(GAUSS_X.shape[0] + 1):
-            sq = s if q == GAUSS_X.shape[0] else GAUSS_X[q] * s
-            v = _taylor_at(zk, n + i, sq)
+        for q in range(nq + 1):
+            sq = s if q == nq else GAUSS_X[q] * s
+            v = zq[q, n + i]
             if (prev_v > 0.0 and v < 0.0) or (prev_v < 0.0 and v > 0.0):
                 lo = prev_s
                 hi = sq
-                for _ in range(60):
+                for _ in range(_EXTREME_HALVINGS):
                     mid = 0.5 * (lo + hi)
                     vm = _taylor_at(zk, n + i, mid)
                     if (vm > 0.0) == (prev_v > 0.0):
                         lo = mid
                     else:
                         hi = mid
-                xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, lo)))
+                xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, 0.5 * (lo + hi))))
             prev_v = v
             prev_s = sq
-        xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, s)))
+        xmax[i] = max(xmax[i], abs(zq[nq, i]))
     _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc)
 
 
@@ -398,7 +407,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
     Returns OK, BUDGET or FAILED."""
     c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
-    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zt = cache[10:]
+    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq = cache[10:]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -460,7 +469,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 if meas:
                     if not have_zk:
                         powers(A, z, zk)
-                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zt)
+                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
                 if jac:
                     if full:
                         _jac_step(E, J, Jtmp)
@@ -478,7 +487,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 powers(A, z, zk)
             taylor_state(zk, se, znew)
             if meas:
-                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zt)
+                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
             if jac:
                 expm_apply(A, se, J, Jtmp, Jtmp2)
             z[:] = znew
