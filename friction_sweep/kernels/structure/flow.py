@@ -126,7 +126,8 @@ def build_mode(st, Minv, K, C, W, F, cp, omega, A, L):
             L[j, slot] = -kt
         else:
             ns += 1
-    MF = Minv @ Fz
+    MF = np.empty((n, N))
+    matmul(Minv, Fz, MF)
     if ns > 0:
         idx = np.empty(ns, dtype=np.int64)
         c = 0
@@ -134,18 +135,38 @@ def build_mode(st, Minv, K, C, W, F, cp, omega, A, L):
             if st[j] == STUCK and cp[j, CP_KT] <= 0.0:
                 idx[c] = j
                 c += 1
-        WS = np.empty((ns, n))
+        # G = W_S M^-1 W_S^T, rhs = W_S M^-1 f (+ the base's acceleration), lambda_S = G^-1 rhs
+        MW = np.empty((n, ns))
+        for i in range(n):
+            for a in range(ns):
+                acc = 0.0
+                for k in range(n):
+                    acc += Minv[i, k] * W[idx[a], k]
+                MW[i, a] = acc
+        G = np.empty((ns, ns))
         for a in range(ns):
-            WS[a, :] = W[idx[a], :]
-        MW = Minv @ WS.T
-        G = WS @ MW
-        rhs = WS @ MF
+            for b in range(ns):
+                acc = 0.0
+                for k in range(n):
+                    acc += W[idx[a], k] * MW[k, b]
+                G[a, b] = acc
+        rhs = np.empty((ns, N))
         for a in range(ns):
+            for k in range(N):
+                acc = 0.0
+                for i in range(n):
+                    acc += W[idx[a], i] * MF[i, k]
+                rhs[a, k] = acc
             rhs[a, IC] += cp[idx[a], CP_EY] * omega * omega
         lam = np.empty((ns, N))
         if not solve_small(G, rhs, lam):
             return False
-        MF -= MW @ lam
+        for i in range(n):
+            for k in range(N):
+                acc = 0.0
+                for a in range(ns):
+                    acc += MW[i, a] * lam[a, k]
+                MF[i, k] -= acc
         for a in range(ns):
             L[idx[a], :] = lam[a, :]
     for i in range(n):
@@ -218,23 +239,122 @@ def mode_rate(A, n):
 
 
 @jit
+def matvec(A, z, out):
+    """out = A z, a plain loop: numba's `@` on these tiny arrays calls BLAS and allocates its result,
+    which costs more than the product."""
+    for i in range(A.shape[0]):
+        acc = 0.0
+        for k in range(A.shape[1]):
+            acc += A[i, k] * z[k]
+        out[i] = acc
+
+
+@jit
+def dot(a, b):
+    """a . b, a plain loop (as matvec)."""
+    acc = 0.0
+    for k in range(a.shape[0]):
+        acc += a[k] * b[k]
+    return acc
+
+
+@jit
+def matmul(A, B, out):
+    """out = A B (out distinct from A and B), a plain loop (as matvec)."""
+    for i in range(A.shape[0]):
+        for c in range(B.shape[1]):
+            out[i, c] = 0.0
+        for k in range(A.shape[1]):
+            a = A[i, k]
+            if a != 0.0:
+                for c in range(B.shape[1]):
+                    out[i, c] += a * B[k, c]
+
+
+@jit
+def sparsity(A, cols, starts):
+    """The nonzero columns of each row of A: cols[starts[r]:starts[r + 1]] (a mode's A is mostly zeros:
+    the x rows hold one 1, the slider and forcing rows a few entries, the last row none)."""
+    at = 0
+    for r in range(A.shape[0]):
+        starts[r] = at
+        for c in range(A.shape[1]):
+            if A[r, c] != 0.0:
+                cols[at] = c
+                at += 1
+    starts[A.shape[0]] = at
+
+
+@jit
 def expm_taylor(A, h, E):
-    """E = exp(A h) by its Taylor series, for h short against A's rates (terms fall like (|A| h)^k / k!)."""
+    """E = exp(A h) by its Taylor series, for h short against A's rates (terms fall like (|A| h)^k / k!):
+    E = sum_k T_k, T_0 = I, T_k = T_{k-1} (A h) / k, up to the first term below 1e-18 of the sum; the
+    products skip A's zeros."""
     N = A.shape[0]
+    cols = np.empty(N * N, dtype=np.int64)
+    starts = np.empty(N + 1, dtype=np.int64)
+    sparsity(A, cols, starts)
+    term = np.zeros((N, N))
+    nxt = np.empty((N, N))
     E[:, :] = 0.0
-    term = np.eye(N)
     for i in range(N):
         E[i, i] = 1.0
-    Ah = A * h
+        term[i, i] = 1.0
     for k in range(1, 80):
-        term = (term @ Ah) / k
-        E += term
+        f = h / k
+        nxt[:, :] = 0.0
+        for i in range(N):
+            for q in range(N):
+                t = term[i, q]
+                if t != 0.0:
+                    t *= f
+                    for e in range(starts[q], starts[q + 1]):
+                        c = cols[e]
+                        nxt[i, c] += t * A[q, c]
         big = 0.0
         tot = 0.0
         for i in range(N):
             for c in range(N):
-                big = max(big, abs(term[i, c]))
+                v = nxt[i, c]
+                term[i, c] = v
+                E[i, c] += v
+                big = max(big, abs(v))
                 tot = max(tot, abs(E[i, c]))
+        if big <= 1e-18 * tot:
+            break
+
+
+@jit
+def expm_apply(A, s, J, Y, Z):
+    """J <- exp(A s) J without forming exp(A s) (s within a step): the Taylor series applied to J's
+    columns, Y_0 = J, Y_k = (s / k) A Y_{k-1}, J <- sum_k Y_k, up to the first Y_k below 1e-18 of the sum
+    (the criterion of expm_taylor); Y, Z: workspaces of J's shape. A's zeros are skipped: for a partial
+    step this costs about a third of expm_taylor followed by the product."""
+    N = A.shape[0]
+    Nc = J.shape[1]
+    cols = np.empty(N * N, dtype=np.int64)
+    starts = np.empty(N + 1, dtype=np.int64)
+    sparsity(A, cols, starts)
+    Y[:, :] = J
+    for k in range(1, 80):
+        f = s / k
+        big = 0.0
+        for r in range(N):
+            for c in range(Nc):
+                Z[r, c] = 0.0
+            for e in range(starts[r], starts[r + 1]):
+                q = cols[e]
+                a = A[r, q] * f
+                for c in range(Nc):
+                    Z[r, c] += a * Y[q, c]
+        tot = 0.0
+        for r in range(N):
+            for c in range(Nc):
+                v = Z[r, c]
+                Y[r, c] = v
+                J[r, c] += v
+                big = max(big, abs(v))
+                tot = max(tot, abs(J[r, c]))
         if big <= 1e-18 * tot:
             break
 
@@ -248,8 +368,11 @@ def expm(A, t, h, E):
         tt *= 0.5
         s += 1
     expm_taylor(A, tt, E)
-    for _ in range(s):
-        E[:, :] = E @ E
+    if s > 0:
+        tmp = np.empty_like(E)
+        for _ in range(s):
+            matmul(E, E, tmp)
+            E[:, :] = tmp
 
 
 @jit
@@ -257,14 +380,16 @@ def powers(A, z, zk):
     """zk[k] = A^k z for k = 0..KT (the Taylor coefficients of z(t) at t = 0, times k!)."""
     zk[0, :] = z
     for k in range(1, zk.shape[0]):
-        zk[k, :] = A @ zk[k - 1, :]
+        matvec(A, zk[k - 1], zk[k])
 
 
 @jit
 def taylor_state(zk, s, out):
-    """z(s) = sum_k zk[k] s^k / k! (s within one step)."""
+    """z(s) = sum_k zk[k] s^k / k! (s within one step); the components are independent sums (no
+    dependency chain through a division per term, as Horner's rule would have)."""
     out[:] = 0.0
     c = 1.0
     for k in range(zk.shape[0]):
-        out += c * zk[k, :]
+        for i in range(zk.shape[1]):
+            out[i] += c * zk[k, i]
         c *= s / (k + 1)

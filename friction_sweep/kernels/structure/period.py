@@ -59,8 +59,12 @@ from friction_sweep.kernels.structure.flow import (
     STEP_RATE,
     STUCK,
     build_mode,
+    dot,
     event_rows,
+    expm_apply,
     expm_taylor,
+    matmul,
+    matvec,
     mode_rate,
     powers,
     solve_small,
@@ -78,6 +82,9 @@ CACHE = 16
 _QUICK = 5
 _QUICK_MARGIN = 1.25
 
+#: halvings of the node interval that brackets a zero of a velocity (the extreme of its displacement)
+_EXTREME_HALVINGS = 30
+
 #: advance's status
 OK, BUDGET, FAILED = 0, 1, 2
 #: per-contact measurement columns
@@ -94,18 +101,25 @@ _DRIVEN_REFINE = 40
 
 @jit
 def new_cache(n, m, N):
-    """The mode cache's arrays, built once per point."""
-    return (np.full((CACHE, max(m, 1)), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
-            np.zeros((CACHE, max(m, 1), N)), np.zeros((CACHE, 2 * max(m, 1), N)),
-            np.zeros((CACHE, 2 * max(m, 1), KT + 1, N)), np.zeros((CACHE, 2 * max(m, 1)), dtype=np.bool_),
-            np.zeros(CACHE), np.zeros(CACHE, dtype=np.bool_), np.zeros(2, dtype=np.int64))
+    """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
+    Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
+    Gauss nodes): the hot loops allocate nothing."""
+    m1 = max(m, 1)
+    return (np.full((CACHE, m1), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
+            np.zeros((CACHE, m1, N)), np.zeros((CACHE, 2 * m1, N)),
+            np.zeros((CACHE, 2 * m1, KT + 1, N)), np.zeros((CACHE, 2 * m1), dtype=np.bool_),
+            np.zeros(CACHE), np.zeros(CACHE, dtype=np.bool_), np.zeros(2, dtype=np.int64),
+            np.empty((KT + 1, N)), np.empty(N), np.empty(KT + 1), np.empty(4), np.empty((N, N)),
+            np.empty((N, N)), np.empty((m1, N)), np.empty((N, N - 3)), np.empty((N, N - 3)), np.empty((3, N)),
+            np.empty(N),
+            np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)))
 
 
 @jit
 def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
     """Index of mode st in the cache, built there (A, exp(A h), forces, event rows and their A-powers)
     if it is not."""
-    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache
+    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
     m = W.shape[0]
     n = K.shape[0]
     used = c_cnt[0]
@@ -138,9 +152,15 @@ def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
     event_rows(st, W, cp, omega, c_L[i], N, c_rows[i], c_act[i])
     for f in range(2 * m):
         if c_act[i, f]:
-            c_ck[i, f, 0, :] = c_rows[i, f, :]
+            ck = c_ck[i, f]
+            ck[0, :] = c_rows[i, f, :]
             for k in range(1, KT + 1):
-                c_ck[i, f, k, :] = c_ck[i, f, k - 1, :] @ A
+                # ck[k] = ck[k - 1] A (a row times A)
+                for c in range(N):
+                    acc = 0.0
+                    for q in range(N):
+                        acc += ck[k - 1, q] * A[q, c]
+                    ck[k, c] = acc
     return i
 
 
@@ -330,12 +350,15 @@ def _taylor_at(zk, col, s):
 
 
 @jit
-def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F):
+def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq):
     """Add one step (Taylor coefficients zk, length s) to the measurement; harm[:, 2] and harm[:, 3] (first
-    rows) gather the excitation's work and the viscous dissipation (see energy_work)."""
-    zt = np.empty(N)
-    for q in range(GAUSS_X.shape[0]):
-        taylor_state(zk, GAUSS_X[q] * s, zt)
+    rows) gather the excitation's work and the viscous dissipation (see energy_work); zq: a workspace for
+    the state at the Gauss nodes and at s (the extremes' search reads its velocities there)."""
+    nq = GAUSS_X.shape[0]
+    for q in range(nq + 1):
+        taylor_state(zk, s if q == nq else GAUSS_X[q] * s, zq[q])
+    for q in range(nq):
+        zt = zq[q]
         wq = GAUSS_W[q] * s
         for i in range(n):
             harm[i, 0] += wq * zt[i] * zt[N - 3]
@@ -346,35 +369,37 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F)
             pin += (F[0, i] * zt[N - 3] + F[1, i] * zt[N - 2]) * zt[n + i]
         for j in range(m):
             if st[j] != INACTIVE and cp[j, CP_EY] != 0.0:
-                pin += (Lm[j] @ zt) * cp[j, CP_EY] * omega * zt[N - 2]
+                pin += dot(Lm[j], zt) * cp[j, CP_EY] * omega * zt[N - 2]
         vis = 0.0
         for i in range(n):
             for k in range(n):
                 vis += zt[n + i] * Cmat[i, k] * zt[n + k]
         harm[0, 2] += wq * pin
         harm[0, 3] += wq * vis
-    # extremes: at both ends and at every zero of v_i (sampled at the nodes, refined by bisection)
+    # extremes: at both ends and at every zero of v_i (sampled at the nodes, refined by bisection to
+    # 2^-_EXTREME_HALVINGS of the node interval: x is stationary there, so its value is then exact to
+    # rounding, the root's error entering squared)
     for i in range(n):
         prev_s = 0.0
         prev_v = zk[0, n + i]
         xmax[i] = max(xmax[i], abs(zk[0, i]))
-        for q in range(GAUSS_X.shape[0] + 1):
-            sq = s if q == GAUSS_X.shape[0] else GAUSS_X[q] * s
-            v = _taylor_at(zk, n + i, sq)
+        for q in range(nq + 1):
+            sq = s if q == nq else GAUSS_X[q] * s
+            v = zq[q, n + i]
             if (prev_v > 0.0 and v < 0.0) or (prev_v < 0.0 and v > 0.0):
                 lo = prev_s
                 hi = sq
-                for _ in range(60):
+                for _ in range(_EXTREME_HALVINGS):
                     mid = 0.5 * (lo + hi)
                     vm = _taylor_at(zk, n + i, mid)
                     if (vm > 0.0) == (prev_v > 0.0):
                         lo = mid
                     else:
                         hi = mid
-                xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, lo)))
+                xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, 0.5 * (lo + hi))))
             prev_v = v
             prev_s = sq
-        xmax[i] = max(xmax[i], abs(_taylor_at(zk, i, s)))
+        xmax[i] = max(xmax[i], abs(zq[nq, i]))
     _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc)
 
 
@@ -473,21 +498,28 @@ def _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc):
 
 
 @jit
+def _jac_step(M, J, tmp):
+    """J <- M J (tmp: a workspace of J's shape)."""
+    matmul(M, J, tmp)
+    J[:, :] = tmp
+
+
+@jit
+def _identity(R):
+    R[:, :] = 0.0
+    for i in range(R.shape[0]):
+        R[i, i] = 1.0
+
+
+@jit
 def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc):
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
     Returns OK, BUDGET or FAILED."""
-    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache
+    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
+    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq = cache[10:]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
-    zk = np.empty((KT + 1, N))
-    znew = np.empty(N)
-    d = np.empty(KT + 1)
-    dmag = np.empty(4)
-    Es = np.empty((N, N))
-    R = np.empty((N, N))
-    Atmp = np.empty((N, N))
-    Ltmp = np.empty((max(m, 1), N))
     t = 0.0
     while t < T:
         mi = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
@@ -506,7 +538,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
             full = s == h
             have_zk = False
             if full:
-                znew[:] = E @ z
+                matvec(E, z, znew)
             else:
                 powers(A, z, zk)
                 have_zk = True
@@ -516,14 +548,14 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 if not c_act[mi, f]:
                     continue
                 ck = c_ck[mi, f]
-                ga = ck[0] @ z
-                g1a = ck[1] @ z
-                gb = ck[0] @ znew
+                ga = dot(ck[0], z)
+                g1a = dot(ck[1], z)
+                gb = dot(ck[0], znew)
                 if gb > 0.0 and ga > 0.0:
                     B = 0.0
                     c = 1.0
                     for k in range(_QUICK):
-                        B += abs(ck[k + 2] @ z) * c
+                        B += abs(dot(ck[k + 2], z)) * c
                         c *= s / (k + 1)
                     B *= _QUICK_MARGIN
                     gae = max(ga, 0.0)
@@ -532,7 +564,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     if gae + g1a * s - 0.5 * B * s * s > 0.0:
                         continue
                 for k in range(KT + 1):
-                    d[k] = ck[k] @ z
+                    d[k] = dot(ck[k], z)
                 for k in range(4):
                     acc = 0.0
                     for i in range(N):
@@ -546,13 +578,12 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 if meas:
                     if not have_zk:
                         powers(A, z, zk)
-                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F)
+                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
                 if jac:
                     if full:
-                        J[:, :] = E @ J
+                        _jac_step(E, J, Jtmp)
                     else:
-                        expm_taylor(A, s, Es)
-                        J[:, :] = Es @ J
+                        expm_apply(A, s, J, Jtmp, Jtmp2)
                 z[:] = znew
                 t = T if s == T - t or T - (t + s) <= 1e-15 * T else t + s
                 start = False
@@ -565,10 +596,9 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 powers(A, z, zk)
             taylor_state(zk, se, znew)
             if meas:
-                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F)
+                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
             if jac:
-                expm_taylor(A, se, Es)
-                J[:, :] = Es @ J
+                expm_apply(A, se, J, Jtmp, Jtmp2)
             z[:] = znew
             t += se
             break
@@ -576,10 +606,11 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
             break
         # the switch
         j = fired // 2
-        fminus = A @ z
-        crow = c_rows[mi, fired].copy()
+        fminus = fv[0]
+        matvec(A, z, fminus)
+        crow[:] = c_rows[mi, fired]
         old = st[j]
-        before = st.copy()
+        before[:m] = st
         sig = 0
         if old != STUCK:
             if cp[j, CP_KT] > 0.0:
@@ -607,7 +638,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
             sig = 1 if fired % 2 == 0 else -1
             if cp[j, CP_KT] > 0.0:
                 st[j] = sig
-                R[:, :] = np.eye(N)
+                _identity(R)
                 slot = 2 * n + int(cp[j, CP_SLOT])
                 kt = cp[j, CP_KT]
                 R[slot, :] = 0.0
@@ -615,7 +646,8 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     R[slot, i] = W[j, i]
                 R[slot, N - 3] = -cp[j, CP_EY]
                 R[slot, N - 1] = -sig * cp[j, CP_MU] / kt
-                z[:] = R @ z
+                matvec(R, z, znew)
+                z[:] = znew
                 if meas:
                     mc[j, MC_SLIPS] += 1.0
                     # a slip from a held stick is a creep until the load drives it (_driven_step)
@@ -634,15 +666,16 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
             mj = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
             if not c_ok[mj]:
                 return FAILED
-            fplus = c_A[mj] @ z
-            Rf = R @ fminus
-            den = crow @ fminus
-            if abs(den) <= 1e-9 * (np.sqrt(fminus @ fminus) * np.sqrt(crow @ crow)):
+            fplus = fv[1]
+            Rf = fv[2]
+            matvec(c_A[mj], z, fplus)
+            matvec(R, fminus, Rf)
+            den = dot(crow, fminus)
+            if abs(den) <= 1e-9 * (np.sqrt(dot(fminus, fminus)) * np.sqrt(dot(crow, crow))):
                 jflag[0] = 0.0
             else:
-                S = R.copy()
                 for a in range(N):
                     for b in range(N):
-                        S[a, b] += (fplus[a] - Rf[a]) * crow[b] / den
-                J[:, :] = S @ J
+                        S[a, b] = R[a, b] + (fplus[a] - Rf[a]) * crow[b] / den
+                _jac_step(S, J, Jtmp)
     return OK

@@ -26,32 +26,42 @@ MIN_WIDTH = 2.0**-40
 _DEPTH = 64
 
 
+#: 1 / (k + 1): Horner's rule below multiplies by s / (k + 1) formed off the dependency chain, so each
+#: term costs a multiply-add on it, not a division
+_INV = 1.0 / np.arange(1.0, 65.0)
+
+
 @jit
 def derivs(d, s, out):
     """out[j] = P^(j)(s) = sum_k d[j + k] s^k / k! for every j."""
     K = d.shape[0]
+    q = np.empty(K)
+    for k in range(K):
+        q[k] = s * _INV[k]
     for j in range(K):
         acc = 0.0
         for k in range(K - 1 - j, -1, -1):
-            acc = acc * s / (k + 1) + d[j + k]
+            acc = acc * q[k] + d[j + k]
         out[j] = acc
 
 
 @jit
 def value(d, s):
+    """P(s) by Horner's rule."""
     K = d.shape[0]
     acc = 0.0
     for k in range(K - 1, -1, -1):
-        acc = acc * s / (k + 1) + d[k]
+        acc = acc * (s * _INV[k]) + d[k]
     return acc
 
 
 @jit
 def slope(d, s):
+    """P'(s) by Horner's rule."""
     K = d.shape[0]
     acc = 0.0
     for k in range(K - 2, -1, -1):
-        acc = acc * s / (k + 1) + d[k + 1]
+        acc = acc * (s * _INV[k]) + d[k + 1]
     return acc
 
 
