@@ -234,7 +234,9 @@ def test_engine_matches_the_reference(point):
     np.testing.assert_allclose(got["stuck_fraction"][~jenkins], ref["stuck_fraction"][~jenkins], atol=1e-8)
     moving = ref["amplitude"] > 1e-6 * size
     np.testing.assert_allclose(got["phase"][moving], ref["phase"][moving], atol=1e-6)
-    np.testing.assert_allclose(got["friction_energy"], ref["friction_energy"], rtol=1e-8, atol=1e-12 * ref["work"])
+    # atol: the reference integrates its own rounding-level slips of a stuck contact (base 0.8 @ 20: 1.2e-13
+    # of friction energy against a work of 0.05, 2.4e-12 of it, as the CPU's BLAS rounds), far inside 1e-10
+    np.testing.assert_allclose(got["friction_energy"], ref["friction_energy"], rtol=1e-8, atol=1e-10 * ref["work"])
 
 
 @pytest.mark.parametrize("point", POINTS + ADVERSARIAL, ids=_id)
