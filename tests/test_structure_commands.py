@@ -269,9 +269,6 @@ def test_fsweep_plot_refuses_in_one_line(paths, tmp_path):
     assert "a structure cube draws map, curves, phase" in line and not (tmp_path / "o.png").exists()
 
 
-@pytest.mark.xfail(strict=True, reason="the engine labels a Jenkins contact with zero friction `stuck` (its slider "
-                   "slides with the spring at zero force, counting no slip: structures/solve.py, never_slips = slips == "
-                   "0), so where it is the only contact rule stuck_limit holds the free motion to the stuck structure")
 def test_a_jenkins_contact_without_friction_is_not_labelled_stuck():
     ds = fs.sweep_yaml(FORCE.replace("    - {name: platform, between: [damper, ground], friction: 0.3}\n", "")
                        .replace("num: 24", "num: 4").replace("[0.0, 0.5, 20.0]", "[0.0]"))

@@ -108,6 +108,22 @@ def test_one_mass_jenkins_reproduces_the_1dof_kernels(scene):
     assert Regime.STICK_SLIP in got["regime"] or scene == "joined"
 
 
+@pytest.mark.parametrize("zeta", [0.0, 0.05])
+def test_one_mass_jenkins_stuck_fraction_is_the_1dof_kernels(zeta):
+    """stuck_fraction of a Jenkins contact is the 1-DoF Jenkins kernel's: the time the contact holds the mass,
+    and 1 where its slider never slips (beta = 1.5 > A: stuck all period), regime exactly."""
+    r = np.array([0.3, 0.5, 0.6, 0.8, 0.9, 1.3, 1.5, 2.0])
+    for beta in (0.2, 0.6, 1.5):
+        a = assemble(one_mass("force", 1.0, zeta=zeta, kappa=10.0))
+        got = solve_points(a, r, np.full(r.size, beta))
+        ref = event.solve_flat("base", r, np.full(r.size, beta), _effects(zeta, 10.0, 1.0, "force"))
+        assert (ref[:, one_dof.OUT_STEADY_STATE] == SteadyState.CONVERGED).all()
+        np.testing.assert_array_equal(got["regime"][:, 0], ref[:, one_dof.OUT_REGIME].astype(np.int8))
+        np.testing.assert_allclose(got["stuck_fraction"][:, 0], ref[:, one_dof.OUT_STUCK_FRACTION], rtol=0,
+                                   atol=1e-10, err_msg=f"{beta=}")
+    assert (got["stuck_fraction"] == 1.0).all() and (got["regime"] == Regime.STUCK).all()
+
+
 def chain(n: int, contacts: int = 0, kt: float | None = None, damping: float = 0.02, friction: float = 0.3,
           excitation: str = "force") -> StructureDef:
     """n masses in a chain from the ground (or the base), contacts from every other mass to the ground

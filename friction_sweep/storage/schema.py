@@ -477,7 +477,11 @@ STRUCTURE_VARIABLES = {
     "slips_per_period": Variable(CONTACT_DIMS, np.float64, "slips of the Jenkins contact's slider per forcing period; "
                                  "NaN for a rigid contact", "1", valid_range=COUNT_VALID),
     "stuck_fraction": Variable(CONTACT_DIMS, np.float64, "fraction of the steady-state period the contact spends "
-                               "stuck", "1", valid_range=FRACTION_VALID),
+                               "stuck", "1", valid_range=FRACTION_VALID,
+                               comment="rigid contact: time its relative velocity is held at zero; Jenkins contact: "
+                               "time it holds the mass (a stick during which the relative velocity returned to "
+                               "zero, as the 1-DoF Jenkins kernel), 1 where its slider never slips; a contact "
+                               "without friction: 0"),
     "friction_energy": Variable(CONTACT_DIMS, np.float64, "energy the contact's friction dissipates per forcing "
                                 "period (friction force x sliding distance), in the structure's units; NaN without "
                                 "a steady state", "1", valid_range=NONNEGATIVE),

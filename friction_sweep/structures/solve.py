@@ -66,10 +66,16 @@ def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None 
                     a.F_sin_per_w, contact_parameters(a), rest_state(a), w[good], s[good],
                     engine_settings(settings, outputs), sub)
         rows[good] = sub
-    return _arrays(a, rows, good)
+    # a contact whose friction is zero at the point exerts no force: the engine leaves it out (INACTIVE)
+    active = np.asarray(a.mu)[None, :] * s[:, None] > 0.0
+    return _arrays(a, rows, good, active)
 
 
-def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray) -> dict[str, np.ndarray]:
+def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray, active: np.ndarray) -> dict[str, np.ndarray]:
+    """The cube's arrays from the engine's rows. Labels per contact: a contact without friction (not
+    `active`) exerts no force and is `continuous` whatever the engine counted; a Jenkins contact whose slider
+    never slips is `stuck` with stuck_fraction 1 (jenkins_steady's rule), otherwise its stuck_fraction is the
+    time it holds the mass (period.py's measurement); a rigid contact is `stuck` when stuck all period."""
     n, m = len(a.dof_names), len(a.contact_names)
     lay = row_layout(n, m)
     pt = rows[:, lay["point"]]
@@ -84,7 +90,9 @@ def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray) -> dict[str, np.nd
     regime = np.full(stops.shape, Regime.UNSETTLED, dtype=np.int8)
     jenkins = np.broadcast_to(a.kt > 0, stops.shape)
     with np.errstate(invalid="ignore"):
-        never_slips = np.where(jenkins, slips == 0, stuck >= 1.0 - _STUCK_ALL)
+        slider_held = jenkins & active & (slips == 0)
+        never_slips = active & np.where(jenkins, slider_held, stuck >= 1.0 - _STUCK_ALL)
+    stuck = np.where(slider_held, 1.0, stuck)
     moving = np.where(stops > 0, Regime.STICK_SLIP, Regime.CONTINUOUS)
     settled = np.where(never_slips, Regime.STUCK, moving).astype(np.int8)
     regime[ok] = settled[ok]
