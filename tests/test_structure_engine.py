@@ -124,6 +124,25 @@ def test_one_mass_jenkins_stuck_fraction_is_the_1dof_kernels(zeta):
     assert (got["stuck_fraction"] == 1.0).all() and (got["regime"] == Regime.STUCK).all()
 
 
+def test_period_k_orbits_are_shot_on_the_k_period_map():
+    """Static above kinetic friction (base, ratio 1.5, beta 0.1) locks onto period-7 and period-16 orbits at
+    r = 0.315 and 0.325, which the 1-DoF kernel marches onto within 300 and 269 periods. Marching 30 periods
+    at most, shooting every period from the 10th, the engine finds them by Newton on P^k, k the lag at which
+    the march repeats best: the 1-DoF kernel's k, amplitude, stops and regime."""
+    r = np.array([0.315, 0.325])
+    beta = np.full(r.size, 0.1)
+    ref = event.solve_flat("base", r, beta, {"static_friction_ratio": 1.5})
+    assert (ref[:, one_dof.OUT_STEADY_STATE] == SteadyState.CONVERGED).all()
+    np.testing.assert_array_equal(ref[:, one_dof.OUT_ORBIT_PERIOD], [7, 16])
+    got = solve_points(assemble(one_mass("base", 1.0, ratio=1.5)), r, beta,
+                       settings={"max_periods": 30, "shoot_after": 10, "shoot_every": 1})
+    assert (got["steady_state"] == SteadyState.CONVERGED).all() and (got["periods"] < 30).all()
+    np.testing.assert_array_equal(got["orbit_period"], ref[:, one_dof.OUT_ORBIT_PERIOD])
+    np.testing.assert_allclose(got["amplitude"][:, 0], ref[:, one_dof.OUT_TRANSMISSIBILITY], rtol=0, atol=1e-10)
+    np.testing.assert_array_equal(got["stops_per_period"][:, 0], ref[:, one_dof.OUT_STOPS_PER_PERIOD])
+    np.testing.assert_array_equal(got["regime"][:, 0], ref[:, one_dof.OUT_REGIME].astype(np.int8))
+
+
 def chain(n: int, contacts: int = 0, kt: float | None = None, damping: float = 0.02, friction: float = 0.3,
           excitation: str = "force") -> StructureDef:
     """n masses in a chain from the ground (or the base), contacts from every other mass to the ground

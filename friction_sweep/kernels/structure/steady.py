@@ -4,11 +4,13 @@ From rest (model.rest_state: v = 0, every contact unstretched, the springs in eq
 at y(0); Jenkins springs unloaded; the stick set at t = 0 chosen as at any switch), march
 forcing periods of the exact period map (period.advance) until P^k(s) repeats within steady_tol (k up
 to max_orbit_period), and from period shoot_after on (then every shoot_every periods) try Newton
-shooting on P(s) = s with the exact monodromy (transition matrices times saltation matrices; least
-squares, since a stuck contact's position is a neutral direction). A converged orbit is measured over
-its k periods; its largest Floquet multiplier (eigenvalue of the monodromy of P^k) where the settings
-ask. Amplitude still growing at the cap: GROWING; otherwise PERIOD_CAP; the events-and-steps budget:
-EVENT_BUDGET; a non-finite state or a mode that cannot be built: NONFINITE.
+shooting on P^k(s) = s with the exact monodromy (transition matrices times saltation matrices; least
+squares, since a stuck contact's position is a neutral direction), k = 1 unless the march suggests a
+period-k orbit (_suggested_lag; P alone where P^k's Newton misses), k lowered to the orbit's least period
+(_least_period). A converged orbit is measured over its k periods; its largest Floquet multiplier
+(eigenvalue of the monodromy of P^k) where the settings ask. Amplitude still growing at the cap: GROWING;
+otherwise PERIOD_CAP; the events-and-steps budget: EVENT_BUDGET; a non-finite state or a mode that
+cannot be built: NONFINITE.
 
 One float row per point, laid out by row_layout(n, m): first harmonic cos and sin parts and max |x| per
 mass, per contact stops, slips, stuck fraction, friction energy per period, then steady_state,
@@ -59,6 +61,8 @@ _GROWING = int(SteadyState.GROWING)
 _UNBALANCED = int(SteadyState.UNBALANCED)
 #: an orbit is resolved while its size x stiffness x _RESOLVED stays below its largest force
 _RESOLVED = 1e-10
+#: the march suggests a period-k orbit (k > 1) where P^k moves the state by under this share of P's move
+_LAG_SUGGESTS = 0.1
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -130,6 +134,54 @@ def _periods(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
         z[N - 3] = 1.0
         z[N - 2] = 0.0
     return OK
+
+
+@jit
+def _suggested_lag(z, hist, p, maxk, Nd):
+    """The k of the period-k orbit the march suggests: the lag k <= min(maxk, p) at which the state comes
+    closest to the one k periods back, where that is under _LAG_SUGGESTS times the one-period distance (a
+    march spiralling onto a period-k orbit alternates between its k points, so P^1 moves it by about the
+    orbit's spread while P^k moves it by the transient only); 1 otherwise."""
+    best = np.inf
+    lag = 1
+    one = np.inf
+    for k in range(1, min(maxk, p) + 1):
+        prev = hist[(p - k) % maxk]
+        d = 0.0
+        for i in range(Nd):
+            d = max(d, abs(z[i] - prev[i]))
+        if k == 1:
+            one = d
+        if d < best:
+            best = d
+            lag = k
+    if lag > 1 and best <= _LAG_SUGGESTS * one:
+        return lag
+    return 1
+
+
+@jit
+def _least_period(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, J, jflag, harm, xmax,
+                  mc):
+    """The least d dividing k with P^d(z) = z within tol (a fixed point of P^k may be one of P: a march
+    converging with a multiplier near -1 suggests lag 2 for a period-1 orbit)."""
+    N = z.shape[0]
+    Nd = N - 3
+    ref = max(_norm(z, Nd), scale)
+    for d in range(1, k):
+        if k % d != 0:
+            continue
+        zd = z.copy()
+        std = st.copy()
+        if _periods(zd, std, d, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False,
+                    harm, xmax, mc) != OK:
+            continue
+        err = 0.0
+        for i in range(Nd):
+            err = max(err, abs(zd[i] - z[i]))
+        if err <= tol * ref:
+            return d
+    return k
 
 
 @jit
@@ -353,13 +405,25 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
         if shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0:
             zs = z.copy()
             sts = st.copy()
-            if _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, harm,
-                       xmax, mc):
-                code = _measure(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm,
+            lag = _suggested_lag(z, hist, p, maxk, Nd)
+            found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
+                            harm, xmax, mc)
+            if not found and lag > 1:
+                # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
+                # Newton misses): shoot on P as without it
+                zs[:] = z
+                sts[:] = st
+                lag = 1
+                found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
+                                R, harm, xmax, mc)
+            if found:
+                lag = _least_period(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale,
+                                    J, jflag, harm, xmax, mc)
+                code = _measure(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm,
                                 xmax, mc, settings, row)
                 if code != _UNBALANCED:
                     status = code
-                    orbit = 1
+                    orbit = lag
                     break
                 # an orbit that does not balance its energy: no orbit (growth at resonance); march on
                 shooting = False
