@@ -42,11 +42,12 @@ STEP_RATE = 0.5
 @jit
 def solve_small(G, B, X):
     """X = G^-1 B by Gaussian elimination with partial pivoting (G s x s, B s x N); False where G is
-    singular to rounding (dependent stuck contacts), X untouched then."""
+    singular to rounding (dependent stuck contacts), X untouched then. G and B are overwritten (the
+    callers build them afresh in a workspace each time: no copies)."""
     s = G.shape[0]
     N = B.shape[1]
-    a = G.copy()
-    b = B.copy()
+    a = G
+    b = B
     scale = 0.0
     for i in range(s):
         for k in range(s):
@@ -82,9 +83,18 @@ def solve_small(G, B, X):
 
 
 @jit
-def build_mode(st, Minv, K, C, W, F, cp, omega, A, L):
+def mode_workspace(n, m, N):
+    """build_mode's (and the switch's projection's) workspace: one float buffer holding every matrix it
+    needs for any stuck set (sliced and reshaped, no copy), one int buffer for the stuck set; built once
+    per point, so that a mode build allocates nothing."""
+    m1 = max(m, 1)
+    return np.empty(2 * n * N + 2 * n * m1 + m1 * m1 + 2 * m1 * N + N), np.empty(m1, dtype=np.int64)
+
+
+@jit
+def build_mode(st, Minv, K, C, W, F, cp, omega, A, L, ws):
     """Fill A (N x N) and the contact-force rows L (m x N, lambda_j = L_j . z) of mode st; False where
-    the stuck rigid directions are dependent."""
+    the stuck rigid directions are dependent. ws: a mode_workspace."""
     n = K.shape[0]
     m = W.shape[0]
     N = A.shape[0]
@@ -95,7 +105,9 @@ def build_mode(st, Minv, K, C, W, F, cp, omega, A, L):
     I1 = N - 1
     A[:, :] = 0.0
     L[:, :] = 0.0
-    Fz = np.zeros((n, N))
+    fb = ws[0]
+    Fz = fb[:n * N].reshape((n, N))
+    Fz[:, :] = 0.0
     for i in range(n):
         for k in range(n):
             Fz[i, k] = -K[i, k]
@@ -126,31 +138,36 @@ def build_mode(st, Minv, K, C, W, F, cp, omega, A, L):
             L[j, slot] = -kt
         else:
             ns += 1
-    MF = np.empty((n, N))
+    o = n * N
+    MF = fb[o:o + n * N].reshape((n, N))
+    o += n * N
     matmul(Minv, Fz, MF)
     if ns > 0:
-        idx = np.empty(ns, dtype=np.int64)
+        idx = ws[1][:ns]
         c = 0
         for j in range(m):
             if st[j] == STUCK and cp[j, CP_KT] <= 0.0:
                 idx[c] = j
                 c += 1
         # G = W_S M^-1 W_S^T, rhs = W_S M^-1 f (+ the base's acceleration), lambda_S = G^-1 rhs
-        MW = np.empty((n, ns))
+        MW = fb[o:o + n * ns].reshape((n, ns))
+        o += n * ns
         for i in range(n):
             for a in range(ns):
                 acc = 0.0
                 for k in range(n):
                     acc += Minv[i, k] * W[idx[a], k]
                 MW[i, a] = acc
-        G = np.empty((ns, ns))
+        G = fb[o:o + ns * ns].reshape((ns, ns))
+        o += ns * ns
         for a in range(ns):
             for b in range(ns):
                 acc = 0.0
                 for k in range(n):
                     acc += W[idx[a], k] * MW[k, b]
                 G[a, b] = acc
-        rhs = np.empty((ns, N))
+        rhs = fb[o:o + ns * N].reshape((ns, N))
+        o += ns * N
         for a in range(ns):
             for k in range(N):
                 acc = 0.0
@@ -158,7 +175,7 @@ def build_mode(st, Minv, K, C, W, F, cp, omega, A, L):
                     acc += W[idx[a], i] * MF[i, k]
                 rhs[a, k] = acc
             rhs[a, IC] += cp[idx[a], CP_EY] * omega * omega
-        lam = np.empty((ns, N))
+        lam = fb[o:o + ns * N].reshape((ns, N))
         if not solve_small(G, rhs, lam):
             return False
         for i in range(n):

@@ -66,6 +66,7 @@ from friction_sweep.kernels.structure.flow import (
     matmul,
     matvec,
     mode_rate,
+    mode_workspace,
     powers,
     solve_small,
     taylor_state,
@@ -100,10 +101,20 @@ _DRIVEN_REFINE = 40
 
 
 @jit
+def switch_workspace(n, m, N):
+    """resolve's workspace: build_mode's (mode_workspace), three rows of N and two of 4 for the event
+    functions' derivatives (_leaves), the set Z and the trial and best statuses."""
+    m1 = max(m, 1)
+    fb, ib = mode_workspace(n, m, N)
+    return (fb, ib, np.empty((3, N)), np.empty((2, 4)), np.empty(m1, dtype=np.int64),
+            np.empty(m1, dtype=np.int64), np.empty(m1, dtype=np.int64))
+
+
+@jit
 def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
     Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
-    Gauss nodes): the hot loops allocate nothing."""
+    Gauss nodes, the switch's workspace): the hot loops allocate nothing."""
     m1 = max(m, 1)
     return (np.full((CACHE, m1), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
             np.zeros((CACHE, m1, N)), np.zeros((CACHE, 2 * m1, N)),
@@ -112,7 +123,8 @@ def new_cache(n, m, N):
             np.empty((KT + 1, N)), np.empty(N), np.empty(KT + 1), np.empty(4), np.empty((N, N)),
             np.empty((N, N)), np.empty((m1, N)), np.empty((N, N - 3)), np.empty((N, N - 3)), np.empty((3, N)),
             np.empty(N),
-            np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)))
+            np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)),
+            switch_workspace(n, m, N))
 
 
 @jit
@@ -140,7 +152,7 @@ def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
     for j in range(m):
         c_st[i, j] = st[j]
     A = c_A[i]
-    ok = build_mode(st, Minv, K, C, W, F, cp, omega, A, c_L[i])
+    ok = build_mode(st, Minv, K, C, W, F, cp, omega, A, c_L[i], cache[-1])
     c_ok[i] = ok
     if not ok:
         return i
@@ -181,51 +193,82 @@ def rel_position(z, W, cp, j, n, N):
 
 
 @jit
-def _project(z, Z, nz, Minv, W, cp, omega, R):
+def _project(z, Z, nz, Minv, W, cp, omega, R, ws):
     """Set the relative velocities of contacts Z[:nz] to zero (M^-1-weighted); R gets the reset's matrix
-    (identity where nothing is projected). False where their directions are dependent."""
+    (identity where nothing is projected). False where their directions are dependent. ws: a
+    switch_workspace (nothing allocated)."""
     N = z.shape[0]
     n = W.shape[1]
-    R[:, :] = 0.0
-    for i in range(N):
-        R[i, i] = 1.0
+    _identity(R)
     if nz == 0:
         return True
-    WZ = np.empty((nz, n))
+    fb = ws[0]
+    WZ = fb[:nz * n].reshape((nz, n))
+    o = nz * n
     for a in range(nz):
-        WZ[a, :] = W[Z[a], :]
-    MW = Minv @ WZ.T
-    G = WZ @ MW
-    rows = np.zeros((nz, N))  # u'_Z = rows . z
+        for i in range(n):
+            WZ[a, i] = W[Z[a], i]
+    MW = fb[o:o + n * nz].reshape((n, nz))  # M^-1 W_Z^T
+    o += n * nz
+    for i in range(n):
+        for a in range(nz):
+            acc = 0.0
+            for k in range(n):
+                acc += Minv[i, k] * WZ[a, k]
+            MW[i, a] = acc
+    G = fb[o:o + nz * nz].reshape((nz, nz))
+    o += nz * nz
+    for a in range(nz):
+        for b in range(nz):
+            acc = 0.0
+            for i in range(n):
+                acc += WZ[a, i] * MW[i, b]
+            G[a, b] = acc
+    rows = fb[o:o + nz * N].reshape((nz, N))  # u'_Z = rows . z
+    o += nz * N
+    rows[:, :] = 0.0
     for a in range(nz):
         for i in range(n):
             rows[a, n + i] = WZ[a, i]
         rows[a, N - 2] = cp[Z[a], CP_EY] * omega
-    X = np.empty((nz, N))
+    X = fb[o:o + nz * N].reshape((nz, N))
+    o += nz * N
     if not solve_small(G, rows, X):
         return False
-    P = MW @ X  # n x N
     for i in range(n):
         for k in range(N):
-            R[n + i, k] -= P[i, k]
-    z[:] = R @ z
+            acc = 0.0
+            for a in range(nz):
+                acc += MW[i, a] * X[a, k]
+            R[n + i, k] -= acc
+    zt = fb[o:o + N]
+    matvec(R, z, zt)
+    z[:] = zt
     return True
 
 
 @jit
-def _leaves(c, z, A, dk, at_zero):
+def _leaves(c, z, A, at_zero, ws):
     """How far g = c . z(t) in mode A misses staying >= 0 from z (0: it stays; the same test as first_root's
     at a mode's start, roots.at_start, so a chosen mode never fires at once): g > 0 beyond rounding, or
     zero to rounding (at_zero: zero by construction) and its first derivative not zero to rounding
     positive. Otherwise -g where it is negative, else the tiny 1e-300 (an outward derivative: the contact
-    would switch again at once)."""
+    would switch again at once). ws: a switch_workspace."""
     N = z.shape[0]
-    ck = c.copy()
-    d = np.empty(dk.shape[0])
-    dmag = np.empty(dk.shape[0])
-    for k in range(dk.shape[0]):
+    ck = ws[2][1]
+    nxt = ws[2][2]
+    d = ws[3][0]
+    dmag = ws[3][1]
+    ck[:] = c
+    for k in range(d.shape[0]):
         if k > 0:
-            ck = ck @ A
+            # ck <- ck A (a row times A)
+            for col in range(N):
+                acc = 0.0
+                for q in range(N):
+                    acc += ck[q] * A[q, col]
+                nxt[col] = acc
+            ck[:] = nxt
         acc = 0.0
         mag = 0.0
         for i in range(N):
@@ -241,7 +284,7 @@ def _leaves(c, z, A, dk, at_zero):
 
 
 @jit
-def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L):
+def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L, ws):
     """How far statuses `trial` miss consistency at z (0: consistent; module docstring): a stuck force
     beyond its static band or on its edge moving out, a released contact (at zero relative velocity) not
     accelerating in its slip direction; judged by the first derivative not zero to rounding, so that two
@@ -249,10 +292,9 @@ def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L):
     at the break-away) are told by the next derivatives."""
     n = W.shape[1]
     N = z.shape[0]
-    if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L):
+    if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L, ws):
         return np.inf
-    c = np.empty(N)
-    dk = np.empty(4)
+    c = ws[2][0]
     bad = 0.0
     for a in range(nz):
         j = Z[a]
@@ -261,28 +303,36 @@ def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L):
                 for k in range(N):
                     c[k] = -e * L[j, k]
                 c[N - 1] += cp[j, CP_MUS]
-                bad += _leaves(c, z, A, dk, False)
+                bad += _leaves(c, z, A, False, ws)
         else:
             c[:] = 0.0
             for i in range(n):
                 c[n + i] = trial[j] * W[j, i]
             c[N - 2] = trial[j] * cp[j, CP_EY] * omega
             # g = sig u' is zero here (resolve projected it); the slip holds where it grows
-            bad += _leaves(c, z, A, dk, True)
+            bad += _leaves(c, z, A, True, ws)
     return bad
 
 
 @jit
 def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
+    """resolve_in with a workspace of its own (the start and the section, once per march or Newton
+    iteration; advance's switches use the cache's)."""
+    return resolve_in(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget,
+                      switch_workspace(W.shape[1], W.shape[0], z.shape[0]))
+
+
+@jit
+def resolve_in(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
     """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way;
     j0 < 0: the start), projecting z and filling R; False where the projection fails. The relative
     velocities of the contacts at zero (Z) are projected to zero first; then the present statuses with
     j0's switch (stuck, or slipping sig0) are kept if consistent; else the enumeration of the module
-    docstring (each trial costs one unit of budget)."""
+    docstring (each trial costs one unit of budget). ws: a switch_workspace (nothing allocated)."""
     m = W.shape[0]
     n = W.shape[1]
     N = z.shape[0]
-    Z = np.empty(m, dtype=np.int64)
+    Z = ws[4]
     nz = 0
     vscale = 0.0
     for i in range(n):
@@ -295,15 +345,17 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
         if j == j0 or st[j] == STUCK or abs(rel_velocity(z, W, cp, j, n, N, omega)) <= vtol * vscale:
             Z[nz] = j
             nz += 1
-    if not _project(z, Z, nz, Minv, W, cp, omega, R):
+    if not _project(z, Z, nz, Minv, W, cp, omega, R, ws):
         return False
-    trial = st.copy()
+    trial = ws[5][:m]
+    trial[:] = st
     if j0 >= 0:
         trial[j0] = STUCK if sig0 == 0 else sig0
-        if _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L) == 0.0:
+        if _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L, ws) == 0.0:
             st[:] = trial
             return True
-    best = st.copy()
+    best = ws[6][:m]
+    best[:] = st
     best_bad = np.inf
     found = False
     total = 1
@@ -324,7 +376,7 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
             if sig0 != 0 and trial[j0] != sig0:
                 continue
             budget[0] -= 1
-            bad = _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L)
+            bad = _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L, ws)
             if bad == 0.0:
                 best[:] = trial
                 found = True
@@ -516,7 +568,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
     Returns OK, BUDGET or FAILED."""
     c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
-    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq = cache[10:]
+    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, sw = cache[10:]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -617,8 +669,9 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 st[j] = STUCK
                 # its relative velocity set to zero exactly (as a rigid stick's): the root leaves a rounding
                 # residue that the stuck slider's first derivative kt u' would read as a release at once
-                Zj = np.full(1, j)
-                if not _project(z, Zj, 1, Minv, W, cp, omega, R):
+                Zj = sw[4]
+                Zj[0] = j
+                if not _project(z, Zj, 1, Minv, W, cp, omega, R, sw):
                     return FAILED
                 if meas:
                     if mc[j, MC_ANCHOR] == 1.0:
@@ -632,7 +685,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                         mc[j, MC_SIGN] = -old
                     mc[j, MC_ANCHOR] = 0.0
             else:
-                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
+                if not resolve_in(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
                     return FAILED
         else:
             sig = 1 if fired % 2 == 0 else -1
@@ -656,7 +709,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     mu = cp[j, CP_MU]
                     mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
             else:
-                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget):
+                if not resolve_in(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
                     return FAILED
         if meas:
             for q in range(m):
