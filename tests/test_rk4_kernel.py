@@ -20,8 +20,10 @@ from friction_sweep.kernels.rk4 import advance_period_rk4
 BUDGET = 10**7
 STEPS = (32, 64, 128, 256, 512)
 
-# the event kernel may carry extra trailing arguments (sample times and outputs); pass empty ones
-_EV_EXTRA = len(inspect.signature(getattr(ev.advance_period, "py_func", ev.advance_period)).parameters) - 8
+# the event kernel may carry extra trailing arguments (sample times and outputs); pass empty ones for those
+# without a default (one with a default, such as harm=None, is a compile-time choice left out)
+_EV_EXTRA = sum(p.default is inspect.Parameter.empty for p in inspect.signature(
+    getattr(ev.advance_period, "py_func", ev.advance_period)).parameters.values()) - 8
 
 
 def exact_period(state, A, r, bk, bs, zeta=0.0, c=0.0, measure=True):
