@@ -267,6 +267,16 @@ def matvec(A, z, out):
 
 
 @jit
+def vecmat(c, A, out):
+    """out = c A (a row times A: an event function's next Taylor row), a plain loop (as matvec)."""
+    for col in range(A.shape[1]):
+        acc = 0.0
+        for q in range(A.shape[0]):
+            acc += c[q] * A[q, col]
+        out[col] = acc
+
+
+@jit
 def dot(a, b):
     """a . b, a plain loop (as matvec)."""
     acc = 0.0

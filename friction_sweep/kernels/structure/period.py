@@ -70,6 +70,7 @@ from friction_sweep.kernels.structure.flow import (
     powers,
     solve_small,
     taylor_state,
+    vecmat,
 )
 from friction_sweep.kernels.structure.roots import ZERO_RTOL, at_start, first_root
 
@@ -167,12 +168,7 @@ def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
             ck = c_ck[i, f]
             ck[0, :] = c_rows[i, f, :]
             for k in range(1, KT + 1):
-                # ck[k] = ck[k - 1] A (a row times A)
-                for c in range(N):
-                    acc = 0.0
-                    for q in range(N):
-                        acc += ck[k - 1, q] * A[q, c]
-                    ck[k, c] = acc
+                vecmat(ck[k - 1], A, ck[k])
     return i
 
 
@@ -262,12 +258,7 @@ def _leaves(c, z, A, at_zero, ws):
     ck[:] = c
     for k in range(d.shape[0]):
         if k > 0:
-            # ck <- ck A (a row times A)
-            for col in range(N):
-                acc = 0.0
-                for q in range(N):
-                    acc += ck[q] * A[q, col]
-                nxt[col] = acc
+            vecmat(ck, A, nxt)
             ck[:] = nxt
         acc = 0.0
         mag = 0.0
@@ -315,20 +306,13 @@ def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L, ws):
 
 
 @jit
-def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
-    """resolve_in with a workspace of its own (the start and the section, once per march or Newton
-    iteration; advance's switches use the cache's)."""
-    return resolve_in(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget,
-                      switch_workspace(W.shape[1], W.shape[0], z.shape[0]))
-
-
-@jit
-def resolve_in(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
+def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
     """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way;
     j0 < 0: the start), projecting z and filling R; False where the projection fails. The relative
     velocities of the contacts at zero (Z) are projected to zero first; then the present statuses with
     j0's switch (stuck, or slipping sig0) are kept if consistent; else the enumeration of the module
-    docstring (each trial costs one unit of budget). ws: a switch_workspace (nothing allocated)."""
+    docstring (each trial costs one unit of budget). ws: a switch_workspace (the point's, new_cache's last;
+    nothing allocated)."""
     m = W.shape[0]
     n = W.shape[1]
     N = z.shape[0]
@@ -452,7 +436,7 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F,
             prev_v = v
             prev_s = sq
         xmax[i] = max(xmax[i], abs(zq[nq, i]))
-    _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc)
+    _measure_contacts(zk, s, zq[nq], n, m, st, W, cp, N, omega, mc)
 
 
 @jit
@@ -504,12 +488,10 @@ def _u2(a, x):
 
 
 @jit
-def _measure_contacts(zk, s, n, m, st, W, cp, N, omega, mc):
-    """Add one step (Taylor coefficients zk, length s) to the per-contact measures mc: stuck time,
-    sliding energy, a held Jenkins stick's reversal (its stop)."""
+def _measure_contacts(zk, s, zend, n, m, st, W, cp, N, omega, mc):
+    """Add one step (Taylor coefficients zk, length s, end state zend) to the per-contact measures mc:
+    stuck time, sliding energy, a held Jenkins stick's reversal (its stop)."""
     K1 = zk.shape[0]
-    zend = np.empty(N)
-    taylor_state(zk, s, zend)
     z0 = zk[0]
     for j in range(m):
         if st[j] == INACTIVE:
@@ -685,7 +667,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                         mc[j, MC_SIGN] = -old
                     mc[j, MC_ANCHOR] = 0.0
             else:
-                if not resolve_in(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
+                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
                     return FAILED
         else:
             sig = 1 if fired % 2 == 0 else -1
@@ -709,7 +691,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     mu = cp[j, CP_MU]
                     mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
             else:
-                if not resolve_in(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
+                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
                     return FAILED
         if meas:
             for q in range(m):

@@ -86,7 +86,7 @@ def row_size(n: int, m: int) -> int:
 
 
 @jit
-def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
+def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
     """Make the modes at the section (t = 0) agree with the state (after a Newton step): slip signs from
     the relative velocities, a slipping slider slaved to its spring, the rigid stick set re-chosen."""
     n = K.shape[0]
@@ -112,7 +112,7 @@ def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
                     z[slot] = rel_position(z, W, cp, j, n, N) - s * cp[j, CP_MU] / kt
         elif st[j] != STUCK and abs(u1) > 0.0:
             st[j] = 1 if u1 > 0.0 else -1
-    return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget)
+    return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws)
 
 
 @jit
@@ -199,7 +199,7 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
     # that falls like 1 / |s| while the absolute one stays
     ref = max(_norm(z, Nd), scale)
     for _ in range(_NEWTON_ITERATIONS):
-        if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
+        if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1]):
             return False
         z0 = zs.copy()
         st0 = sts.copy()
@@ -368,7 +368,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
             z[2 * n + int(cp[j, CP_SLOT])] = rel_position(z, W, cp, j, n, N)
     status = _PERIOD_CAP
     orbit = 0
-    if not resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget):
+    if not resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1]):
         status = _NONFINITE
         max_periods = 0
     hist = np.zeros((maxk, Nd))
