@@ -137,6 +137,17 @@ def _periods(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
 
 
 @jit
+def _lag_distance(z, hist, p, k, maxk, Nd):
+    """max |z - the state k periods back| over the dynamic slots (hist: the march's ring of section
+    states, p periods marched)."""
+    prev = hist[(p - k) % maxk]
+    d = 0.0
+    for i in range(Nd):
+        d = max(d, abs(z[i] - prev[i]))
+    return d
+
+
+@jit
 def _suggested_lag(z, hist, p, maxk, Nd):
     """The k of the period-k orbit the march suggests: the lag k <= min(maxk, p) at which the state comes
     closest to the one k periods back, where that is under _LAG_SUGGESTS times the one-period distance (a
@@ -146,10 +157,7 @@ def _suggested_lag(z, hist, p, maxk, Nd):
     lag = 1
     one = np.inf
     for k in range(1, min(maxk, p) + 1):
-        prev = hist[(p - k) % maxk]
-        d = 0.0
-        for i in range(Nd):
-            d = max(d, abs(z[i] - prev[i]))
+        d = _lag_distance(z, hist, p, k, maxk, Nd)
         if k == 1:
             one = d
         if d < best:
@@ -387,11 +395,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
         size = max(_norm(z, Nd), scale)
         norms[p - 1] = size
         for k in range(1, min(maxk, p) + 1):
-            prev = hist[(p - k) % maxk]
-            err = 0.0
-            for i in range(Nd):
-                err = max(err, abs(z[i] - prev[i]))
-            if err <= tol * size:
+            if _lag_distance(z, hist, p, k, maxk, Nd) <= tol * size:
                 orbit = k
                 break
         if orbit > 0:
