@@ -20,6 +20,7 @@ from click.testing import CliRunner
 
 import friction_sweep as fs
 from friction_sweep.cli import main
+from friction_sweep.storage.encoding import COMPRESSION
 
 #: a physical theory sweep: grid coordinates, auxiliary physical coordinates, flags, floats with NaN
 SPEC = {"scene": {"excitation": "base"},
@@ -136,11 +137,21 @@ def test_a_cube_too_uniform_to_compress_within_the_readers_bound_is_written_plai
                             frequency_ratio=r, force_ratio=beta, excitation="base", title="t", history="test",
                             attrs=provenance.attributes(spec_text="", spec_path="s.yaml", excitation="base",
                                                         method="theory", settings={}))
-    squeezed = tmp_path / "squeezed.nc"  # compressed as the encoding says: the reader refuses it
-    cube.as_dataset(parts).to_netcdf(squeezed, engine="h5netcdf")
+    squeezed = tmp_path / "squeezed.nc"  # compressed anyway: the reader refuses it
+    api = cube.as_dataset(parts)
+    api.to_netcdf(squeezed, engine="h5netcdf", encoding={name: dict(COMPRESSION) for name in api.data_vars})
     with pytest.raises(fs.FsweepError, match=f"up to {bounds.MAX_COMPRESSION} times their size"):
         fs.open_cube(squeezed)
+    assert not cube.compresses(parts)
     path = tmp_path / "stuck.nc"
     cube.write_atomic(parts, path, overwrite=False)
     assert storage(path)["transmissibility"][1] is None
-    np.testing.assert_array_equal(fs.open_cube(path)["transmissibility"].values, zeros)
+    back = fs.open_cube(path)
+    np.testing.assert_array_equal(back["transmissibility"].values, zeros)
+    # the API's Dataset and a cube read back carry the writer's choice, so a user's own to_netcdf writes a
+    # file fsweep reads (the same storage as the cube's)
+    for ds, name in ((api, "api.nc"), (back, "again.nc")):
+        assert "zlib" not in ds["transmissibility"].encoding
+        ds.to_netcdf(tmp_path / name, engine="h5netcdf")
+        assert storage(tmp_path / name) == storage(path)
+        fs.open_cube(tmp_path / name)

@@ -110,9 +110,12 @@ def as_dataset(parts: CubeParts) -> xr.Dataset:
 
 
 def with_encoding(ds: xr.Dataset) -> xr.Dataset:
-    """`ds` with each variable's `.encoding` the one the cube writer applies (storage.encoding), in place."""
+    """`ds` with each variable's `.encoding` the one the cube writer applies (storage.encoding; none of
+    the compression keys for a cube the writer stores plainly: compresses), in place."""
+    plain = not compresses(_parts_of(ds))
     for name, var in ds.variables.items():
-        var.encoding = encoding(var.values, coordinate=name in ds.coords)
+        enc = encoding(var.values, coordinate=name in ds.coords)
+        var.encoding = {key: value for key, value in enc.items() if key not in COMPRESSION} if plain else enc
     return ds
 
 
@@ -123,7 +126,7 @@ def _parts_of(ds: xr.Dataset) -> CubeParts:
     return CubeParts(entries(ds.coords), entries(ds.data_vars), dict(ds.attrs))
 
 
-def netcdf_bytes(parts: CubeParts, *, compress: bool = True) -> bytes:
+def netcdf_bytes(parts: CubeParts) -> bytes:
     """The cube as netCDF4 bytes, as xarray writes a Dataset carrying storage.encoding's encodings (fill
     values, compression); strings as variable-length; non-dimension coordinates (a cube's physical ones,
     or its ratios where the dims are physical) named in the `coordinates` attribute of each variable whose
@@ -131,12 +134,33 @@ def netcdf_bytes(parts: CubeParts, *, compress: bool = True) -> bytes:
     (bytes, dimensions of two sizes) is refused, not written differently from xarray; a Dataset's own
     .encoding is not read (the parts' encoding is the one answer). A cube so uniform that its compressed
     variables would expand beyond what the reader loads per byte of file (storage.bounds.expands_too_far:
-    a grid of millions of points, every one stuck, compresses ~600 times) is written uncompressed
-    (`compress` False), as every cube was before issue 33, so that fsweep reads every cube it writes."""
+    a grid of millions of points, every one stuck, compresses ~600 times) is written uncompressed, as every
+    cube was before issue 33, so that fsweep reads every cube it writes."""
+    from friction_sweep.storage import bounds  # beside the writer: it imports the spec (pydantic)
+
+    data, expanded = _written(parts, compress=True)
+    return data if not bounds.expands_too_far(expanded, len(data)) else _written(parts, compress=False)[0]
+
+
+def compresses(parts: CubeParts) -> bool:
+    """Whether netcdf_bytes stores the cube's numeric variables compressed. Only a cube whose compressed
+    variables hold more than bounds.COMPRESSION_SLACK can expand too far, so only such a cube is written (in
+    memory) to find out."""
+    from friction_sweep.storage import bounds
+
+    expanded = sum(values.nbytes for is_coord, entries in ((True, parts.coords), (False, parts.data_vars))
+                   for _, values, _ in entries.values() if encoding(values, coordinate=is_coord).get("zlib"))
+    if not bounds.expands_too_far(expanded, 0):
+        return True
+    data, expanded = _written(parts, compress=True)
+    return not bounds.expands_too_far(expanded, len(data))
+
+
+def _written(parts: CubeParts, *, compress: bool) -> tuple[bytes, int]:
+    """netcdf_bytes' file, compressed as storage.encoding says or not at all, and the bytes its compressed
+    variables hold."""
     import h5netcdf
     import h5py
-
-    from friction_sweep.storage import bounds
 
     sizes: dict[str, int] = {}
     for name, (dims, values, _) in (*parts.coords.items(), *parts.data_vars.items()):
@@ -174,10 +198,7 @@ def netcdf_bytes(parts: CubeParts, *, compress: bool = True) -> bytes:
         unreferenced = sorted(set(auxiliary) - referenced)
         if unreferenced:
             f.attrs["coordinates"] = " ".join(unreferenced)
-    data = buffer.getvalue()
-    if compress and bounds.expands_too_far(expanded, len(data)):
-        return netcdf_bytes(parts, compress=False)
-    return data
+    return buffer.getvalue(), expanded
 
 
 def write_atomic(cube: CubeParts | xr.Dataset, path: Path, *, overwrite: bool) -> None:
@@ -258,4 +279,4 @@ def open_cube(path) -> xr.Dataset:
 
 
 __all__ = ["ENGINE", "CubeParts", "UnsoundCube", "cube_parts", "structure_cube_parts", "build_dataset", "as_dataset",
-           "with_encoding", "netcdf_bytes", "legacy_names", "write_atomic", "open_cube", "provenance"]
+           "with_encoding", "compresses", "netcdf_bytes", "legacy_names", "write_atomic", "open_cube", "provenance"]
