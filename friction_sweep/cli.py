@@ -854,8 +854,9 @@ def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
     from friction_sweep import api
 
     ds = _design(lambda: api.peak(str(spec), variable=variable), spec, output, overwrite)
-    for j, beta in enumerate(ds.force_ratio.values):
-        click.echo(f"force_ratio {beta:.10g}: {_peak_line(ds, j)}")
+    level = _level(ds)
+    for j, beta in enumerate(ds[level].values):
+        click.echo(f"{level} {beta:.10g}: {_peak_line(ds, j)}")
 
 
 @main.command()
@@ -877,9 +878,10 @@ def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plo
         if reason is not None:
             fail(reason)
     ds = _design(lambda: api.optimize(str(spec), variable=variable), spec, output, overwrite)
-    regime = codes.Regime(int(ds.optimum_regime)).name.lower() if np.isfinite(ds.optimum_regime) else "none"
-    click.echo(f"optimum ({ds.attrs['optimum_kind']}): force_ratio {float(ds.optimum_force_ratio):.10g}, "
-               f"peak {float(ds.optimum_peak):.10g} at r = {float(ds.optimum_frequency_ratio):.12g} ({regime})")
+    level, frequency, regime = _level(ds), _frequency_name(ds), _regime_words(ds.optimum_regime)
+    click.echo(f"optimum ({ds.attrs['optimum_kind']}): {level} {float(ds[f'optimum_{level}']):.10g}, "
+               f"peak {float(ds.optimum_peak):.10g} at {frequency} = {float(ds[f'optimum_{frequency}']):.12g} "
+               f"({regime})")
     if plot is not None:
         from friction_sweep.design import performance_figure
 
@@ -901,27 +903,47 @@ def backbone(spec: Path, output: str | None, overwrite: bool):
     from friction_sweep import api
 
     ds = _design(lambda: api.backbone(str(spec)), spec, output, overwrite)
-    for j, beta in enumerate(ds.force_ratio.values):
-        found = np.nonzero(np.isfinite(ds.backbone_frequency_ratio.values[j]))[0]
+    level, frequency = _level(ds), _frequency_name(ds)
+    short = "r" if frequency == "frequency_ratio" else "w"
+    for j, beta in enumerate(ds[level].values):
+        found = np.nonzero(np.isfinite(ds[f"backbone_{frequency}"].values[j]))[0]
         if not found.size:
-            click.echo(f"force_ratio {beta:.10g}: no phase resonance")
+            click.echo(f"{level} {beta:.10g}: no phase resonance")
         for k in found:
-            one = ds.isel(force_ratio=j, crossing=k)
-            code = float(one.backbone_regime)
-            regime = codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
-            click.echo(f"force_ratio {beta:.10g}: r = {float(one.backbone_frequency_ratio):.10g}, amplitude "
+            one = ds.isel({level: j, "crossing": k})
+            click.echo(f"{level} {beta:.10g}: {short} = {float(one[f'backbone_{frequency}']):.10g}, amplitude "
                        f"{float(one.backbone_amplitude):.10g}, zeta_eq {float(one.backbone_damping_ratio):.8g} "
-                       f"({regime})")
+                       f"({_regime_words(one.backbone_regime)})")
+
+
+def _level(ds) -> str:
+    """The friction axis of a design Dataset: force_ratio (1-DoF) or friction_scale (a structure)."""
+    return "friction_scale" if "friction_scale" in ds.dims else "force_ratio"
+
+
+def _frequency_name(ds) -> str:
+    return "frequency" if "friction_scale" in ds.dims else "frequency_ratio"
+
+
+def _regime_words(codes_at) -> str:
+    """A regime code in words; a structure's, one per contact: `name: regime, ...`."""
+    def word(code: float) -> str:
+        return codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
+
+    if "contact" not in codes_at.dims:
+        return word(float(codes_at))
+    return ", ".join(f"{c}: {word(float(v))}" for c, v in zip(codes_at.contact.values, codes_at.values, strict=True))
 
 
 def _peak_line(ds, j: int) -> str:
     value = float(ds.resonance_peak[j])
     if np.isnan(value):
         return "no peak"
-    code = float(ds.resonance_regime[j])
-    regime = codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
+    frequency = _frequency_name(ds)
+    short = "r" if frequency == "frequency_ratio" else "w"
+    regime = _regime_words(ds.resonance_regime[j])
     edge = " (grid edge)" if bool(ds.resonance_at_edge[j]) else ""
-    return f"peak {value:.10g} at r = {float(ds.resonance_frequency_ratio[j]):.12g} ({regime}){edge}"
+    return f"peak {value:.10g} at {short} = {float(ds[f'resonance_{frequency}'][j]):.12g} ({regime}){edge}"
 
 
 def _design(compute, spec: Path, output: str | None, overwrite: bool):
