@@ -166,6 +166,8 @@ def test_backbone_damping_is_the_friction_energy_over_the_largest_elastic_energy
 def test_peak_dof_chooses_the_mass_and_a_bad_one_is_refused_at_its_key():
     ds = fs.peak(_spec([1.0], settings={"peak_dof": "platform"}))
     assert ds.attrs["dof"] == "platform"
+    cube = fs.sweep(_spec([1.0], (0.9, 1.1, 3), settings={"peak_dof": "platform"}))  # a run ignores it
+    assert "peak_dof" not in cube.attrs["method_settings"]
     with pytest.raises(FsweepError, match=r"settings\.peak_dof.*'hub' is not a mass"):
         fs.peak(_spec([1.0], settings={"peak_dof": "hub"}))
 
