@@ -850,7 +850,9 @@ def _design_options(command):
 @_design_options
 def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
     """The resonance peak of SPEC's scene for each force ratio of its grid: the largest response over
-    frequency, refined on the exact solver to 1e-10 in r (fs.peak). One line per force ratio."""
+    frequency, refined on the exact solver to 1e-10 in r (fs.peak). One line per force ratio. A structure
+    spec: one mass's (settings: {peak_dof: NAME}; the forced mass by default) for each friction_scale, with
+    each contact's regime there."""
     from friction_sweep import api
 
     ds = _design(lambda: api.peak(str(spec), variable=variable), spec, output, overwrite)
@@ -866,7 +868,8 @@ def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
               "units where it has a system: the peak against friction, the optimum, Den Hartog's prediction.")
 def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plot: str | None):
     """The force ratio that minimises the resonance peak, to 1e-8, searched from SPEC's force-ratio grid
-    (fs.optimize); -o writes the performance curve (the peak at every force ratio) with it."""
+    (fs.optimize); -o writes the performance curve (the peak at every force ratio) with it. A structure
+    spec: the friction_scale that minimises its mass's peak (as fsweep peak)."""
     from friction_sweep import api
 
     if plot is not None:  # every refusal before the computing
@@ -899,7 +902,8 @@ def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plo
 def backbone(spec: Path, output: str | None, overwrite: bool):
     """The backbone of SPEC's scene (force, or base): at every phase resonance (90-degree lag, bisected on
     the exact solver to 1e-10 in r) of each force ratio, the amplitude and the equivalent damping ratio
-    zeta_eq = E_dissipated / (4 pi E_potential) per period (fs.backbone). One line per phase resonance."""
+    zeta_eq = E_dissipated / (4 pi E_potential) per period (fs.backbone). One line per phase resonance. A
+    structure spec (force excitation): along its mass's phase resonance (as fsweep peak)."""
     from friction_sweep import api
 
     ds = _design(lambda: api.backbone(str(spec)), spec, output, overwrite)

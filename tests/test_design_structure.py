@@ -184,10 +184,12 @@ def test_cli_optimize_prints_the_optimum_and_writes_the_curve(tmp_path):
     path = tmp_path / "blade.yaml"
     path.write_text(json.dumps(_spec([1.0, 3.0, 10.0], (0.9, 1.3, 9))))  # JSON is YAML
     out = tmp_path / "curve.nc"
-    done = CliRunner().invoke(main, ["optimize", str(path), "-o", str(out)])
+    png = tmp_path / "curve.png"
+    done = CliRunner().invoke(main, ["optimize", str(path), "-o", str(out), "--plot", str(png)])
     assert done.exit_code == 0, done.output
     assert done.output.startswith("optimum (interior): friction_scale ")
     assert "damper: " in done.output
+    assert png.stat().st_size > 0
     with xr.open_dataset(out, engine="h5netcdf") as written:
         assert set(written.dims) >= {"friction_scale", "peak", "contact"}
         assert float(written.optimum_peak) <= float(written.resonance_peak.min())
