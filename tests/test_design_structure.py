@@ -91,13 +91,15 @@ def test_without_friction_and_stuck_the_peak_is_the_linear_structures(scale, stu
 
 def test_the_optimum_against_a_brute_force_scan_of_friction_scale():
     """The blade's peak has an interior minimum in the normal load (free: the bare blade's resonance; stuck:
-    the stiffened blade's, both lightly damped). The optimum from 5 loads is at most the least peak of a
-    31-load scan (each peak exact), and lies within a scan step of where that scan's least peak is."""
-    w = (0.9, 1.3, 17)
-    opt = fs.optimize(_spec([1.0, 2.0, 3.0, 5.0, 10.0], w))
+    the stiffened blade's, both lightly damped). The optimum from 4 loads is at most the least peak of a
+    13-load scan (each peak exact), and lies within a scan step of where that scan's least peak is. (The
+    tolerances are looser than the defaults, 1e-6 in the load and 1e-8 in w, to keep the test's stick-slip
+    points few: the search is the same.)"""
+    w = (1.0, 1.25, 11)
+    opt = fs.optimize(_spec([2.0, 3.0, 4.0, 5.0], w), beta_tol=1e-6, r_tol=1e-8)
     assert opt.attrs["optimum_kind"] == "interior"
-    scan = np.linspace(2.0, 5.0, 31)
-    brute = fs.peak(_spec(scan, w)).resonance_peak.values
+    scan = np.linspace(2.5, 4.0, 13)
+    brute = fs.peak(_spec(scan, w), r_tol=1e-8).resonance_peak.values
     j = int(np.argmin(brute))
     assert 0 < j < scan.size - 1
     assert float(opt.optimum_peak) <= brute[j] * (1 + 1e-12)
@@ -182,12 +184,13 @@ def test_the_backbone_of_a_base_excited_structure_is_refused():
 
 def test_cli_optimize_prints_the_optimum_and_writes_the_curve(tmp_path):
     path = tmp_path / "blade.yaml"
-    path.write_text(json.dumps(_spec([1.0, 3.0, 10.0], (0.9, 1.3, 9))))  # JSON is YAML
+    # heavy loads, the peak rising towards the stuck blade's: the least load is the optimum (the grid's edge)
+    path.write_text(json.dumps(_spec([20.0, 40.0, 80.0], (1.1, 1.3, 9))))  # JSON is YAML
     out = tmp_path / "curve.nc"
     png = tmp_path / "curve.png"
     done = CliRunner().invoke(main, ["optimize", str(path), "-o", str(out), "--plot", str(png)])
     assert done.exit_code == 0, done.output
-    assert done.output.startswith("optimum (interior): friction_scale ")
+    assert done.output.startswith("optimum (edge): friction_scale 20, ")
     assert "damper: " in done.output
     assert png.stat().st_size > 0
     with xr.open_dataset(out, engine="h5netcdf") as written:
