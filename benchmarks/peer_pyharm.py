@@ -177,9 +177,11 @@ def main() -> int:
     one = one_dof_model()
     assembled, chain = chain_model()
     w = np.linspace(0.2, 3.0, args.points)
-    lines = [f"force scene, ζ = {ZETA}, β = {BETA}, r = 0.5–2 ({args.points} points); 2-mass chain (blade and "
+    # the title goes (benchmarks/readme_tables.py puts the rest between the README's bench-peer markers)
+    lines = ["# pyHarm side by side (benchmarks/peer_pyharm.py)", "",
+             f"force scene, ζ = {ZETA}, β = {BETA}, r = 0.5–2 ({args.points} points); 2-mass chain (blade and "
              f"platform damper, benchmarks/structures.py), ω = 0.2–3 ({args.points} points), error the larger "
-             "of the two masses'", "",
+             f"of the two masses'; {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start", "",
              "| scene, contact | H | pyHarm nti | pyHarm failures | median error | max error | pyHarm ms/point | "
              "fsweep event µs/point |", "|---|---|---|---|---|---|---|---|"]
     top = max(args.harmonics)

@@ -7,6 +7,7 @@ ROOT = Path(__file__).resolve().parents[1]
 TABLES = {"bench-scale": ROOT / "results/bench/scale.md",
           "bench-imports": ROOT / "results/bench/imports.md",
           "bench-workprecision": ROOT / "results/bench/workprecision.md",
+          "bench-peer": ROOT / "results/bench/peer_pyharm.md",
           "calibrate": ROOT / "results/calibration/summary.md"}
 
 

@@ -92,14 +92,16 @@ def peak(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: str =
     the largest `variable` over frequency, refined between the frequency grid's neighbours on the exact
     solver to `r_tol` in r, with every local maximum (dim `peak`), its frequency ratio and regime; and the
     phase resonance (friction_sweep.design.phase_resonance): every r where the first harmonic lags the
-    excitation by 90 degrees, bisected to `r_tol` (dim `crossing`)."""
+    excitation by 90 degrees, bisected to `r_tol` (dim `crossing`). A structure spec's: of the mass
+    `settings: {peak_dof: NAME}` (design.structure), for each friction_scale over the angular frequency
+    (resonance_frequency, ...), the regime per contact."""
     from friction_sweep.design import peak as design_peak
     from friction_sweep.design import phase_resonance
 
-    problem, r, beta, attrs = _design_problem(spec, variable, r_tol)
+    problem, r, beta, attrs, axes = _design_problem(spec, variable, r_tol)
     curve = design_peak.peaks(problem, r, beta, r_tol)
     crossings = phase_resonance.crossings(problem, r, beta, r_tol, curve.grid_phase)
-    return design_peak.dataset(curve, beta, attrs, crossings)
+    return design_peak.dataset(curve, beta, attrs, crossings, axes)
 
 
 def optimize(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: str = "transmissibility",
@@ -107,17 +109,22 @@ def optimize(spec: str | bytes | os.PathLike | Mapping[str, Any], *, variable: s
     """The force ratio that minimises the resonance peak (friction_sweep.design.optimum), to `beta_tol`,
     searched from the spec's force-ratio grid, with the performance curve (fs.peak's Dataset) it came
     from; the optimum in optimum_force_ratio, optimum_peak, optimum_frequency_ratio, and how it was found
-    in the attribute optimum_kind."""
+    in the attribute optimum_kind. A structure spec's: the friction_scale (optimum_friction_scale,
+    optimum_frequency, optimum_regime per contact)."""
     from friction_sweep.design import optimum as design_optimum
 
-    problem, r, beta, attrs = _design_problem(spec, variable, r_tol)
+    problem, r, beta, attrs, axes = _design_problem(spec, variable, r_tol)
     if beta.size < 3:
-        raise FsweepError(f"{attrs['spec']}: grid.force_ratio: the optimum is searched from at least 3 force ratios "
-                          f"(got {beta.size})")
+        levels = "force ratios" if axes.contacts is None else "friction scales"
+        raise FsweepError(f"{attrs['spec']}: grid.{axes.friction}: the optimum is searched from at least 3 "
+                          f"{levels} (got {beta.size})")
+    if np.any(np.diff(beta) <= 0):
+        raise FsweepError(f"{attrs['spec']}: grid.{axes.friction}: the optimum is searched from increasing "
+                          "friction levels")
     if not _positive_tolerance(beta_tol):
         raise FsweepError(f"beta_tol must be a positive number (got {_shown(beta_tol)})")
     found = design_optimum.optimum(problem, r, beta, float(beta_tol), r_tol)
-    return design_optimum.dataset(found, {**attrs, "beta_tol": float(beta_tol)})
+    return design_optimum.dataset(found, {**attrs, "beta_tol": float(beta_tol)}, axes)
 
 
 def backbone(spec: str | bytes | os.PathLike | Mapping[str, Any], *, r_tol: float = 1e-10) -> xr.Dataset:
@@ -125,15 +132,25 @@ def backbone(spec: str | bytes | os.PathLike | Mapping[str, Any], *, r_tol: floa
     each force ratio (bisected on the exact solver to `r_tol` in r from the frequency grid), the first-
     harmonic amplitude, the energy dissipated per period, the springs' potential energy at the largest
     displacement and the equivalent damping ratio zeta_eq = E_d / (4 pi E_p), along dims (force_ratio,
-    crossing). Scenes force, and base with the dashpot (if any) to the ground."""
+    crossing). Scenes force, and base with the dashpot (if any) to the ground. A structure spec's (force
+    excitation): along the phase resonance of the mass `settings: {peak_dof: NAME}`, E_p the largest
+    elastic energy of the first-harmonic motion (friction_sweep.design.structure), dims (friction_scale,
+    crossing[, contact])."""
     from friction_sweep.design import backbone as design_backbone
+    from friction_sweep.design import structure as design_structure
 
-    problem, r, beta, attrs = _design_problem(spec, "transmissibility", r_tol)
+    problem, r, beta, attrs, axes = _design_problem(spec, "transmissibility", r_tol)
+    attrs.pop("variable")
+    if isinstance(problem, design_structure.StructureProblem):
+        reason = design_structure.backbone_refusal(problem)
+        if reason is not None:
+            raise FsweepError(f"{attrs['spec']}: scene: {reason} (got {problem.assembled.excitation!r})")
+        found = design_structure.backbone(problem, r, beta, r_tol)
+        return design_backbone.dataset(found, beta, attrs, axes, design_structure.POTENTIAL)
     reason = design_backbone.refusal(problem)
     if reason is not None:
         raise FsweepError(f"{attrs['spec']}: scene: {reason} (got {problem.excitation!r})")
     found = design_backbone.backbone(problem, r, beta, r_tol)
-    attrs.pop("variable")
     return design_backbone.dataset(found, beta, attrs)
 
 
@@ -145,16 +162,15 @@ def _positive_tolerance(value: Any) -> bool:
 def _design_problem(spec: Any, variable: Any, r_tol: Any):
     """The peak's Problem, frequency and force grids and Dataset attributes from a spec, or FsweepError
     where the spec is not one the peak is built for."""
-    from friction_sweep.design.peak import METHODS, PEAK_VARIABLES, Problem
+    from friction_sweep.design.peak import METHODS, ONE_DOF, PEAK_VARIABLES, Problem
 
     if isinstance(spec, Mapping):
         parsed = spec_of_dict(spec)
     else:
         parsed = load_spec(path_argument(spec, "spec", "a spec file's path (str, bytes or os.PathLike) or a dict"))
     where = parsed.source_path
-    if not isinstance(parsed, Spec):
-        raise FsweepError(f"{where}: structure: the resonance peak and the optimum are built for the 1-DoF "
-                          "scenes; a structure's are not yet")
+    if isinstance(parsed, StructureSpec):
+        return _structure_design_problem(parsed, variable, r_tol)
     if parsed.method not in METHODS:
         raise FsweepError(f"{where}: method: the resonance peak is built on methods {', '.join(METHODS)} "
                           f"(got {parsed.method!r})")
@@ -182,7 +198,36 @@ def _design_problem(spec: Any, variable: Any, r_tol: Any):
         # the scales of (beta, T) where the spec has a system: friction force beta F_k (N), amplitude T L (m)
         attrs["reference_force"] = float(physical.reference_force)
         attrs["length_scale"] = float(physical.length_scale)
-    return problem, r, beta, attrs
+    return problem, r, beta, attrs, ONE_DOF
+
+
+def _structure_design_problem(parsed: StructureSpec, variable: Any, r_tol: Any):
+    """_design_problem's answer for a structure spec: the chosen mass's response (design.structure), the
+    angular frequency and friction_scale grids, and the Dataset's attributes and axes."""
+    from friction_sweep.batch import structure_sweep
+    from friction_sweep.design import structure as design_structure
+    from friction_sweep.structures import assemble
+
+    where = parsed.source_path
+    if not isinstance(variable, str) or variable not in design_structure.VARIABLES:
+        raise FsweepError(f"variable must be one of: {', '.join(design_structure.VARIABLES)} (got {_shown(variable)})")
+    if not _positive_tolerance(r_tol):
+        raise FsweepError(f"r_tol must be a positive number (got {_shown(r_tol)})")
+    w = np.array(parsed.frequency, dtype=float)
+    s = np.array(parsed.friction_scale, dtype=float)
+    if w.size < 3 or np.any(np.diff(w) <= 0):
+        raise FsweepError(f"{where}: grid.frequency: the peak is searched from at least 3 increasing frequencies "
+                          f"(got {w.size})")
+    a = assemble(structure_sweep.structure_def(parsed))
+    settings, _ = structure_sweep.run_settings(parsed)
+    dof = parsed.settings.get(design_structure.DOF_SETTING) or design_structure.default_dof(a)
+    problem = design_structure.StructureProblem(a, dof, settings, variable)
+    attrs: dict[str, Any] = {"spec": str(where), "method": parsed.method, "excitation": parsed.scene.excitation,
+                             "variable": variable, "dof": dof, "r_tol": float(r_tol),
+                             "frequency_range": np.array([w.min(), w.max()])}
+    if parsed.physical is not None:  # the angular frequency over omega_0 (spec.structure_units)
+        attrs["reference_frequency"] = float(parsed.physical.omega)
+    return problem, w, s, attrs, design_structure.axes(a)
 
 
 def run_options(jobs: Any, executor: Any) -> tuple[int, str]:

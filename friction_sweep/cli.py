@@ -850,12 +850,15 @@ def _design_options(command):
 @_design_options
 def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
     """The resonance peak of SPEC's scene for each force ratio of its grid: the largest response over
-    frequency, refined on the exact solver to 1e-10 in r (fs.peak). One line per force ratio."""
+    frequency, refined on the exact solver to 1e-10 in r (fs.peak). One line per force ratio. A structure
+    spec: one mass's (settings: {peak_dof: NAME}; the forced mass by default) for each friction_scale, with
+    each contact's regime there."""
     from friction_sweep import api
 
     ds = _design(lambda: api.peak(str(spec), variable=variable), spec, output, overwrite)
-    for j, beta in enumerate(ds.force_ratio.values):
-        click.echo(f"force_ratio {beta:.10g}: {_peak_line(ds, j)}")
+    level = _level(ds)
+    for j, beta in enumerate(ds[level].values):
+        click.echo(f"{level} {beta:.10g}: {_peak_line(ds, j)}")
 
 
 @main.command()
@@ -865,7 +868,8 @@ def peak(spec: Path, output: str | None, overwrite: bool, variable: str):
               "units where it has a system: the peak against friction, the optimum, Den Hartog's prediction.")
 def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plot: str | None):
     """The force ratio that minimises the resonance peak, to 1e-8, searched from SPEC's force-ratio grid
-    (fs.optimize); -o writes the performance curve (the peak at every force ratio) with it."""
+    (fs.optimize); -o writes the performance curve (the peak at every force ratio) with it. A structure
+    spec: the friction_scale that minimises its mass's peak (as fsweep peak)."""
     from friction_sweep import api
 
     if plot is not None:  # every refusal before the computing
@@ -877,9 +881,10 @@ def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plo
         if reason is not None:
             fail(reason)
     ds = _design(lambda: api.optimize(str(spec), variable=variable), spec, output, overwrite)
-    regime = codes.Regime(int(ds.optimum_regime)).name.lower() if np.isfinite(ds.optimum_regime) else "none"
-    click.echo(f"optimum ({ds.attrs['optimum_kind']}): force_ratio {float(ds.optimum_force_ratio):.10g}, "
-               f"peak {float(ds.optimum_peak):.10g} at r = {float(ds.optimum_frequency_ratio):.12g} ({regime})")
+    level, frequency, regime = _level(ds), _frequency_name(ds), _regime_words(ds.optimum_regime)
+    click.echo(f"optimum ({ds.attrs['optimum_kind']}): {level} {float(ds[f'optimum_{level}']):.10g}, "
+               f"peak {float(ds.optimum_peak):.10g} at {frequency} = {float(ds[f'optimum_{frequency}']):.12g} "
+               f"({regime})")
     if plot is not None:
         from friction_sweep.design import performance_figure
 
@@ -897,31 +902,52 @@ def optimize(spec: Path, output: str | None, overwrite: bool, variable: str, plo
 def backbone(spec: Path, output: str | None, overwrite: bool):
     """The backbone of SPEC's scene (force, or base): at every phase resonance (90-degree lag, bisected on
     the exact solver to 1e-10 in r) of each force ratio, the amplitude and the equivalent damping ratio
-    zeta_eq = E_dissipated / (4 pi E_potential) per period (fs.backbone). One line per phase resonance."""
+    zeta_eq = E_dissipated / (4 pi E_potential) per period (fs.backbone). One line per phase resonance. A
+    structure spec (force excitation): along its mass's phase resonance (as fsweep peak)."""
     from friction_sweep import api
 
     ds = _design(lambda: api.backbone(str(spec)), spec, output, overwrite)
-    for j, beta in enumerate(ds.force_ratio.values):
-        found = np.nonzero(np.isfinite(ds.backbone_frequency_ratio.values[j]))[0]
+    level, frequency = _level(ds), _frequency_name(ds)
+    short = "r" if frequency == "frequency_ratio" else "w"
+    for j, beta in enumerate(ds[level].values):
+        found = np.nonzero(np.isfinite(ds[f"backbone_{frequency}"].values[j]))[0]
         if not found.size:
-            click.echo(f"force_ratio {beta:.10g}: no phase resonance")
+            click.echo(f"{level} {beta:.10g}: no phase resonance")
         for k in found:
-            one = ds.isel(force_ratio=j, crossing=k)
-            code = float(one.backbone_regime)
-            regime = codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
-            click.echo(f"force_ratio {beta:.10g}: r = {float(one.backbone_frequency_ratio):.10g}, amplitude "
+            one = ds.isel({level: j, "crossing": k})
+            click.echo(f"{level} {beta:.10g}: {short} = {float(one[f'backbone_{frequency}']):.10g}, amplitude "
                        f"{float(one.backbone_amplitude):.10g}, zeta_eq {float(one.backbone_damping_ratio):.8g} "
-                       f"({regime})")
+                       f"({_regime_words(one.backbone_regime)})")
+
+
+def _level(ds) -> str:
+    """The friction axis of a design Dataset: force_ratio (1-DoF) or friction_scale (a structure)."""
+    return "friction_scale" if "friction_scale" in ds.dims else "force_ratio"
+
+
+def _frequency_name(ds) -> str:
+    return "frequency" if "friction_scale" in ds.dims else "frequency_ratio"
+
+
+def _regime_words(codes_at) -> str:
+    """A regime code in words; a structure's, one per contact: `name: regime, ...`."""
+    def word(code: float) -> str:
+        return codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
+
+    if "contact" not in codes_at.dims:
+        return word(float(codes_at))
+    return ", ".join(f"{c}: {word(float(v))}" for c, v in zip(codes_at.contact.values, codes_at.values, strict=True))
 
 
 def _peak_line(ds, j: int) -> str:
     value = float(ds.resonance_peak[j])
     if np.isnan(value):
         return "no peak"
-    code = float(ds.resonance_regime[j])
-    regime = codes.Regime(int(code)).name.lower() if np.isfinite(code) else "none"
+    frequency = _frequency_name(ds)
+    short = "r" if frequency == "frequency_ratio" else "w"
+    regime = _regime_words(ds.resonance_regime[j])
     edge = " (grid edge)" if bool(ds.resonance_at_edge[j]) else ""
-    return f"peak {value:.10g} at r = {float(ds.resonance_frequency_ratio[j]):.12g} ({regime}){edge}"
+    return f"peak {value:.10g} at {short} = {float(ds[f'resonance_{frequency}'][j]):.12g} ({regime}){edge}"
 
 
 def _design(compute, spec: Path, output: str | None, overwrite: bool):

@@ -1357,6 +1357,14 @@ CASES = [
     _structure_case("structure: a 1-DoF setting", "14:20: settings.starts",
                     ("method: event\n", "method: event\nsettings: {starts: 2}\n"),
                     words=("unknown setting 'starts' for a structure",)),
+    # issue 32 for structures: the mass whose peak the design commands take
+    _structure_case("structure: peak_dof names no mass", "14:22: settings.peak_dof",
+                    ("method: event\n", "method: event\nsettings: {peak_dof: hub}\n"),
+                    words=("'hub' is not a mass of the structure (masses: blade, damper)",)),
+    _structure_case("structure: peak_dof not a name", "14:22: settings.peak_dof",
+                    ("method: event\n", "method: event\nsettings: {peak_dof: 3}\n"), words=("must be a mass's name",)),
+    Case("structure: backbone under base excitation", _structure(base=True), args=("backbone", "{spec}"),
+         words=("scene: a structure's backbone is the phase resonance against a force: excitation force",)),
     Case("structure: validate refuses as run does", _structure(("damper: 0.1}", "damper: 0}")),
          args=("validate", "{spec}"), words=("spec.yaml:3:32: structure.masses.damper: a mass must be > 0",)),
     # a structure cube: audited against its own table (check and plot read it: tests/test_structure_commands.py)

@@ -2,7 +2,7 @@
 `fs.sweep` into a labelled cube (dims, names, CF attributes, flags, provenance, the structure it solved),
 through the same tiles, executors, checkpoint and progress as a 1-DoF sweep, bit for bit the same whatever
 the executor or the number of workers; `fsweep validate` and `info` show the structure; `check` and `plot`
-read it (issue 31); the design commands refuse a structure spec in one line.
+read it (issue 31); the design commands (issue 32) take it.
 
 What the numbers are (the engine against independent truths) is tested beside the engine; here a value is
 compared only with another run of the same spec, or with what the spec says.
@@ -145,14 +145,19 @@ def test_check_and_plot_read_a_structure_cube(spec_file, tmp_path, command):
     assert (tmp_path / "s.png").exists() == (command == "plot")
 
 
-@pytest.mark.parametrize("command", ["peak", "optimize"])
-def test_the_design_commands_refuse_a_structure_spec_in_one_line(spec_file, tmp_path, command):
-    """fsweep peak / optimize (issue 32) are built for the 1-DoF scenes: a structure spec is refused at its
-    structure key before anything is computed (it failed with an AttributeError traceback)."""
+def test_the_design_commands_take_a_structure_spec(spec_file, tmp_path):
+    """fsweep peak (issue 32 for structures): one line per friction scale, the forced mass's peak and each
+    contact's regime there; fsweep optimize refuses this spec's two friction scales in one line before
+    anything is computed, writing nothing."""
     with in_dir(tmp_path):
-        line = one_error_line(CliRunner().invoke(main, [command, str(spec_file), "-o", "p.nc"]), 2)
-    assert "structure: the resonance peak and the optimum are built for the 1-DoF scenes" in line
-    assert not (tmp_path / "p.nc").exists()
+        res = CliRunner().invoke(main, ["peak", str(spec_file), "-o", "p.nc"])
+        assert res.exit_code == 0, res.output
+        lines = res.output.strip().splitlines()
+        assert len(lines) == 2 and all(line.startswith("friction_scale ") for line in lines)
+        assert all("root: " in line for line in lines)
+        line = one_error_line(CliRunner().invoke(main, ["optimize", str(spec_file), "-o", "o.nc"]), 2)
+    assert "grid.friction_scale: the optimum is searched from at least 3 friction scales (got 2)" in line
+    assert (tmp_path / "p.nc").exists() and not (tmp_path / "o.nc").exists()
 
 
 def test_validate_accepts_the_spec_and_shows_the_structure(spec_file, tmp_path):

@@ -18,7 +18,7 @@ import numpy as np
 
 import friction_sweep
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR
-from friction_sweep.spec.structure import METHOD, STRUCTURE_SETTINGS, StructureSpec
+from friction_sweep.spec.structure import DESIGN_SETTINGS, METHOD, STRUCTURE_SETTINGS, StructureSpec
 from friction_sweep.storage.schema import STRUCTURE_ATTRIBUTE, STRUCTURE_VARIABLES
 
 log = logging.getLogger("friction_sweep")
@@ -47,8 +47,9 @@ def si_structure_def(spec: StructureSpec):
 
 
 def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
-    """The run's settings (the spec's: a structure has no `accuracy:`), and no attributes recording a choice."""
-    return dict(spec.settings), {}
+    """The run's settings (the spec's: a structure has no `accuracy:`; not the design's peak_dof, which no
+    number of the cube depends on), and no attributes recording a choice."""
+    return {k: v for k, v in spec.settings.items() if k not in DESIGN_SETTINGS}, {}
 
 
 def recorded_settings(spec: StructureSpec, settings: dict[str, Any]) -> dict[str, Any]:

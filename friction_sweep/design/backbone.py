@@ -119,16 +119,27 @@ def backbone(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R
     return out
 
 
-def dataset(found: Backbone, beta: np.ndarray, attrs: dict):
+def dataset(found: Backbone, beta: np.ndarray, attrs: dict, axes=None, potential: str | None = None):
     """The backbone as an xarray Dataset over (force_ratio, crossing): backbone_* per variable of Backbone,
-    `damping_ratio` being zeta_eq."""
+    `damping_ratio` being zeta_eq. `axes` (peak.Axes) names a structure's: (friction_scale, crossing), the
+    frequency backbone_frequency, regime and friction_energy per contact; `potential` says what E_p is."""
     import xarray as xr
 
-    dims = ("force_ratio", "crossing")
-    ds = xr.Dataset({f"backbone_{f.name}": (dims, getattr(found, f.name)) for f in fields(Backbone)},
-                    coords={"force_ratio": np.asarray(beta, dtype=float),
-                            "crossing": np.arange(found.frequency_ratio.shape[1])},
-                    attrs={**attrs, "potential_energy": "a^2/2 + kappa s^2/2 at the largest displacement a "
-                           "(s: the Jenkins spring's stretch there)",
+    from friction_sweep.design import peak
+
+    axes = peak.ONE_DOF if axes is None else axes
+    dims = (axes.friction, "crossing")
+
+    def entry(name: str):
+        v = getattr(found, name)
+        return (dims + ("contact",) * (v.ndim - 2), v)
+
+    names = {f.name: f"backbone_{axes.frequency if f.name == 'frequency_ratio' else f.name}" for f in fields(Backbone)}
+    coords = {axes.friction: np.asarray(beta, dtype=float), "crossing": np.arange(found.frequency_ratio.shape[1])}
+    if axes.contacts is not None:
+        coords["contact"] = np.array(axes.contacts, dtype=str)
+    ds = xr.Dataset({names[f.name]: entry(f.name) for f in fields(Backbone)}, coords=coords,
+                    attrs={**attrs, "potential_energy": potential or "a^2/2 + kappa s^2/2 at the largest "
+                           "displacement a (s: the Jenkins spring's stretch there)",
                            "damping_ratio": "E_d / (4 pi E_p), E_d the forcing's work per period"})
     return ds

@@ -16,10 +16,11 @@ The curve's smallest value on the grid, P[j], decides the search:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from friction_sweep.design.peak import INV_PHI, Peaks, Problem, peaks
+from friction_sweep.design.peak import INV_PHI, Peaks, Response, peaks
 
 #: default width, in beta, of the bracket the optimum is refined to
 BETA_TOL = 1e-8
@@ -35,17 +36,22 @@ class Optimum:
     force_ratio: float
     peak: float
     frequency_ratio: float
-    regime: float
+    regime: Any  # a float, or an array of one code per contact (a structure)
     kind: str
     beta: np.ndarray
     curve: Peaks
+
+
+def _scalar(v: Any) -> Any:
+    """A level's entry: a float, or (a structure's regime per contact) an array."""
+    return float(v) if np.ndim(v) == 0 else np.asarray(v, dtype=float)
 
 
 def _same(a: float, b: float) -> bool:
     return bool(a == b or abs(a - b) <= PLATEAU_RTOL * max(abs(a), abs(b)))
 
 
-def optimum(problem: Problem, r: np.ndarray, beta: np.ndarray, beta_tol: float = BETA_TOL,
+def optimum(problem: Response, r: np.ndarray, beta: np.ndarray, beta_tol: float = BETA_TOL,
             r_tol: float | None = None) -> Optimum:
     """The optimum over the increasing friction grid `beta` (at least 3 values), each level's peak over the
     frequency grid `r` (peak.peaks): see the module docstring."""
@@ -58,11 +64,11 @@ def optimum(problem: Problem, r: np.ndarray, beta: np.ndarray, beta_tol: float =
     p = np.where(np.isnan(best["value"]), np.inf, best["value"])
     j = int(np.argmin(p))
 
-    def at(b: float) -> dict[str, float]:
+    def at(b: float) -> dict[str, Any]:
         one = peaks(problem, r, np.array([b]), **kw).best()
-        return {k: float(v[0]) for k, v in one.items()}
+        return {k: _scalar(v[0]) for k, v in one.items()}
 
-    found = {k: float(v[j]) for k, v in best.items()}
+    found = {k: _scalar(v[j]) for k, v in best.items()}
     b_opt = float(beta[j])
     if j + 1 < beta.size and _same(p[j], p[j + 1]):
         kind = "plateau"
@@ -103,14 +109,16 @@ def optimum(problem: Problem, r: np.ndarray, beta: np.ndarray, beta_tol: float =
     return Optimum(b_opt, found["value"], found["frequency_ratio"], found["regime"], kind, beta, curve)
 
 
-def dataset(found: Optimum, attrs: dict):
+def dataset(found: Optimum, attrs: dict, axes=None):
     """The performance curve (peak.dataset) with the optimum as scalars: optimum_force_ratio, optimum_peak,
-    optimum_frequency_ratio, optimum_regime, and attribute optimum_kind (interior, plateau or edge)."""
+    optimum_frequency_ratio, optimum_regime (named after `axes`, peak.Axes: a structure's optimum_friction_scale,
+    optimum_frequency, optimum_regime per contact), and attribute optimum_kind (interior, plateau or edge)."""
     from friction_sweep.design import peak
 
-    ds = peak.dataset(found.curve, found.beta, {**attrs, "optimum_kind": found.kind})
-    ds["optimum_force_ratio"] = found.force_ratio
+    axes = peak.ONE_DOF if axes is None else axes
+    ds = peak.dataset(found.curve, found.beta, {**attrs, "optimum_kind": found.kind}, axes=axes)
+    ds[f"optimum_{axes.friction}"] = found.force_ratio
     ds["optimum_peak"] = found.peak
-    ds["optimum_frequency_ratio"] = found.frequency_ratio
-    ds["optimum_regime"] = found.regime
+    ds[f"optimum_{axes.frequency}"] = found.frequency_ratio
+    ds["optimum_regime"] = ((), found.regime) if axes.contacts is None else (("contact",), found.regime)
     return ds

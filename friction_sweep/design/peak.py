@@ -22,13 +22,18 @@ unsettled point as none (-inf).
 T is any per-point variable of the method (`transmissibility`, the first harmonic, by default;
 `peak_transmissibility`, max|x| over the orbit). Methods: event, rk4 (kernels through methods.event, the
 first start only), auto (Den Hartog's closed form where methods.auto would use it, event elsewhere).
+
+The search reads the response through one call, `problem.solve(r, beta) -> (T, regime, phase)` (the
+Response protocol): Problem is the 1-DoF scenes' response; design.structure's is a structure's chosen
+mass against the angular frequency and friction_scale, whose regime has one value per contact (a trailing
+axis the search carries along: Peaks.regime is then (levels, size, contacts)).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 import numpy as np
 
@@ -47,6 +52,14 @@ PEAK_VARIABLES = ("transmissibility", "peak_transmissibility")
 R_TOL = 1e-10
 #: 1 / golden ratio
 INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
+
+
+class Response(Protocol):
+    """What the search reads: T, the regime code(s) and the phase (degrees) at the points (r, beta), 1-D
+    arrays of one size (regime may have trailing axes, one value per contact); T +inf where the motion is
+    unbounded, -inf where no steady state settled."""
+
+    def solve(self, r: np.ndarray, beta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]: ...
 
 
 @dataclass(frozen=True)
@@ -157,7 +170,7 @@ class Peaks:
         out = {}
         for name in ("value", "frequency_ratio", "regime", "phase"):
             picked = getattr(self, name)[levels, k]
-            out[name] = np.where(some, picked, np.nan)
+            out[name] = np.where(some.reshape(some.shape + (1,) * (picked.ndim - 1)), picked, np.nan)
         out["at_edge"] = np.where(some, self.at_edge[levels, k], False)
         return out
 
@@ -170,7 +183,7 @@ def local_maxima(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return level, i + 1
 
 
-def peaks(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TOL) -> Peaks:
+def peaks(problem: Response, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TOL) -> Peaks:
     """The resonance peaks of T over the increasing grid r (at least 3 values) for each friction level in
     beta (1-D): see the module docstring."""
     r = np.asarray(r, dtype=float)
@@ -178,7 +191,7 @@ def peaks(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TO
     if r.ndim != 1 or r.size < 3 or np.any(np.diff(r) <= 0):
         raise ValueError("the frequency grid must be at least 3 increasing values")
     R, B = np.meshgrid(r, beta)
-    t, reg, ph = (a.reshape(R.shape) for a in problem.solve(R.ravel(), B.ravel()))
+    t, reg, ph = (a.reshape(R.shape + a.shape[1:]) for a in problem.solve(R.ravel(), B.ravel()))
     level, i = local_maxima(t)
     x, fx = golden_max(lambda rr: problem.solve(rr, beta[level])[0], r[i - 1], r[i + 1], r_tol, r[i], t[level, i])
     finite = np.isfinite(fx)
@@ -198,8 +211,8 @@ def peaks(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TO
         rows[e].append((t[e, top[e]], r[top[e]], reg[e, top[e]], ph[e, top[e]], True))
     size = max(1, max(len(found) for found in rows))
     shape = (beta.size, size)
-    out = Peaks(np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan),
-                np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), ph)
+    out = Peaks(np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape + reg.shape[2:], np.nan),
+                np.full(shape, np.nan), np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool), ph)
     for j, found in enumerate(rows):
         found.sort(key=lambda f: f[1])
         for k, (v, rx, g, p, e) in enumerate(found):
@@ -211,28 +224,46 @@ def peaks(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TO
     return out
 
 
-def dataset(curve: Peaks, beta: np.ndarray, attrs: Mapping[str, Any], crossings=None):
-    """The peaks as an xarray Dataset over the friction axis `force_ratio` (and `peak`, the local maxima
-    of each level in increasing r, NaN-padded): `resonance_*` the largest, `local_*` every one; with
-    `crossings` (phase_resonance.Crossings) the 90-degree points too, `phase_resonance_*` along dim
-    `crossing`."""
+@dataclass(frozen=True)
+class Axes:
+    """How a Dataset names its axes: the friction level's (`force_ratio` of a 1-DoF scene, `friction_scale` of
+    a structure), the frequency's (`frequency_ratio`; a structure's angular `frequency`), and a structure's
+    contacts (the regime's trailing axis, dim `contact`)."""
+
+    friction: str = "force_ratio"
+    frequency: str = "frequency_ratio"
+    contacts: tuple[str, ...] | None = None
+
+
+ONE_DOF = Axes()
+
+
+def dataset(curve: Peaks, beta: np.ndarray, attrs: Mapping[str, Any], crossings=None, axes: Axes = ONE_DOF):
+    """The peaks as an xarray Dataset over the friction axis (axes.friction: `force_ratio`) and `peak`, the
+    local maxima of each level in increasing r, NaN-padded: `resonance_*` the largest, `local_*` every one;
+    with `crossings` (phase_resonance.Crossings) the 90-degree points too, `phase_resonance_*` along dim
+    `crossing`. The frequency's variables are named after axes.frequency (resonance_frequency_ratio); a
+    structure's regimes have dim `contact` last."""
     import xarray as xr
 
     best = curve.best()
-    dims, local = ("force_ratio",), ("force_ratio", "peak")
+    f, freq = axes.friction, axes.frequency
+    contact = () if axes.contacts is None else ("contact",)
+    dims, local = (f,), (f, "peak")
     ds = xr.Dataset(
-        {"resonance_peak": (dims, best["value"]), "resonance_frequency_ratio": (dims, best["frequency_ratio"]),
-         "resonance_regime": (dims, best["regime"]), "resonance_phase": (dims, best["phase"]),
+        {"resonance_peak": (dims, best["value"]), f"resonance_{freq}": (dims, best["frequency_ratio"]),
+         "resonance_regime": (dims + contact, best["regime"]), "resonance_phase": (dims, best["phase"]),
          "resonance_at_edge": (dims, best["at_edge"].astype(bool)),
-         "local_peak": (local, curve.value), "local_frequency_ratio": (local, curve.frequency_ratio),
-         "local_regime": (local, curve.regime), "local_phase": (local, curve.phase),
+         "local_peak": (local, curve.value), f"local_{freq}": (local, curve.frequency_ratio),
+         "local_regime": (local + contact, curve.regime), "local_phase": (local, curve.phase),
          "local_at_edge": (local, curve.at_edge), "local_largest": (local, curve.largest)},
-        coords={"force_ratio": np.asarray(beta, dtype=float), "peak": np.arange(curve.value.shape[1])},
+        coords={f: np.asarray(beta, dtype=float), "peak": np.arange(curve.value.shape[1]),
+                **({} if axes.contacts is None else {"contact": np.array(axes.contacts, dtype=str)})},
         attrs=dict(attrs))
     if crossings is not None:
-        cross = ("force_ratio", "crossing")
-        ds = ds.assign({"phase_resonance_frequency_ratio": (cross, crossings.frequency_ratio),
+        cross = (f, "crossing")
+        ds = ds.assign({f"phase_resonance_{freq}": (cross, crossings.frequency_ratio),
                         "phase_resonance_value": (cross, crossings.value),
-                        "phase_resonance_regime": (cross, crossings.regime)})
+                        "phase_resonance_regime": (cross + contact, crossings.regime)})
         ds = ds.assign_coords(crossing=np.arange(crossings.value.shape[1]))
     return ds

@@ -9,6 +9,9 @@ methods.theory, theory.den_hartog), on DH_POINTS frequency ratios over the searc
 where the exact peak's motion is continuous, and is drawn there only; elsewhere the peak lies in stick-slip,
 which the closed form does not describe. Friction levels whose peak is infinite (no bounded resonance,
 below pi/4 for an undamped mass), and every level below the largest such, are shaded, not drawn.
+
+A structure's curve (design.structure: dim friction_scale, the Dataset's `dof` the mass) is drawn against
+friction_scale, in the structure's units, without Den Hartog (a one-mass theory).
 """
 
 from __future__ import annotations
@@ -50,7 +53,9 @@ def draw(ds: xr.Dataset) -> Figure:
     the frequency grid the peaks were searched on)."""
     from matplotlib.figure import Figure
 
-    beta = ds.force_ratio.values
+    structure = "friction_scale" in ds.dims
+    level = "friction_scale" if structure else "force_ratio"
+    beta = ds[level].values
     peak = ds.resonance_peak.values
     physical = "reference_force" in ds.attrs and "length_scale" in ds.attrs
     # beta -> N and T -> mm where the spec has a system, else the ratios themselves
@@ -63,18 +68,21 @@ def draw(ds: xr.Dataset) -> Figure:
     if unbounded.any():  # and every level below the last unbounded one (beta = 0 undamped: 1/eps at r -> 1)
         unbounded[: int(np.nonzero(unbounded)[0].max()) + 1] = True
     finite = np.isfinite(ys) & (ys > 0) & ~unbounded
-    ax.plot(xs[finite], ys[finite], "-o", ms=3, color="tab:blue", label="exact peak (event, refined to 1e-10 in r)")
+    refined = "in the angular frequency" if structure else "in r"
+    ax.plot(xs[finite], ys[finite], "-o", ms=3, color="tab:blue",
+            label=f"exact peak (event, refined to 1e-10 {refined})")
     if unbounded.any():
         edge = xs[unbounded].max()
         ax.axvspan(xs.min(), edge, color="tab:red", alpha=0.12, lw=0, label="no bounded resonance")
-    regime = ds.resonance_regime.values
-    r_lo, r_hi = (float(v) for v in np.ravel(ds.attrs["frequency_ratio_range"]))
-    dh = den_hartog_peaks(ds.attrs["excitation"], beta, r_lo, r_hi)
-    holds = (regime == Regime.CONTINUOUS) & np.isfinite(dh) & finite
-    if holds.any():
-        ax.plot(xs[holds], (dh * mm)[holds], "--x", color="black", lw=1, ms=7,
-                label="Den Hartog (where the peak's motion is continuous)")
-    opt_b, opt_p = float(ds.optimum_force_ratio), float(ds.optimum_peak)
+    if not structure:
+        regime = ds.resonance_regime.values
+        r_lo, r_hi = (float(v) for v in np.ravel(ds.attrs["frequency_ratio_range"]))
+        dh = den_hartog_peaks(ds.attrs["excitation"], beta, r_lo, r_hi)
+        holds = (regime == Regime.CONTINUOUS) & np.isfinite(dh) & finite
+        if holds.any():
+            ax.plot(xs[holds], (dh * mm)[holds], "--x", color="black", lw=1, ms=7,
+                    label="Den Hartog (where the peak's motion is continuous)")
+    opt_b, opt_p = float(ds[f"optimum_{level}"]), float(ds.optimum_peak)
     opt_x, opt_y = opt_b * force, opt_p * mm
     kind = ds.attrs.get("optimum_kind", "")
     what = f"optimum ({kind}): {opt_x:.4g} {'N' if physical else ''}".rstrip()
@@ -83,9 +91,14 @@ def draw(ds: xr.Dataset) -> Figure:
         ax.plot([opt_x], [opt_y], "*", ms=14, color="tab:green", label=what)
     else:  # a peak of 0 (the mass held): marked on the axis
         ax.axvline(opt_x, color="tab:green", lw=1.5, label=f"{what}, peak 0 (held)")
-    ax.set_xlabel("friction force (N)" if physical else "force ratio β")
-    ax.set_ylabel("resonance peak, amplitude (mm)" if physical else "resonance peak T")
-    ax.set_title(f"Resonance peak against friction ({ds.attrs['excitation']} scene)")
+    if structure:
+        ax.set_xlabel("friction_scale (normal load over the nominal one)")
+        ax.set_ylabel(f"resonance peak of {ds.attrs['dof']}")
+        ax.set_title(f"Resonance peak against friction (structure, {ds.attrs['excitation']} excitation)")
+    else:
+        ax.set_xlabel("friction force (N)" if physical else "force ratio β")
+        ax.set_ylabel("resonance peak, amplitude (mm)" if physical else "resonance peak T")
+        ax.set_title(f"Resonance peak against friction ({ds.attrs['excitation']} scene)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -12,10 +12,11 @@ and none is reported. The response (T) and regime are those at the crossing.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from friction_sweep.design.peak import R_TOL, Problem
+from friction_sweep.design.peak import R_TOL, Response
 
 #: degrees of phase the ends of a narrowed bracket may still differ by at a crossing (at r_tol = 1e-10
 #: a slope of 1e7 degrees per unit r)
@@ -28,10 +29,10 @@ class Crossings:
 
     frequency_ratio: np.ndarray  # (levels, size)
     value: np.ndarray
-    regime: np.ndarray
+    regime: np.ndarray  # (levels, size[, contacts])
 
 
-def crossings(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TOL,
+def crossings(problem: Response, r: np.ndarray, beta: np.ndarray, r_tol: float = R_TOL,
               grid_phase: np.ndarray | None = None) -> Crossings:
     """The phase-resonance points over the increasing grid r for each beta (1-D); `grid_phase`: the phase on
     the grid (levels x r) where the caller has it already (peak.Peaks.grid_phase)."""
@@ -58,11 +59,13 @@ def crossings(problem: Problem, r: np.ndarray, beta: np.ndarray, r_tol: float = 
     x = 0.5 * (lo + hi)
     crossing = np.abs(f_hi - f_lo) <= JUMP_DEG
     value, regime, _ = problem.solve(x, beta[level]) if x.size else (x, x, x)
-    rows: list[list[tuple[float, float, float]]] = [[] for _ in beta]
+    rows: list[list[tuple[float, float, Any]]] = [[] for _ in beta]
     for k in np.nonzero(crossing)[0]:
         rows[level[k]].append((x[k], value[k], regime[k]))
     size = max(1, max(len(found) for found in rows))
-    out = Crossings(*(np.full((beta.size, size), np.nan) for _ in range(3)))
+    shape = (beta.size, size)
+    extra = np.shape(regime)[1:]  # a structure's regime: one per contact
+    out = Crossings(np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape + extra, np.nan))
     for j, found in enumerate(rows):
         for m, (rx, v, g) in enumerate(found):
             out.frequency_ratio[j, m], out.value[j, m], out.regime[j, m] = rx, v, g

@@ -645,9 +645,12 @@ class StructureSpec(_Sourced):
         known = METHODS[METHOD].settings
         problems = []
         for key, value in v.items():
-            if key not in STRUCTURE_SETTINGS:
+            if key in DESIGN_SETTINGS:  # a mass's name: checked against the structure in _excitation
+                if not isinstance(value, str) or not value:
+                    problems.append(_error("setting_type", f"must be a mass's name (got {show(value)})", (key,)))
+            elif key not in STRUCTURE_SETTINGS:
                 problems.append(_error("unknown_setting", f"unknown setting {show(key)} for a structure (allowed: "
-                                       f"{', '.join(STRUCTURE_SETTINGS)})", (key,)))
+                                       f"{', '.join(STRUCTURE_SETTINGS + DESIGN_SETTINGS)})", (key,)))
             elif (reason := _bound_problem(known[key].kind, known[key], value)) is not None:
                 problems.append(_error("setting_range", reason, (key,)))
         _raise_all("settings", problems)
@@ -734,6 +737,10 @@ class StructureSpec(_Sourced):
 
     def _excitation_problems(self):
         st, excitation = self.structure, self.scene.excitation
+        for key in DESIGN_SETTINGS:
+            if key in self.settings and self.settings[key] not in st.dofs:
+                yield _error("unknown_dof", f"{show(self.settings[key])} is not a mass of the structure (masses: "
+                             f"{', '.join(st.dofs)})", ("settings", key))
         elements = [("springs", i, (a, b)) for i, (a, b, _) in enumerate(st.springs)]
         elements += [("dampers", i, (a, b)) for i, (a, b, _) in enumerate(st.dampers)]
         elements += [("contacts", j, c.between) for j, c in enumerate(st.contacts)]
@@ -779,3 +786,6 @@ class StructureSpec(_Sourced):
 #: defaults and ranges), which the engine reads
 STRUCTURE_SETTINGS = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after",
                       "shoot_every")
+#: the settings of fsweep peak / optimize / backbone (friction_sweep.design.structure), which the engine does
+#: not read: peak_dof, the mass whose resonance peak is taken
+DESIGN_SETTINGS = ("peak_dof",)
