@@ -66,6 +66,10 @@ _UNBALANCED = int(SteadyState.UNBALANCED)
 _RESOLVED = 1e-10
 #: the march suggests a period-k orbit (k > 1) where P^k moves the state by under this share of P's move
 _LAG_SUGGESTS = 0.1
+#: with static above kinetic friction Newton's orbit is taken only within this share of the state's size from
+#: the march (the 1-DoF kernel's STICK_SHOT_REACH: static friction holds several orbits, and the march's start
+#: decides which one a point settles on)
+_STICK_SHOT_REACH = 0.05
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -116,6 +120,16 @@ def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
         elif st[j] != STUCK and abs(u1) > 0.0:
             st[j] = 1 if u1 > 0.0 else -1
     return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws)
+
+
+@jit
+def _holds_several(cp):
+    """Whether static friction exceeds kinetic at a contact with friction (a point may then hold several
+    steady states, DESIGN §7 uniqueness)."""
+    for j in range(cp.shape[0]):
+        if cp[j, CP_MU] > 0.0 and cp[j, CP_MUS] > cp[j, CP_MU]:
+            return True
+    return False
 
 
 @jit
@@ -456,6 +470,8 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 lag = 1
                 found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
                                 R, harm, xmax, mc)
+            if found and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > _STICK_SHOT_REACH * size:
+                found = False  # an orbit static friction holds elsewhere, not the one the march approaches
             if found:
                 lag = _least_period(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale,
                                     J, jflag, harm, xmax, mc)
