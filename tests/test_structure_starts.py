@@ -186,3 +186,16 @@ def test_a_swept_spec_runs_the_sweep_at_each_friction_scale():
     with pytest.raises(SpecError) as err:
         fs.sweep(spec)
     assert [p.key for p in err.value.errors] == ["settings.starts"]
+
+
+def test_a_swept_cube_is_the_same_whatever_the_executor():
+    """Tiles of a swept run are blocks of friction scales (4 a tile: 5 scales make two), each scale one
+    sequential sweep: the cube does not depend on the workers."""
+    spec = _spec(3.0)
+    spec["sweep"] = {"direction": "up"}
+    spec["grid"] = {"frequency": [0.5, 0.9, 1.3], "friction_scale": [0.3, 0.5, 0.7, 0.9, 1.1]}
+    one = fs.sweep(spec)
+    two = fs.sweep(spec, jobs=2, executor="processes")
+    assert set(one.data_vars) == set(two.data_vars)
+    for name in one.data_vars:
+        np.testing.assert_array_equal(one[name].values, two[name].values, err_msg=str(name))
