@@ -1,10 +1,12 @@
 """Issues 30 and 31: the structure engine's start state. A point solved from a state (x, v, the Jenkins sliders,
 each contact's status at the section) instead of rest, its end state (the steady orbit's at the section), and
-what rides on them: the second start where static friction exceeds kinetic, and stepped-sine sweeps.
+what rides on them: the second start where static friction exceeds kinetic, stepped-sine sweeps, and time
+histories of the steady orbit.
 
 The truths: an orbit's end state is a fixed point of the period map, so a solve started there settles in its
-first period with the same numbers; two steady states at one point are confirmed by the independent hybrid
-integrator (tests/independent_structure.py, SciPy's DOP853) from the same two starts.
+first period with the same numbers; two steady states at one point, both sides of a sweep's jump, and the
+sampled orbits are confirmed by the independent hybrid integrator (tests/independent_structure.py, SciPy's
+DOP853).
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from independent_structure import Automaton, model
 import friction_sweep as fs
 from friction_sweep.codes import Regime, SteadyState
 from friction_sweep.storage.schema import MOVING_SUFFIX
-from friction_sweep.structures import ContactDef, StructureDef, assemble, solve_points, starts
+from friction_sweep.structures import ContactDef, StructureDef, assemble, solve_points, starts, time_histories
 
 #: the issue's blade with an under-platform damper on one rigid contact (benchmarks/structures.py's BLADE)
 BLADE = StructureDef("force", {"blade": 1.0, "damper": 0.1}, (("ground", "blade", 1.0), ("blade", "damper", 2.0)),
@@ -199,3 +201,30 @@ def test_a_swept_cube_is_the_same_whatever_the_executor():
     assert set(one.data_vars) == set(two.data_vars)
     for name in one.data_vars:
         np.testing.assert_array_equal(one[name].values, two[name].values, err_msg=str(name))
+
+
+@pytest.mark.parametrize("d, w, scale", [(BLADE, 1.2, 1.0), (JENKINS, 0.9, 1.0), (JENKINS, 1.6, 3.0),
+                                         (STATIC, 0.5, 0.7)])
+def test_time_histories_are_the_independent_integrators_orbit(d, w, scale):
+    """Every mass's displacement and every contact's force over the steady orbit, sampled 16 times a period
+    from the excitation's maximum: the independent integrator's orbit (from its own steady state) at the same
+    instants, to 1e-9 of the orbit's size and of the largest friction."""
+    S = 16
+    h = time_histories(assemble(d), [[w, scale]], S)
+    k = int(h["orbit_period"][0])
+    np.testing.assert_array_equal(h["time"][0], np.arange(k * S) / S)
+    auto = Automaton(model(d, scale), w)
+    z, modes, k_ref = auto.steady()
+    assert k_ref == k
+    n = len(d.masses)
+    size = np.abs(h["displacement"][0]).max()
+    friction = max(c.friction * c.static_friction_ratio for c in d.contacts) * scale
+    t0 = 0.0
+    for q in range(k * S):
+        t = q * auto.T / S
+        if q:
+            _, z, modes = auto.run(t0, z, modes, t)
+        t0 = t
+        lam = auto.forces(t, z[:n], z[n:2 * n], z[2 * n:], modes)[1]
+        np.testing.assert_allclose(h["displacement"][0, q], z[:n], rtol=0, atol=1e-9 * max(size, 1e-300))
+        np.testing.assert_allclose(h["contact_force"][0, q], lam, rtol=0, atol=1e-9 * friction)
