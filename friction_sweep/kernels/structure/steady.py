@@ -434,6 +434,9 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     p = 0
     shooting = True
     pt = 3 * n + 4 * m
+    zc = np.empty(N)
+    stc = st.copy()
+    held = 0
     while p < max_periods:
         hist[p % maxk, :] = z[:Nd]
         code = _periods(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False,
@@ -456,22 +459,37 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 orbit = 0
                 continue
             break
-        if shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0:
-            zs = z.copy()
-            sts = st.copy()
-            lag = _suggested_lag(z, hist, p, maxk, Nd)
-            found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
-                            harm, xmax, mc)
-            if not found and lag > 1:
-                # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
-                # Newton misses): shoot on P as without it
-                zs[:] = z
-                sts[:] = st
-                lag = 1
-                found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
-                                R, harm, xmax, mc)
-            if found and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > _STICK_SHOT_REACH * size:
-                found = False  # an orbit static friction holds elsewhere, not the one the march approaches
+        # the march has come near the orbit a Newton shot found earlier (held back as too far from the
+        # march then, with static friction): that is the orbit it approaches
+        near = held > 0 and _norm(z[:Nd] - zc[:Nd], Nd) <= _STICK_SHOT_REACH * size
+        if near or (shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0):
+            if near:
+                zs = zc.copy()
+                sts = stc.copy()
+                lag = held
+                found = True
+                held = 0
+            else:
+                zs = z.copy()
+                sts = st.copy()
+                lag = _suggested_lag(z, hist, p, maxk, Nd)
+                found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
+                                harm, xmax, mc)
+                if not found and lag > 1:
+                    # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
+                    # Newton misses): shoot on P as without it
+                    zs[:] = z
+                    sts[:] = st
+                    lag = 1
+                    found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
+                                    R, harm, xmax, mc)
+                if found and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > _STICK_SHOT_REACH * size:
+                    # an orbit static friction holds elsewhere, or the one the march approaches from afar:
+                    # held until the march comes near it
+                    zc[:] = zs
+                    stc[:] = sts
+                    held = lag
+                    found = False
             if found:
                 lag = _least_period(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale,
                                     J, jflag, harm, xmax, mc)
