@@ -1354,9 +1354,9 @@ CASES = [
                     ("[blade, damper, 2.0]", "[blade, damper]"), words=("a spring is [a, b, stiffness]",)),
     _structure_case("structure: a setting out of its range", "14:24: settings.steady_tol",
                     ("method: event\n", "method: event\nsettings: {steady_tol: 1}\n"), words=("must be between",)),
-    _structure_case("structure: a 1-DoF setting", "14:20: settings.starts",
-                    ("method: event\n", "method: event\nsettings: {starts: 2}\n"),
-                    words=("unknown setting 'starts' for a structure",)),
+    _structure_case("structure: a 1-DoF setting", "14:34: settings.initial_displacement",
+                    ("method: event\n", "method: event\nsettings: {initial_displacement: 0.5}\n"),
+                    words=("unknown setting 'initial_displacement' for a structure",)),
     # issue 32 for structures: the mass whose peak the design commands take
     _structure_case("structure: peak_dof names no mass", "14:22: settings.peak_dof",
                     ("method: event\n", "method: event\nsettings: {peak_dof: hub}\n"),

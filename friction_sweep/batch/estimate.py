@@ -240,9 +240,11 @@ def _structure_estimate(spec, settings: dict | None, *, jobs: int, executor: str
     knobs = {**METHODS["event"].defaults, **(spec.settings if settings is None else settings)}
     n_f, n_s = spec.frequency.size, spec.friction_scale.size
     points = n_f * n_s
-    n_tiles = len(layout(n_f, n_s))
-    serial = KERNEL_LOAD_SECONDS + points * structure_point_seconds(n, m)
-    worst = serial + points * 0.3e-6 * knobs["work_budget"] * max(1.0, (n / 2.0) ** 2)
+    n_tiles = len(layout(n_f, n_s, spec.sweep.direction if spec.sweep is not None else None))
+    # two starts (spec.two_starts): the kinetic seed and the solve from its state beside the solve from rest
+    solves = 3 if spec.two_starts else 1
+    serial = KERNEL_LOAD_SECONDS + solves * points * structure_point_seconds(n, m)
+    worst = serial + solves * points * 0.3e-6 * knobs["work_budget"] * max(1.0, (n / 2.0) ** 2)
     n_workers = local_workers(executor, jobs, n_tiles, scheduler)
     own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)
     processes = n_workers if own else 0

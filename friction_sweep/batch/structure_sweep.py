@@ -2,7 +2,9 @@
 1-DoF spec, with the same names, for `fsweep run` (around its checkpoint and lock) and the Python API.
 
 Tiles are fixed blocks of TILE_FREQUENCIES frequencies by every friction scale (batch.layout), each solved by
-the engine (friction_sweep.structures.solve_points) as one flat batch of points, friction_scale-major. A
+the engine (friction_sweep.structures.solve_points) as one flat batch of points, friction_scale-major; a
+swept run's (`sweep:`) are blocks of TILE_FORCES friction scales by every frequency, each scale one sequential
+sweep (structures.starts.solve_sweep). A
 point's result depends only on its own inputs (the engine's contract), so the cube is the same bit for bit
 whatever the executor, the number of workers, or which tiles a resumed run read back.
 """
@@ -19,7 +21,7 @@ import numpy as np
 import friction_sweep
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR
 from friction_sweep.spec.structure import DESIGN_SETTINGS, METHOD, STRUCTURE_SETTINGS, StructureSpec
-from friction_sweep.storage.schema import STRUCTURE_ATTRIBUTE, STRUCTURE_VARIABLES
+from friction_sweep.storage.schema import MOVING_SUFFIX, STRUCTURE_ATTRIBUTE, STRUCTURE_VARIABLES
 
 log = logging.getLogger("friction_sweep")
 
@@ -58,42 +60,69 @@ def recorded_settings(spec: StructureSpec, settings: dict[str, Any]) -> dict[str
     from friction_sweep.catalogue import METHODS
 
     defaults = METHODS[METHOD].defaults
-    return {**{k: defaults[k] for k in STRUCTURE_SETTINGS}, **settings}
+    recorded = {**{k: defaults[k] for k in STRUCTURE_SETTINGS}, **settings}
+    if spec.sweep is not None:  # the sweep is the start: no second one (batch.pipeline's rule)
+        recorded.pop("starts", None)
+        recorded["sweep"] = spec.sweep.direction
+    return recorded
 
 
 def checkpoint_key(spec: StructureSpec, settings: dict[str, Any], extra_attrs: dict[str, Any]) -> str:
     """The fingerprint of every input that changes a number of the run (batch.pipeline.checkpoint_key's
     rule): the spec as parsed, the grid's values and tiles, the settings, the version and the code."""
     from friction_sweep.batch import checkpoint
-    from friction_sweep.batch.layout import TILE_FREQUENCIES
+    from friction_sweep.batch.layout import TILE_FORCES, TILE_FREQUENCIES
     from friction_sweep.batch.pipeline import code_version
 
     return checkpoint.fingerprint(
         spec=spec.model_dump(mode="json", exclude={"output"}), frequency=np.asarray(spec.frequency, dtype=float),
-        friction_scale=np.asarray(spec.friction_scale, dtype=float), tile=TILE_FREQUENCIES, settings=settings,
+        friction_scale=np.asarray(spec.friction_scale, dtype=float),
+        tile=TILE_FORCES if spec.sweep else TILE_FREQUENCIES, sweep=_direction(spec), settings=settings,
         recorded=recorded_settings(spec, settings), accuracy=extra_attrs, version=friction_sweep.__version__,
         code=code_version(), model=_model_digest(spec))
 
 
 def tile_grids(spec: StructureSpec) -> list[dict[str, np.ndarray]]:
     """Each tile's grid values, which a checkpoint tile must carry to be used again."""
-    from friction_sweep.batch.layout import tiles
-
     frequency, scale = spec.frequency, spec.friction_scale
+    if spec.sweep is not None:
+        return [{"frequency": np.ascontiguousarray(frequency), "friction_scale": np.ascontiguousarray(scale[s])}
+                for s in _parts(spec)]
     return [{"frequency": np.ascontiguousarray(frequency[s]), "friction_scale": np.ascontiguousarray(scale)}
-            for s in tiles(frequency.size)]
+            for s in _parts(spec)]
+
+
+def _direction(spec: StructureSpec) -> str | None:
+    return spec.sweep.direction if spec.sweep is not None else None
+
+
+def _parts(spec: StructureSpec) -> list[slice]:
+    """The run's tiles (batch.layout): slices of the frequencies, or of the friction scales for a swept run."""
+    from friction_sweep.batch.layout import layout
+
+    return layout(spec.frequency.size, spec.friction_scale.size, _direction(spec))
 
 
 def compute_tile(args) -> dict[str, np.ndarray]:
     """One tile: a pure function of its arguments (picklable for processes and Dask). Each variable comes
     back as (friction_scale, frequency[, dof or contact]) arrays in the schema's dtype."""
-    from friction_sweep.structures import assemble, solve_points
+    from friction_sweep.structures import assemble, solve_points, starts
 
-    definition, frequency, scale, variables, outputs, settings = args
+    definition, frequency, scale, variables, outputs, settings, direction = args
     n_s, n_f = scale.size, frequency.size
+    if direction is not None:  # a stepped-sine sweep along frequency at each friction scale
+        a = assemble(definition)
+        swept = [starts.solve_sweep(a, frequency, float(v), direction, settings, outputs) for v in scale]
+        return {name: np.stack([np.asarray(one[name], dtype=STRUCTURE_VARIABLES[name].dtype) for one in swept])
+                for name in variables}
     f = np.tile(frequency, n_s)  # friction_scale-major: point k is (scale[k // n_f], frequency[k % n_f])
     s = np.repeat(scale, n_f)
-    solved = solve_points(assemble(definition), f, s, settings, outputs)
+    a = assemble(definition)
+    solved = solve_points(a, f, s, settings, outputs)
+    if any(name.endswith(MOVING_SUFFIX) for name in variables):  # the spec's two_starts
+        moving = starts.solve_moving(a, f, s, settings, outputs)
+        solved.update({name + MOVING_SUFFIX: values for name, values in moving.items()})
+        solved["steady_states"] = starts.count_states(solved, moving)
     return {name: np.asarray(solved[name], dtype=STRUCTURE_VARIABLES[name].dtype).reshape(
         (n_s, n_f, *np.shape(solved[name])[1:])) for name in variables}
 
@@ -102,7 +131,7 @@ def compile_kernels(spec: StructureSpec, settings: dict[str, Any]) -> None:
     """Have numba compile (or load from its cache) the structure engine, by solving the spec's first point in
     this process (as batch.pipeline.compile_kernels does for a 1-DoF spec): fsweep run says so meanwhile."""
     frequency, scale = spec.frequency[:1], spec.friction_scale[:1]
-    compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings)))
+    compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings), None))
 
 
 def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,
@@ -111,35 +140,38 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
             on_tile: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
     """Every variable of the spec's cube on the whole plane (done/on_done/on_tile as batch.runner.run_grid:
     a checkpoint's tiles, saving each new one, progress in points)."""
-    from friction_sweep.batch.layout import tiles
     from friction_sweep.batch.runner import run_tiles
 
     frequency, scale = spec.frequency, spec.friction_scale
     definition = structure_def(spec)
     sizes = {"dof": len(spec.structure.dofs), "contact": len(spec.structure.contacts)}
-    parts = tiles(frequency.size)
-    work = [(definition, frequency[p], scale, spec.variables, spec.outputs, dict(settings)) for p in parts]
+    parts = _parts(spec)
+    direction = _direction(spec)
+    # a swept run's tile: some friction scales by every frequency; else some frequencies by every scale
+    cuts = [(slice(None), p) if direction is None else (p, slice(None)) for p in parts]
+    work = [(definition, frequency[f], scale[s], spec.variables, spec.outputs, dict(settings), direction)
+            for s, f in cuts]
+    points = [scale[s].size * frequency[f].size for s, f in cuts]
     results: dict[str, np.ndarray] = {
         name: np.empty((scale.size, frequency.size, *[sizes[d] for d in STRUCTURE_VARIABLES[name].dims[2:]]),
                        dtype=STRUCTURE_VARIABLES[name].dtype) for name in spec.variables}
 
     def fits(i: int, tile: dict) -> bool:
         """A checkpoint's tile holding exactly this run's variables, each of its place's shape and dtype."""
-        n = parts[i].stop - parts[i].start
         return set(tile) == set(results) and all(
-            np.asarray(v).dtype == results[k].dtype and np.shape(v) == (scale.size, n, *results[k].shape[2:])
+            np.asarray(v).dtype == results[k].dtype and np.shape(v) == results[k][cuts[i]].shape
             for k, v in tile.items())
 
     def place(i: int, tile: dict) -> None:
         for name, values in tile.items():
-            results[name][:, parts[i]] = values
+            results[name][cuts[i]] = values
         if on_tile is not None:
-            on_tile((parts[i].stop - parts[i].start) * scale.size)
+            on_tile(points[i])
 
     done = {i: t for i, t in (done or {}).items() if fits(i, t)}
     todo = [i for i in range(len(parts)) if i not in done]
     log.info("computing %d tiles (%d points) with %s, %d worker(s)", len(todo),
-             sum(parts[i].stop - parts[i].start for i in todo) * scale.size, executor, jobs)
+             sum(points[i] for i in todo), executor, jobs)
     run_tiles(compute_tile, work, place, done=done, executor=executor, jobs=jobs, scheduler=scheduler,
               on_done=on_done)
     return results

@@ -256,20 +256,31 @@ def solve_moving(excitation, r, beta, effects=None, **settings):
 
 
 def count_states(first, second):
-    """Distinct steady states among two raw results (README, "Two steady states"); unsettled ones are
-    no state. One state: both stuck (wherever held), both unbounded, both aperiodic, or the same
-    regime and stops per period with transmissibilities within SAME_STATE_RTOL."""
-    codes = []
-    for raw in (first, second):
-        codes.append(raw[:, steady.OUT_REGIME])
-    answered = [c != Regime.UNSETTLED for c in codes]
-    t1, t2 = first[:, steady.OUT_TRANSMISSIBILITY], second[:, steady.OUT_TRANSMISSIBILITY]
-    s1, s2 = first[:, steady.OUT_STEADY_STATE], second[:, steady.OUT_STEADY_STATE]
-    same_kind = codes[0] == codes[1]
-    moving_alike = (same_kind & (first[:, steady.OUT_STOPS_PER_PERIOD] == second[:, steady.OUT_STOPS_PER_PERIOD])
-                    & (np.abs(t1 - t2) <= SAME_STATE_RTOL * np.maximum(np.abs(t1), np.abs(t2))))
-    same = same_kind & ((codes[0] == Regime.STUCK) | (codes[0] == Regime.UNBOUNDED)
-                        | ((s1 == SteadyState.APERIODIC) & (s2 == SteadyState.APERIODIC)) | moving_alike)
+    """Distinct steady states among two raw results (README, "Two steady states"): distinct_states of their
+    regimes, stops per period, transmissibilities and steady-state codes."""
+    return distinct_states(*((first[:, slot], second[:, slot]) for slot in (
+        steady.OUT_REGIME, steady.OUT_STOPS_PER_PERIOD, steady.OUT_TRANSMISSIBILITY, steady.OUT_STEADY_STATE)))
+
+
+def distinct_states(regime, stops, amplitude, steady_state):
+    """Distinct steady states at each point among two results, each argument a pair (first, second) of arrays
+    over the points; regime and stops may carry a trailing axis (a structure's contacts), amplitude too (its
+    masses), and a point agrees only where every entry does. Unsettled results are no state. One state: both
+    stuck (wherever held), both unbounded, both aperiodic, or the same regime and stops per period with
+    amplitudes within SAME_STATE_RTOL."""
+
+    def every(x):
+        return np.asarray(x).reshape(np.shape(x)[0], -1).all(axis=1)
+
+    codes = [np.asarray(c) for c in regime]
+    answered = [every(c != Regime.UNSETTLED) for c in codes]
+    t1, t2 = amplitude
+    same_kind = every(codes[0] == codes[1])
+    moving_alike = (same_kind & every(stops[0] == stops[1])
+                    & every(np.abs(t1 - t2) <= SAME_STATE_RTOL * np.maximum(np.abs(t1), np.abs(t2))))
+    aperiodic = (steady_state[0] == SteadyState.APERIODIC) & (steady_state[1] == SteadyState.APERIODIC)
+    same = same_kind & (every(codes[0] == Regime.STUCK) | every(codes[0] == Regime.UNBOUNDED) | aperiodic
+                        | moving_alike)
     n = answered[0].astype(np.int8) + answered[1].astype(np.int8)
     return (n - (answered[0] & answered[1] & same)).astype(np.int8)
 

@@ -402,6 +402,12 @@ class TimeHistory(_Model):
         return self
 
 
+def sweep_and_starts():
+    """The problem of a swept spec that sets `starts` (1-DoF and structure specs alike)."""
+    return _error("sweep_and_starts", "a swept run starts each point from its neighbour's orbit: settings.starts "
+                  "does not apply", ("settings", "starts"))
+
+
 class Sweep(_Model):
     """A stepped-sine sweep along frequency_ratio, as rigs are run: each point starts from the orbit
     its neighbour settled on (up: from the next lower frequency ratio; down: from the next higher)."""
@@ -615,8 +621,7 @@ class Spec(_Sourced):
             yield _error("sweep_and_history", "a swept run's time histories would not follow the sweep: "
                          "store them from a run without sweep", ("sweep",))
         if "starts" in self.settings:
-            yield _error("sweep_and_starts", "a swept run starts each point from its neighbour's orbit: "
-                         "settings.starts does not apply", ("settings", "starts"))
+            yield sweep_and_starts()
 
     def _accuracy_problems(self):
         if self.accuracy is None:

@@ -66,7 +66,17 @@ from .base import Sourced as _Sourced
 from .base import problem as _error
 from .base import raise_all as _raise_all
 from .base import show
-from .model import _array_axis, _axis, _axis_size, _axis_values, _bound_problem, _Range, checked_output_path
+from .model import (
+    Sweep,
+    _array_axis,
+    _axis,
+    _axis_size,
+    _axis_values,
+    _bound_problem,
+    _Range,
+    checked_output_path,
+    sweep_and_starts,
+)
 from .structure_units import DEFAULT_REFERENCE, REFERENCES, StructureMap, frequency_axis_is_physical, is_physical
 from .structure_units import to_si_structure as _to_si_structure
 
@@ -604,6 +614,8 @@ class StructureSpec(_Sourced):
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
     output: str | None = None
     settings: dict[str, Any] = Field(default_factory=dict)
+    #: a stepped-sine sweep along frequency at each friction scale (the 1-DoF `sweep:`, structures.starts)
+    sweep: Sweep | None = None
 
     @field_validator("method", mode="before")
     @classmethod
@@ -736,6 +748,8 @@ class StructureSpec(_Sourced):
         return self._map
 
     def _excitation_problems(self):
+        if self.sweep is not None and "starts" in self.settings:  # the 1-DoF spec's rule
+            yield sweep_and_starts()
         st, excitation = self.structure, self.scene.excitation
         for key in DESIGN_SETTINGS:
             if key in self.settings and self.settings[key] not in st.dofs:
@@ -775,17 +789,35 @@ class StructureSpec(_Sourced):
         return self.grid.values("friction_scale")
 
     @property
+    def two_starts(self) -> bool:
+        """Whether each point is solved from a moving start too (structures.starts): static above kinetic
+        friction at some contact, and `starts` (the event method's setting) allows a second start."""
+        from friction_sweep.catalogue import METHODS
+
+        if self.sweep is not None:  # the sweep is the start: no second one
+            return False
+        starts = self.settings.get("starts", METHODS[METHOD].defaults["starts"])
+        return starts > 1 and any(c.static_friction_ratio > 1.0 for c in self.structure.contacts)
+
+    @property
     def variables(self) -> tuple[str, ...]:
-        """The cube's variables, in output order (slips_per_period only with a Jenkins contact)."""
+        """The cube's variables, in output order (slips_per_period only with a Jenkins contact); with two starts
+        each again from the moving start (MOVING_SUFFIX), and with the regime `steady_states`."""
+        from friction_sweep.storage.schema import MOVING_SUFFIX
+
         jenkins = any(c.stiffness is not None for c in self.structure.contacts)
-        return tuple(name for group in self.outputs for name in OUTPUT_GROUPS[group]
-                     if name != "slips_per_period" or jenkins)
+        names = tuple(name for group in self.outputs for name in OUTPUT_GROUPS[group]
+                      if name != "slips_per_period" or jenkins)
+        if not self.two_starts:
+            return names
+        return (*names, *(name + MOVING_SUFFIX for name in names),
+                *(("steady_states",) if "regime" in self.outputs else ()))
 
 
 #: the settings a structure run takes: the event method's steady-state search knobs (catalogue: their
 #: defaults and ranges), which the engine reads
 STRUCTURE_SETTINGS = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after",
-                      "shoot_every")
+                      "shoot_every", "starts")
 #: the settings of fsweep peak / optimize / backbone (friction_sweep.design.structure), which the engine does
 #: not read: peak_dof, the mass whose resonance peak is taken
 DESIGN_SETTINGS = ("peak_dof",)

@@ -497,6 +497,18 @@ STRUCTURE_VARIABLES = {
                                    "state, where the period map is not smooth at the orbit)", "1",
                                    valid_range=NONNEGATIVE),
 }
+#: static above kinetic friction at a contact: each variable from the moving start too (the 1-DoF rule above,
+#: structures.starts), and the count of distinct states
+for _name, _v in list(STRUCTURE_VARIABLES.items()):
+    STRUCTURE_VARIABLES[_name + MOVING_SUFFIX] = replace(
+        _v, long_name=_v.long_name + ", moving start",
+        comment="; ".join(c for c in ("of the state reached from a moving start (the orbit kinetic friction alone "
+                                      "sustains)", _v.comment) if c))
+STRUCTURE_VARIABLES["steady_states"] = replace(
+    VARIABLES["steady_states"], dims=STRUCTURE_DIMS,
+    extra={"comment": "reached from the starts (rest, moving); two states are one when every contact is stuck in "
+           "both, both are unbounded, or every contact has the same regime and stops per period and every mass's "
+           "first-harmonic amplitude agrees within 1e-5 relative; an unsettled result counts as no state"})
 
 
 def is_structure(attrs) -> bool:

@@ -19,6 +19,7 @@ from friction_sweep.kernels.structure.steady import (
     row_layout,
     row_size,
     solve_batch,
+    state_size,
 )
 from friction_sweep.structures.model import Assembled, rest_state
 from friction_sweep.theory import phase as phase_convention
@@ -47,28 +48,36 @@ def contact_parameters(a: Assembled) -> np.ndarray:
 
 
 def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None = None,
-                 outputs: Sequence[str] = ("amplitude", "phase", "regime")) -> dict[str, np.ndarray]:
+                 outputs: Sequence[str] = ("amplitude", "phase", "regime"), start=None) -> dict[str, np.ndarray]:
     """Steady state of each point (frequency[i], friction_scale[i]): per dof (P, n) amplitude,
     peak_amplitude, phase; per contact (P, m) regime, stops_per_period, slips_per_period (NaN for a rigid
     contact), stuck_fraction, friction_energy; per point (P,) steady_state, orbit_period, periods,
-    floquet_multiplier (NaN unless outputs has "stability"), work. Pure and deterministic, a point's
-    result depends on its inputs only."""
+    floquet_multiplier (NaN unless outputs has "stability"), work; and end_state (P, state_size), the state
+    at the section (t = 0, the excitation's maximum) where the search stopped, the steady orbit's where it
+    converged (x, v, each Jenkins slider's position, each contact's status: the engine's, steady.state_size).
+    From rest, or from start (P, state_size) where given (a NaN row: from rest): another point's end_state
+    follows that orbit here. Pure and deterministic, a point's result depends on its inputs only."""
     w = np.ascontiguousarray(np.asarray(frequency, dtype=float).ravel())
     s = np.ascontiguousarray(np.asarray(friction_scale, dtype=float).ravel())
     if w.shape != s.shape:
         raise ValueError(f"frequency and friction_scale differ in length ({w.size}, {s.size})")
     n, m = len(a.dof_names), len(a.contact_names)
+    size = state_size(n, m, int(np.count_nonzero(a.kt > 0)))
+    starts = np.full((w.size, size), np.nan) if start is None else np.array(start, dtype=float).reshape(w.size, size)
     rows = np.full((w.size, row_size(n, m)), np.nan)
+    ends = np.full((w.size, size), np.nan)
     good = np.isfinite(w) & (w > 0) & np.isfinite(s) & (s >= 0)
     if good.any():
         sub = np.full((int(good.sum()), rows.shape[1]), np.nan)
+        sub_end = np.full((int(good.sum()), size), np.nan)
         solve_batch(np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos,
                     a.F_sin_per_w, contact_parameters(a), rest_state(a), w[good], s[good],
-                    engine_settings(settings, outputs), sub)
+                    engine_settings(settings, outputs), sub, np.ascontiguousarray(starts[good]), sub_end)
         rows[good] = sub
+        ends[good] = sub_end
     # a contact whose friction is zero at the point exerts no force: the engine leaves it out (INACTIVE)
     active = np.asarray(a.mu)[None, :] * s[:, None] > 0.0
-    return _arrays(a, rows, good, active)
+    return {**_arrays(a, rows, good, active), "end_state": ends}
 
 
 def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray, active: np.ndarray) -> dict[str, np.ndarray]:

@@ -10,7 +10,10 @@ period-k orbit (_suggested_lag; P alone where P^k's Newton misses), k lowered to
 (_least_period). A converged orbit is measured over its k periods; its largest Floquet multiplier
 (eigenvalue of the monodromy of P^k) where the settings ask. Amplitude still growing at the cap: GROWING;
 otherwise PERIOD_CAP; the events-and-steps budget: EVENT_BUDGET; a non-finite state or a mode that
-cannot be built: NONFINITE.
+cannot be built: NONFINITE. A point may start instead from a given state at the section (another
+orbit's end state, state_size's layout, made consistent as after a Newton step, _section), and returns the
+state where its search stopped (the steady orbit's, where it converged): the second start with static
+friction and the stepped-sine sweeps (friction_sweep.structures.starts) ride on these.
 
 One float row per point, laid out by row_layout(n, m): first harmonic cos and sin parts and max |x| per
 mass, per contact stops, slips, stuck fraction, friction energy per period, then steady_state,
@@ -63,6 +66,10 @@ _UNBALANCED = int(SteadyState.UNBALANCED)
 _RESOLVED = 1e-10
 #: the march suggests a period-k orbit (k > 1) where P^k moves the state by under this share of P's move
 _LAG_SUGGESTS = 0.1
+#: with static above kinetic friction Newton's orbit is taken only within this share of the state's size from
+#: the march (the 1-DoF kernel's STICK_SHOT_REACH: static friction holds several orbits, and the march's start
+#: decides which one a point settles on)
+_STICK_SHOT_REACH = 0.05
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -113,6 +120,16 @@ def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
         elif st[j] != STUCK and abs(u1) > 0.0:
             st[j] = 1 if u1 > 0.0 else -1
     return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws)
+
+
+@jit
+def _holds_several(cp):
+    """Whether static friction exceeds kinetic at a contact with friction (a point may then hold several
+    steady states, DESIGN §7 uniqueness)."""
+    for j in range(cp.shape[0]):
+        if cp[j, CP_MU] > 0.0 and cp[j, CP_MUS] > cp[j, CP_MU]:
+            return True
+    return False
 
 
 @jit
@@ -323,9 +340,37 @@ def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, 
     return _CONVERGED
 
 
+def state_size(n: int, m: int, jenkins: int) -> int:
+    """Length of a start or end state (solve_point): x and v of each mass, each Jenkins slider's
+    position, each contact's status (flow.STUCK, +-1 slipping, flow.INACTIVE)."""
+    return 2 * n + jenkins + m
+
+
 @jit
-def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
-    """Steady state and measurement of one point into row (row_layout)."""
+def _start(z, st, start, W, cp, n, Nd):
+    """z and st from a start state (state_size's layout; sliders of every Jenkins contact, statuses as
+    floats). A contact without friction here is INACTIVE whatever the start says; one the start had
+    INACTIVE (no friction where the start came from) begins stuck, a Jenkins slider relaxed."""
+    m = cp.shape[0]
+    for i in range(Nd):
+        z[i] = start[i]
+    for j in range(m):
+        code = int(start[Nd + j])
+        if cp[j, CP_MU] <= 0.0:
+            st[j] = INACTIVE
+        elif code == INACTIVE or code < -1 or code > 1:
+            st[j] = STUCK
+            if cp[j, CP_KT] > 0.0:
+                z[2 * n + int(cp[j, CP_SLOT])] = rel_position(z, W, cp, j, n, z.shape[0])
+        else:
+            st[j] = code
+
+
+@jit
+def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
+    """Steady state and measurement of one point into row (row_layout). From rest, or from `start` (a state
+    at the section t = 0, state_size's layout) where its first entry is not NaN; the state at the section
+    where the search stopped (the steady orbit's where it converged) into `end`, NaN where not finite."""
     n = K.shape[0]
     m = W.shape[0]
     mJ = 0
@@ -376,7 +421,12 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
             z[2 * n + int(cp[j, CP_SLOT])] = rel_position(z, W, cp, j, n, N)
     status = _PERIOD_CAP
     orbit = 0
-    if not resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1]):
+    if np.isnan(start[0]):
+        ready = resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1])
+    else:
+        _start(z, st, start, W, cp, n, Nd)
+        ready = _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1])
+    if not ready:
         status = _NONFINITE
         max_periods = 0
     hist = np.zeros((maxk, Nd))
@@ -384,6 +434,9 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
     p = 0
     shooting = True
     pt = 3 * n + 4 * m
+    zc = np.empty(N)
+    stc = st.copy()
+    held = 0
     while p < max_periods:
         hist[p % maxk, :] = z[:Nd]
         code = _periods(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False,
@@ -406,20 +459,37 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
                 orbit = 0
                 continue
             break
-        if shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0:
-            zs = z.copy()
-            sts = st.copy()
-            lag = _suggested_lag(z, hist, p, maxk, Nd)
-            found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
-                            harm, xmax, mc)
-            if not found and lag > 1:
-                # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
-                # Newton misses): shoot on P as without it
-                zs[:] = z
-                sts[:] = st
-                lag = 1
-                found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
-                                R, harm, xmax, mc)
+        # the march has come near the orbit a Newton shot found earlier (held back as too far from the
+        # march then, with static friction): that is the orbit it approaches
+        near = held > 0 and _norm(z[:Nd] - zc[:Nd], Nd) <= _STICK_SHOT_REACH * size
+        if near or (shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0):
+            if near:
+                zs = zc.copy()
+                sts = stc.copy()
+                lag = held
+                found = True
+                held = 0
+            else:
+                zs = z.copy()
+                sts = st.copy()
+                lag = _suggested_lag(z, hist, p, maxk, Nd)
+                found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
+                                harm, xmax, mc)
+                if not found and lag > 1:
+                    # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
+                    # Newton misses): shoot on P as without it
+                    zs[:] = z
+                    sts[:] = st
+                    lag = 1
+                    found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
+                                    R, harm, xmax, mc)
+                if found and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > _STICK_SHOT_REACH * size:
+                    # an orbit static friction holds elsewhere, or the one the march approaches from afar:
+                    # held until the march comes near it
+                    zc[:] = zs
+                    stc[:] = sts
+                    held = lag
+                    found = False
             if found:
                 lag = _least_period(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale,
                                     J, jflag, harm, xmax, mc)
@@ -428,6 +498,8 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
                 if code != _UNBALANCED:
                     status = code
                     orbit = lag
+                    z[:] = zs
+                    st[:] = sts
                     break
                 # an orbit that does not balance its energy: no orbit (growth at resonance); march on
                 shooting = False
@@ -449,11 +521,19 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row):
         row[pt + PT_FLOQUET] = np.nan
     row[pt + PT_STEADY] = status
     row[pt + PT_WORK] = start_budget - budget[0]
+    finite = True
+    for i in range(Nd):
+        finite = finite and np.isfinite(z[i])
+    for i in range(Nd):
+        end[i] = z[i] if finite else np.nan
+    for j in range(m):
+        end[Nd + j] = st[j] if finite else np.nan
 
 
 @jit
-def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, x_rest, omegas, scales, settings, rows):
-    """solve_point for each point i (frequency omegas[i], every friction times scales[i]) into rows[i]."""
+def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, x_rest, omegas, scales, settings, rows, starts, ends):
+    """solve_point for each point i (frequency omegas[i], every friction times scales[i]) into rows[i], from
+    starts[i] (a NaN row: from rest), its end state into ends[i]."""
     n = K.shape[0]
     F = np.empty((2, n))
     cp = cp0.copy()
@@ -465,4 +545,4 @@ def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, x_rest, omegas, scales, 
         for j in range(cp.shape[0]):
             cp[j, CP_MU] = cp0[j, CP_MU] * scales[p]
             cp[j, CP_MUS] = cp0[j, CP_MUS] * scales[p]
-        solve_point(Minv, K, C, W, F, cp, w, x_rest, settings, rows[p])
+        solve_point(Minv, K, C, W, F, cp, w, x_rest, settings, rows[p], starts[p], ends[p])
