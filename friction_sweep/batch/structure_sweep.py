@@ -18,7 +18,7 @@ import numpy as np
 
 import friction_sweep
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR
-from friction_sweep.spec.structure import METHOD, STRUCTURE_SETTINGS, StructureSpec
+from friction_sweep.spec.structure import STRUCTURE_SETTINGS, StructureSpec
 from friction_sweep.storage.schema import STRUCTURE_ATTRIBUTE, STRUCTURE_VARIABLES
 
 log = logging.getLogger("friction_sweep")
@@ -52,12 +52,12 @@ def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
 
 
 def recorded_settings(spec: StructureSpec, settings: dict[str, Any]) -> dict[str, Any]:
-    """The settings the numbers came from, for the cube's method_settings: the engine's defaults (the event
-    method's, catalogue) with the run's over them."""
+    """The settings the numbers came from, for the cube's method_settings: the method's defaults (catalogue)
+    with the run's over them."""
     from friction_sweep.catalogue import METHODS
 
-    defaults = METHODS[METHOD].defaults
-    return {**{k: defaults[k] for k in STRUCTURE_SETTINGS}, **settings}
+    defaults = METHODS[spec.method].defaults
+    return {**{k: defaults[k] for k in STRUCTURE_SETTINGS[spec.method]}, **settings}
 
 
 def checkpoint_key(spec: StructureSpec, settings: dict[str, Any], extra_attrs: dict[str, Any]) -> str:
@@ -88,11 +88,11 @@ def compute_tile(args) -> dict[str, np.ndarray]:
     back as (friction_scale, frequency[, dof or contact]) arrays in the schema's dtype."""
     from friction_sweep.structures import assemble, solve_points
 
-    definition, frequency, scale, variables, outputs, settings = args
+    definition, frequency, scale, variables, outputs, settings, method = args
     n_s, n_f = scale.size, frequency.size
     f = np.tile(frequency, n_s)  # friction_scale-major: point k is (scale[k // n_f], frequency[k % n_f])
     s = np.repeat(scale, n_f)
-    solved = solve_points(assemble(definition), f, s, settings, outputs)
+    solved = solve_points(assemble(definition), f, s, settings, outputs, method)
     return {name: np.asarray(solved[name], dtype=STRUCTURE_VARIABLES[name].dtype).reshape(
         (n_s, n_f, *np.shape(solved[name])[1:])) for name in variables}
 
@@ -101,7 +101,7 @@ def compile_kernels(spec: StructureSpec, settings: dict[str, Any]) -> None:
     """Have numba compile (or load from its cache) the structure engine, by solving the spec's first point in
     this process (as batch.pipeline.compile_kernels does for a 1-DoF spec): fsweep run says so meanwhile."""
     frequency, scale = spec.frequency[:1], spec.friction_scale[:1]
-    compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings)))
+    compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings), spec.method))
 
 
 def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,
@@ -117,7 +117,8 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
     definition = structure_def(spec)
     sizes = {"dof": len(spec.structure.dofs), "contact": len(spec.structure.contacts)}
     parts = tiles(frequency.size)
-    work = [(definition, frequency[p], scale, spec.variables, spec.outputs, dict(settings)) for p in parts]
+    work = [(definition, frequency[p], scale, spec.variables, spec.outputs, dict(settings), spec.method)
+            for p in parts]
     results: dict[str, np.ndarray] = {
         name: np.empty((scale.size, frequency.size, *[sizes[d] for d in STRUCTURE_VARIABLES[name].dims[2:]]),
                        dtype=STRUCTURE_VARIABLES[name].dtype) for name in spec.variables}
@@ -222,10 +223,11 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,
-        title=f"friction_sweep: structure of {n} masses and {m} contacts, {excitation} excitation, method {METHOD}",
+        title=f"friction_sweep: structure of {n} masses and {m} contacts, {excitation} excitation, "
+              f"method {spec.method}",
         history=provenance.history_line(command),
         attrs={**provenance.attributes(spec_text=spec.text, spec_path=spec.source_path, excitation=excitation,
-                                       method=METHOD, settings=recorded_settings(spec, settings)),
+                                       method=spec.method, settings=recorded_settings(spec, settings)),
                STRUCTURE_ATTRIBUTE: structure_attribute(spec), **(extra_attrs or {})},
     )
 
