@@ -42,6 +42,7 @@ def _slope(steps, err) -> float:
     return -np.polyfit(np.log(steps), np.log(err), 1)[0]
 
 
+@pytest.mark.nojit_slow
 @pytest.mark.parametrize("definition, w, s, regime", [
     (BLADE, 1.0, 0.3, "continuous"), (BLADE, 0.8, 1.0, "stick_slip"), (JENKINS, 0.3, 1.0, "stick_slip"),
 ])
@@ -63,6 +64,7 @@ def test_rk4_converges_at_order_four_to_the_exact_engine(definition, w, s, regim
         assert abs(_slope(STEPS, np.array(stuck)) - 4.0) <= 0.5, stuck
 
 
+@pytest.mark.nojit_slow
 def test_rk4_finds_the_regimes_and_stops_of_the_exact_engine_on_a_plane():
     W, S = np.meshgrid(np.linspace(0.3, 2.8, 8), np.geomspace(0.1, 10.0, 5), indexing="ij")
     a = assemble(BLADE)
@@ -93,6 +95,20 @@ settings: {steps_per_period: 1024}
 """
 
 
+def test_a_stuck_contact_is_a_constraint_that_rk4_keeps():
+    """Friction far above the forces: the damper stays stuck all period (a constraint RK4 keeps: its relative
+    acceleration is zero in the mode's A, so every stage keeps its relative velocity at zero), and the blade is
+    the linear blade on springs 1 + 2 (amplitude 1 / |3 - w^2 + 0.004 i w|). The damper's first harmonic is
+    its constant position projected on the forcing that RK4 integrates: zero to RK4's error."""
+    a = assemble(BLADE)
+    w = 1.2
+    r = solve_points(a, np.array([w]), np.array([20.0]), {"steps_per_period": 256}, method="rk4")
+    assert r["regime"][0, 0] == Regime.STUCK and r["stuck_fraction"][0, 0] == 1.0
+    assert r["amplitude"][0, 1] <= 1e-8
+    assert r["amplitude"][0, 0] == pytest.approx(1.0 / abs(3.0 - w * w + 0.004j * w), rel=1e-6)
+
+
+@pytest.mark.nojit_slow
 def test_a_structure_spec_runs_with_method_rk4(tmp_path):
     spec = tmp_path / "blade.yaml"
     spec.write_text(SPEC)
