@@ -34,15 +34,15 @@ from __future__ import annotations
 import numpy as np
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.structure.flow import dot, matvec, taylor_state
+from friction_sweep.kernels.structure.flow import dot, matvec, mode_rate, taylor_state
 from friction_sweep.kernels.structure.period import BUDGET, FAILED, OK, _measure_step, lookup, switch
 from friction_sweep.kernels.structure.roots import first_root
 
 #: degree of the dense output (quintic Hermite), and its Taylor rows zk[0..DENSE]
 DENSE = 5
 #: rows of the cache's zk (KT + 1 of them) this stepper uses beyond the dense output's: z1', z1'' at the step's
-#: end, and two Horner workspaces
-_D1, _D2, _H1, _H2 = 6, 7, 8, 9
+#: end, and rk4_step's workspace
+_D1, _D2, _H1 = 6, 7, 8
 
 
 @jit
@@ -195,3 +195,18 @@ def advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
                       mc):
             return FAILED
     return OK
+
+
+@jit
+def balance_tolerance(cache, n, T):
+    """The relative error to which an RK4 orbit balances its energy (the forcing's work against the viscous
+    and friction dissipation, steady._measure's test of an orbit): (rho h)^4, RK4's error scale, with h the
+    step T / steps and rho the fastest rate (flow.mode_rate) of the modes the orbit went through (those
+    cached). At the exact flow's 1e-6 a coarse grid's orbit (a long period: 128 steps at w = 0.3 on the blade
+    of tests/test_structure_rk4.py) would be refused as no orbit, and the march would run to its cap."""
+    rho = 0.0
+    for i in range(cache[9][0]):
+        if cache[8][i]:
+            rho = max(rho, mode_rate(cache[1][i], n))
+    x = rho * T / cache[9][2]
+    return x * x * x * x

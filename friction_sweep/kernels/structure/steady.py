@@ -51,7 +51,7 @@ from friction_sweep.kernels.structure.period import (
     rel_velocity,
     resolve,
 )
-from friction_sweep.kernels.structure.rk4 import advance_rk4
+from friction_sweep.kernels.structure.rk4 import advance_rk4, balance_tolerance
 
 #: per-point slots after the per-mass and per-contact blocks
 PT_STEADY, PT_ORBIT, PT_PERIODS, PT_FLOQUET, PT_WORK = 0, 1, 2, 3, 4
@@ -300,7 +300,9 @@ def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, 
         fs = max(fs, cp[j, CP_MU], abs(cp[j, CP_EY]) * kscale)
     if size * kscale * _RESOLVED > fs:
         return _UNBALANCED
-    slack = 1e-6 * (abs(w_in) + vis + fric) + 10.0 * settings[SET_STEADY_TOL] * size * size * kscale * tk
+    # rk4's orbit balances its energy to the method's order only (rk4.balance_tolerance)
+    rel = 1e-6 if cache[9][2] == 0 else max(1e-6, balance_tolerance(cache, n, T))
+    slack = rel * (abs(w_in) + vis + fric) + 10.0 * settings[SET_STEADY_TOL] * size * size * kscale * tk
     if abs(w_in - vis - fric) > slack:
         return _UNBALANCED
     for i in range(n):
