@@ -137,3 +137,21 @@ def test_a_structure_spec_refuses_settings_its_method_does_not_take(tmp_path, me
     res = CliRunner().invoke(main, ["validate", str(spec)])
     assert res.exit_code == 2, res.output
     assert f"settings: {key}" in res.output or f"settings.{key}" in res.output, res.output
+
+
+def test_the_estimate_of_an_rk4_structure_grows_with_its_steps():
+    """fsweep run's estimate (batch.estimate) prices an rk4 point at STRUCTURE_RK4_COST times event's, linear in
+    steps_per_period (the measured cost of a fixed grid)."""
+    from friction_sweep.batch.estimate import KERNEL_LOAD_SECONDS, STRUCTURE_RK4_COST, estimate
+    from friction_sweep.spec import parse_spec_text
+
+    def seconds(text: str) -> float:
+        return estimate(parse_spec_text(text), jobs=1, executor="threads", cache=False).seconds
+
+    event = seconds(SPEC.replace("method: rk4", "method: event").replace("settings: {steps_per_period: 1024}",
+                                                                           "settings: {}"))
+    a, b = STRUCTURE_RK4_COST
+    for steps in (256, 1024):
+        rk4 = seconds(SPEC.replace("1024", str(steps)))
+        assert rk4 > event
+        assert (rk4 - KERNEL_LOAD_SECONDS) == pytest.approx((event - KERNEL_LOAD_SECONDS) * (a + b * steps / 256))

@@ -92,6 +92,9 @@ COMPILING = "compiling the simulation kernels (first run on this machine; cached
 STRUCTURE_KERNEL = ("structure.steady", "solve_batch")
 #: a point of a structure of 2 masses, per contact (structure_point_seconds scales it; measured above)
 STRUCTURE_POINT_SECONDS = 2.5e-3
+#: method rk4's point over event's, a + b x steps_per_period / 256 (benchmarks/structure_rk4.py, the blade's
+#: plane: 4.1, 7.4 and 14.2 at 256, 512 and 1024 steps)
+STRUCTURE_RK4_COST = (0.7, 3.35)
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
@@ -237,11 +240,15 @@ def _structure_estimate(spec, settings: dict | None, *, jobs: int, executor: str
     from friction_sweep.batch import kernel_cache
 
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
-    knobs = {**METHODS["event"].defaults, **(spec.settings if settings is None else settings)}
+    knobs = {**METHODS[spec.method].defaults, **(spec.settings if settings is None else settings)}
     n_f, n_s = spec.frequency.size, spec.friction_scale.size
     points = n_f * n_s
     n_tiles = len(layout(n_f, n_s))
-    serial = KERNEL_LOAD_SECONDS + points * structure_point_seconds(n, m)
+    per_point = structure_point_seconds(n, m)
+    if spec.method == "rk4":
+        a, b = STRUCTURE_RK4_COST
+        per_point *= a + b * knobs["steps_per_period"] / 256.0
+    serial = KERNEL_LOAD_SECONDS + points * per_point
     worst = serial + points * 0.3e-6 * knobs["work_budget"] * max(1.0, (n / 2.0) ** 2)
     n_workers = local_workers(executor, jobs, n_tiles, scheduler)
     own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)
