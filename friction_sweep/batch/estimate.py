@@ -84,8 +84,9 @@ WORKER_START_SECONDS = {"processes": 0.2, "dask": 2.5}
 #: CPU seconds of the first call with an empty NUMBA_CACHE_DIR on the 2-core reference machine (make bench's
 #: "The first run on a machine" measures them; steady: configs/demo.yaml quiet (load 0.2), cold 13.3 s CPU
 #: against warm 2.0 s; jenkins_steady from runs under load scaled by main's quiet 25 s, 59 s; the structure
-#: engine: benchmarks/structures.py's first call, quiet (load 0.03), 53.7 s CPU)
-COMPILE_SECONDS = {"steady": 11.0, "jenkins_steady": 37.0, "structure.steady": 54.0}
+#: engine: benchmarks/structures.py's first call, quiet (load 0.03), 53.7 s CPU; with method rk4's stepper, which
+#: compiles with it, 68.1 s against 53.4 s without, measured one after the other on the blade's first point)
+COMPILE_SECONDS = {"steady": 11.0, "jenkins_steady": 37.0, "structure.steady": 68.0}
 #: what a run says while it compiles them (fsweep run)
 COMPILING = "compiling the simulation kernels (first run on this machine; cached afterwards)"
 #: the structure engine's compiled entry point (kernel module, function): every structure calls it
