@@ -75,6 +75,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/performance_curve.py --excitation joined
 	$(BIN)/python benchmarks/performance_curve.py --excitation base
 	$(BIN)/python benchmarks/structures.py
+	$(BIN)/python benchmarks/structure_rk4.py
 	$(BIN)/python benchmarks/one_engine.py
 	$(BIN)/python benchmarks/peer_pyharm.py
 	$(BIN)/python benchmarks/compile_profile.py

@@ -84,14 +84,18 @@ WORKER_START_SECONDS = {"processes": 0.2, "dask": 2.5}
 #: CPU seconds of the first call with an empty NUMBA_CACHE_DIR on the 2-core reference machine (make bench's
 #: "The first run on a machine" measures them; steady: configs/demo.yaml quiet (load 0.2), cold 13.3 s CPU
 #: against warm 2.0 s; jenkins_steady from runs under load scaled by main's quiet 25 s, 59 s; the structure
-#: engine: benchmarks/structures.py's first call, quiet (load 0.03), 53.7 s CPU)
-COMPILE_SECONDS = {"steady": 11.0, "jenkins_steady": 37.0, "structure.steady": 54.0}
+#: engine: benchmarks/structures.py's first call, quiet (load 0.03), 53.7 s CPU; with method rk4's stepper, which
+#: compiles with it, 68.1 s against 53.4 s without, measured one after the other on the blade's first point)
+COMPILE_SECONDS = {"steady": 11.0, "jenkins_steady": 37.0, "structure.steady": 68.0}
 #: what a run says while it compiles them (fsweep run)
 COMPILING = "compiling the simulation kernels (first run on this machine; cached afterwards)"
 #: the structure engine's compiled entry point (kernel module, function): every structure calls it
 STRUCTURE_KERNEL = ("structure.steady", "solve_batch")
 #: a point of a structure of 2 masses, per contact (structure_point_seconds scales it; measured above)
 STRUCTURE_POINT_SECONDS = 2.5e-3
+#: method rk4's point over event's, a + b x steps_per_period / 256 (benchmarks/structure_rk4.py, the blade's
+#: plane: 4.1, 7.4 and 14.2 at 256, 512 and 1024 steps)
+STRUCTURE_RK4_COST = (0.7, 3.35)
 
 
 def _frequency_seconds(r: np.ndarray) -> np.ndarray:
@@ -237,13 +241,17 @@ def _structure_estimate(spec, settings: dict | None, *, jobs: int, executor: str
     from friction_sweep.batch import kernel_cache
 
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
-    knobs = {**METHODS["event"].defaults, **(spec.settings if settings is None else settings)}
+    knobs = {**METHODS[spec.method].defaults, **(spec.settings if settings is None else settings)}
     n_f, n_s = spec.frequency.size, spec.friction_scale.size
     points = n_f * n_s
     n_tiles = len(layout(n_f, n_s, spec.sweep.direction if spec.sweep is not None else None))
+    per_point = structure_point_seconds(n, m)
+    if spec.method == "rk4":
+        a, b = STRUCTURE_RK4_COST
+        per_point *= a + b * knobs["steps_per_period"] / 256.0
     # two starts (spec.two_starts): the kinetic seed and the solve from its state beside the solve from rest
     solves = 3 if spec.two_starts else 1
-    serial = KERNEL_LOAD_SECONDS + solves * points * structure_point_seconds(n, m)
+    serial = KERNEL_LOAD_SECONDS + solves * points * per_point
     worst = serial + solves * points * 0.3e-6 * knobs["work_budget"] * max(1.0, (n / 2.0) ** 2)
     n_workers = local_workers(executor, jobs, n_tiles, scheduler)
     own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)

@@ -20,7 +20,7 @@ import numpy as np
 
 import friction_sweep
 from friction_sweep.batch.executors import DEFAULT_EXECUTOR
-from friction_sweep.spec.structure import DESIGN_SETTINGS, METHOD, STRUCTURE_SETTINGS, StructureSpec
+from friction_sweep.spec.structure import DESIGN_SETTINGS, STRUCTURE_SETTINGS, StructureSpec
 from friction_sweep.storage.schema import MOVING_SUFFIX, STRUCTURE_ATTRIBUTE, STRUCTURE_VARIABLES
 
 log = logging.getLogger("friction_sweep")
@@ -55,12 +55,12 @@ def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
 
 
 def recorded_settings(spec: StructureSpec, settings: dict[str, Any]) -> dict[str, Any]:
-    """The settings the numbers came from, for the cube's method_settings: the engine's defaults (the event
-    method's, catalogue) with the run's over them."""
+    """The settings the numbers came from, for the cube's method_settings: the method's defaults (catalogue)
+    with the run's over them."""
     from friction_sweep.catalogue import METHODS
 
-    defaults = METHODS[METHOD].defaults
-    recorded = {**{k: defaults[k] for k in STRUCTURE_SETTINGS}, **settings}
+    defaults = METHODS[spec.method].defaults
+    recorded = {**{k: defaults[k] for k in STRUCTURE_SETTINGS[spec.method]}, **settings}
     if spec.sweep is not None:  # the sweep is the start: no second one (batch.pipeline's rule)
         recorded.pop("starts", None)
         recorded["sweep"] = spec.sweep.direction
@@ -108,19 +108,19 @@ def compute_tile(args) -> dict[str, np.ndarray]:
     back as (friction_scale, frequency[, dof or contact]) arrays in the schema's dtype."""
     from friction_sweep.structures import assemble, solve_points, starts
 
-    definition, frequency, scale, variables, outputs, settings, direction = args
+    definition, frequency, scale, variables, outputs, settings, direction, method = args
     n_s, n_f = scale.size, frequency.size
     if direction is not None:  # a stepped-sine sweep along frequency at each friction scale
         a = assemble(definition)
-        swept = [starts.solve_sweep(a, frequency, float(v), direction, settings, outputs) for v in scale]
+        swept = [starts.solve_sweep(a, frequency, float(v), direction, settings, outputs, method) for v in scale]
         return {name: np.stack([np.asarray(one[name], dtype=STRUCTURE_VARIABLES[name].dtype) for one in swept])
                 for name in variables}
     f = np.tile(frequency, n_s)  # friction_scale-major: point k is (scale[k // n_f], frequency[k % n_f])
     s = np.repeat(scale, n_f)
     a = assemble(definition)
-    solved = solve_points(a, f, s, settings, outputs)
+    solved = solve_points(a, f, s, settings, outputs, method)
     if any(name.endswith(MOVING_SUFFIX) for name in variables):  # the spec's two_starts
-        moving = starts.solve_moving(a, f, s, settings, outputs)
+        moving = starts.solve_moving(a, f, s, settings, outputs, method)
         solved.update({name + MOVING_SUFFIX: values for name, values in moving.items()})
         solved["steady_states"] = starts.count_states(solved, moving)
     return {name: np.asarray(solved[name], dtype=STRUCTURE_VARIABLES[name].dtype).reshape(
@@ -131,7 +131,8 @@ def compile_kernels(spec: StructureSpec, settings: dict[str, Any]) -> None:
     """Have numba compile (or load from its cache) the structure engine, by solving the spec's first point in
     this process (as batch.pipeline.compile_kernels does for a 1-DoF spec): fsweep run says so meanwhile."""
     frequency, scale = spec.frequency[:1], spec.friction_scale[:1]
-    compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings), None))
+    compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings), None,
+                  spec.method))
 
 
 def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,
@@ -149,7 +150,7 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
     direction = _direction(spec)
     # a swept run's tile: some friction scales by every frequency; else some frequencies by every scale
     cuts = [(slice(None), p) if direction is None else (p, slice(None)) for p in parts]
-    work = [(definition, frequency[f], scale[s], spec.variables, spec.outputs, dict(settings), direction)
+    work = [(definition, frequency[f], scale[s], spec.variables, spec.outputs, dict(settings), direction, spec.method)
             for s, f in cuts]
     points = [scale[s].size * frequency[f].size for s, f in cuts]
     results: dict[str, np.ndarray] = {
@@ -255,10 +256,11 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,
-        title=f"friction_sweep: structure of {n} masses and {m} contacts, {excitation} excitation, method {METHOD}",
+        title=f"friction_sweep: structure of {n} masses and {m} contacts, {excitation} excitation, "
+              f"method {spec.method}",
         history=provenance.history_line(command),
         attrs={**provenance.attributes(spec_text=spec.text, spec_path=spec.source_path, excitation=excitation,
-                                       method=METHOD, settings=recorded_settings(spec, settings)),
+                                       method=spec.method, settings=recorded_settings(spec, settings)),
                STRUCTURE_ATTRIBUTE: structure_attribute(spec), **(extra_attrs or {})},
     )
 

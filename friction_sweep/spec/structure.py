@@ -83,8 +83,10 @@ from .structure_units import to_si_structure as _to_si_structure
 #: the two supports an element may connect a mass to: `base` moves under base excitation, `ground` never
 SUPPORTS = ("ground", "base")
 EXCITATIONS = ("force", "base")
-#: the one method that solves a structure (friction_sweep.structures, the exact event-driven engine)
+#: the method that solves a structure unless the spec names another (friction_sweep.structures, the exact
+#: event-driven engine), and every method that can: rk4 integrates the same modes on a fixed grid
 METHOD = "event"
+METHODS = ("event", "rk4")
 #: output groups a structure spec may ask for, and the cube variables each brings (storage.schema's
 #: STRUCTURE_VARIABLES); `slips_per_period` only where a contact is a Jenkins element
 OUTPUT_GROUPS = {
@@ -619,10 +621,10 @@ class StructureSpec(_Sourced):
 
     @field_validator("method", mode="before")
     @classmethod
-    def _event_only(cls, v: Any) -> Any:
-        if v != METHOD:
+    def _structure_method(cls, v: Any) -> Any:
+        if v not in METHODS:
             raise _error("structure_method", f"a structure is solved by method {METHOD!r}, the exact event-driven "
-                         f"engine (got {show(v)})")
+                         f"engine, or 'rk4', fixed-step Runge-Kutta with the same modes (got {show(v)})")
         return v
 
     @field_validator("outputs", mode="before")
@@ -647,22 +649,24 @@ class StructureSpec(_Sourced):
 
     @field_validator("settings", mode="before")
     @classmethod
-    def _settings(cls, v: Any) -> Any:
-        from friction_sweep.catalogue import METHODS
+    def _settings(cls, v: Any, info: ValidationInfo) -> Any:
+        from friction_sweep.catalogue import METHODS as CATALOGUED
 
         if v is None:  # `settings:` left empty
             return {}
         if not isinstance(v, dict):
             raise _error("settings_type", f"must be a mapping of settings (got {show(v)})")
-        known = METHODS[METHOD].settings
+        method = info.data.get("method", METHOD)  # validated before settings (field order)
+        known = CATALOGUED[method].settings
+        allowed = STRUCTURE_SETTINGS[method]
         problems = []
         for key, value in v.items():
             if key in DESIGN_SETTINGS:  # a mass's name: checked against the structure in _excitation
                 if not isinstance(value, str) or not value:
                     problems.append(_error("setting_type", f"must be a mass's name (got {show(value)})", (key,)))
-            elif key not in STRUCTURE_SETTINGS:
-                problems.append(_error("unknown_setting", f"unknown setting {show(key)} for a structure (allowed: "
-                                       f"{', '.join(STRUCTURE_SETTINGS + DESIGN_SETTINGS)})", (key,)))
+            elif key not in allowed:
+                problems.append(_error("unknown_setting", f"unknown setting {show(key)} for a structure solved by "
+                                       f"{method} (allowed: {', '.join(allowed + DESIGN_SETTINGS)})", (key,)))
             elif (reason := _bound_problem(known[key].kind, known[key], value)) is not None:
                 problems.append(_error("setting_range", reason, (key,)))
         _raise_all("settings", problems)
@@ -814,10 +818,12 @@ class StructureSpec(_Sourced):
                 *(("steady_states",) if "regime" in self.outputs else ()))
 
 
-#: the settings a structure run takes: the event method's steady-state search knobs (catalogue: their
-#: defaults and ranges), which the engine reads
-STRUCTURE_SETTINGS = ("steady_tol", "stop_tol", "max_periods", "max_orbit_period", "work_budget", "shoot_after",
-                      "shoot_every", "starts")
+#: the settings a structure run takes, per method: the steady-state search knobs (catalogue: their defaults and
+#: ranges), which the engine reads; rk4 its steps per period, and not stop_tol (as for one mass: a switch's
+#: rounding tolerance there, kept at event's default)
+_STEADY_KNOBS = ("max_periods", "max_orbit_period", "work_budget", "shoot_after", "shoot_every", "starts")
+STRUCTURE_SETTINGS = {"event": ("steady_tol", "stop_tol", *_STEADY_KNOBS),
+                      "rk4": ("steady_tol", "steps_per_period", *_STEADY_KNOBS)}
 #: the settings of fsweep peak / optimize / backbone (friction_sweep.design.structure), which the engine does
 #: not read: peak_dof, the mass whose resonance peak is taken
 DESIGN_SETTINGS = ("peak_dof",)

@@ -28,11 +28,21 @@ from friction_sweep.theory import phase as phase_convention
 _STUCK_ALL = 1e-12
 
 
-def engine_settings(settings: dict | None, outputs: Sequence[str]) -> np.ndarray:
-    """The kernel settings record: the event method's defaults under `settings`; stability from outputs."""
+#: the methods that solve a structure: the exact flow between events, or classical RK4 on a fixed grid with the
+#: same modes and switches (kernels/structure/rk4.py)
+METHODS = ("event", "rk4")
+
+
+def engine_settings(settings: dict | None, outputs: Sequence[str], method: str = "event") -> np.ndarray:
+    """The kernel settings record: the event method's defaults (and rk4's steps_per_period) under `settings`;
+    stability from outputs; the integrator from the method."""
+    from friction_sweep.kernels.settings import KERNEL_EVENT, KERNEL_RK4
     from friction_sweep.methods.event import for_outputs, kernel_settings
 
-    return kernel_settings(for_outputs(settings, outputs))
+    if method not in METHODS:
+        raise ValueError(f"a structure is solved by method {' or '.join(METHODS)} (got {method!r})")
+    kernel = KERNEL_RK4 if method == "rk4" else KERNEL_EVENT
+    return kernel_settings({**for_outputs(settings, outputs), "kernel": kernel})
 
 
 def contact_parameters(a: Assembled) -> np.ndarray:
@@ -48,8 +58,9 @@ def contact_parameters(a: Assembled) -> np.ndarray:
 
 
 def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None = None,
-                 outputs: Sequence[str] = ("amplitude", "phase", "regime"), start=None) -> dict[str, np.ndarray]:
-    """Steady state of each point (frequency[i], friction_scale[i]): per dof (P, n) amplitude,
+                 outputs: Sequence[str] = ("amplitude", "phase", "regime"), method: str = "event",
+                 start=None) -> dict[str, np.ndarray]:
+    """Steady state of each point (frequency[i], friction_scale[i]) by `method` (METHODS): per dof (P, n) amplitude,
     peak_amplitude, phase; per contact (P, m) regime, stops_per_period, slips_per_period (NaN for a rigid
     contact), stuck_fraction, friction_energy; per point (P,) steady_state, orbit_period, periods,
     floquet_multiplier (NaN unless outputs has "stability"), work; and end_state (P, state_size), the state
@@ -72,7 +83,7 @@ def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None 
         sub_end = np.full((int(good.sum()), size), np.nan)
         solve_batch(np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos,
                     a.F_sin_per_w, contact_parameters(a), rest_state(a), w[good], s[good],
-                    engine_settings(settings, outputs), sub, np.ascontiguousarray(starts[good]), sub_end)
+                    engine_settings(settings, outputs, method), sub, np.ascontiguousarray(starts[good]), sub_end)
         rows[good] = sub
         ends[good] = sub_end
     # a contact whose friction is zero at the point exerts no force: the engine leaves it out (INACTIVE)

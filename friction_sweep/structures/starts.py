@@ -35,13 +35,14 @@ def kinetic(a: Assembled) -> Assembled:
 
 
 def solve_moving(a: Assembled, frequency, friction_scale, settings: dict | None = None,
-                 outputs: Sequence[str] = ("amplitude", "phase", "regime")) -> dict[str, np.ndarray]:
+                 outputs: Sequence[str] = ("amplitude", "phase", "regime"),
+                 method: str = "event") -> dict[str, np.ndarray]:
     """solve_points from the moving start: each point started from the end state of the same point with
     kinetic friction only (its steady orbit's, or where it has none the state where its search stopped; a
     state that is not finite: rest)."""
     seed = solve_points(kinetic(a), frequency, friction_scale, settings,
-                        tuple(o for o in outputs if o != "stability"))  # only its end state is kept
-    return solve_points(a, frequency, friction_scale, settings, outputs, start=seed["end_state"])
+                        tuple(o for o in outputs if o != "stability"), method)  # only its end state is kept
+    return solve_points(a, frequency, friction_scale, settings, outputs, method, start=seed["end_state"])
 
 
 def count_states(rest: dict[str, np.ndarray], moving: dict[str, np.ndarray]) -> np.ndarray:
@@ -53,7 +54,8 @@ def count_states(rest: dict[str, np.ndarray], moving: dict[str, np.ndarray]) -> 
 
 
 def solve_sweep(a: Assembled, frequency, friction_scale: float, direction: str, settings: dict | None = None,
-                outputs: Sequence[str] = ("amplitude", "phase", "regime")) -> dict[str, np.ndarray]:
+                outputs: Sequence[str] = ("amplitude", "phase", "regime"),
+                method: str = "event") -> dict[str, np.ndarray]:
     """A stepped-sine sweep at one friction scale, as rigs are run (the 1-DoF `sweep:`): the frequencies in
     sweep order (ascending for `up`, descending for `down`), the first from rest, each next one from the
     state where the one before stopped (its steady orbit's at the section; rest where that is not finite).
@@ -65,7 +67,8 @@ def solve_sweep(a: Assembled, frequency, friction_scale: float, direction: str, 
     out: dict[str, np.ndarray] = {}
     start = None
     for i in order:
-        point = solve_points(a, w[i:i + 1], np.array([friction_scale], dtype=float), settings, outputs, start=start)
+        point = solve_points(a, w[i:i + 1], np.array([friction_scale], dtype=float), settings, outputs, method,
+                             start=start)
         start = point["end_state"]
         for name, values in point.items():
             if name not in out:

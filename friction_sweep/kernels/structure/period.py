@@ -115,12 +115,14 @@ def switch_workspace(n, m, N):
 def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
     Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
-    Gauss nodes, the switch's workspace): the hot loops allocate nothing."""
+    Gauss nodes, the switch's workspace): the hot loops allocate nothing. The counts (cache[9]): the modes
+    cached, the next slot to replace, and the integrator: 0 the exact flow (advance), k > 0 classical RK4
+    with k steps per period (rk4.advance_rk4; steady.solve_point sets it from the settings)."""
     m1 = max(m, 1)
     return (np.full((CACHE, m1), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
             np.zeros((CACHE, m1, N)), np.zeros((CACHE, 2 * m1, N)),
             np.zeros((CACHE, 2 * m1, KT + 1, N)), np.zeros((CACHE, 2 * m1), dtype=np.bool_),
-            np.zeros(CACHE), np.zeros(CACHE, dtype=np.bool_), np.zeros(2, dtype=np.int64),
+            np.zeros(CACHE), np.zeros(CACHE, dtype=np.bool_), np.zeros(3, dtype=np.int64),
             np.empty((KT + 1, N)), np.empty(N), np.empty(KT + 1), np.empty(4), np.empty((N, N)),
             np.empty((N, N)), np.empty((m1, N)), np.empty((N, N - 3)), np.empty((N, N - 3)), np.empty((3, N)),
             np.empty(N),
@@ -546,6 +548,96 @@ def _identity(R):
 
 
 @jit
+def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, mc):
+    """The switch at event function `fired` of cached mode mi, z at the event (both in place): the next
+    mode from the forces (the rules in this module's docstring), the per-contact labels where meas, and
+    J <- S J (the saltation) where jac. False where it fails (dependent constraints, a mode that cannot be
+    built). Shared by advance and the rk4 stepper (rk4.py)."""
+    c_A, c_rows, c_ok = cache[1], cache[4], cache[8]
+    znew, R, Atmp, Ltmp, Jtmp, fv, crow, before, S, sw = (cache[11], cache[14], cache[15], cache[16], cache[17],
+                                                         cache[19], cache[20], cache[21], cache[22], cache[24])
+    n = K.shape[0]
+    m = W.shape[0]
+    N = z.shape[0]
+    A = c_A[mi]
+    j = fired // 2
+    fminus = fv[0]
+    matvec(A, z, fminus)
+    crow[:] = c_rows[mi, fired]
+    old = st[j]
+    before[:m] = st
+    sig = 0
+    if old != STUCK:
+        if cp[j, CP_KT] > 0.0:
+            st[j] = STUCK
+            # its relative velocity set to zero exactly (as a rigid stick's): the root leaves a rounding
+            # residue that the stuck slider's first derivative kt u' would read as a release at once
+            Zj = sw[4]
+            Zj[0] = j
+            if not _project(z, Zj, 1, Minv, W, cp, omega, R, sw):
+                return False
+            if meas:
+                if mc[j, MC_ANCHOR] == 1.0:
+                    # a creep: a slip from a held stick that the load never drove (the mass coasted
+                    # on the contact spring's swing); the contact still holds the mass, no new stop
+                    mc[j, MC_HELD] = 1.0
+                else:
+                    # right after the stick u' has the sign opposite to the slip's (it decelerated
+                    # to zero); a stop once it returns to zero
+                    mc[j, MC_HELD] = 0.0
+                    mc[j, MC_SIGN] = -old
+                mc[j, MC_ANCHOR] = 0.0
+        else:
+            if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
+                return False
+    else:
+        sig = 1 if fired % 2 == 0 else -1
+        if cp[j, CP_KT] > 0.0:
+            st[j] = sig
+            _identity(R)
+            slot = 2 * n + int(cp[j, CP_SLOT])
+            kt = cp[j, CP_KT]
+            R[slot, :] = 0.0
+            for i in range(n):
+                R[slot, i] = W[j, i]
+            R[slot, N - 3] = -cp[j, CP_EY]
+            R[slot, N - 1] = -sig * cp[j, CP_MU] / kt
+            matvec(R, z, znew)
+            z[:] = znew
+            if meas:
+                mc[j, MC_SLIPS] += 1.0
+                # a slip from a held stick is a creep until the load drives it (_driven_step)
+                mc[j, MC_ANCHOR] = mc[j, MC_HELD]
+                mus = cp[j, CP_MUS]
+                mu = cp[j, CP_MU]
+                mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
+        else:
+            if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
+                return False
+    if meas:
+        for q in range(m):
+            if cp[q, CP_KT] <= 0.0 and st[q] == STUCK and before[q] != STUCK:
+                mc[q, MC_STOPS] += 1.0
+    if jac:
+        mj = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
+        if not c_ok[mj]:
+            return False
+        fplus = fv[1]
+        Rf = fv[2]
+        matvec(c_A[mj], z, fplus)
+        matvec(R, fminus, Rf)
+        den = dot(crow, fminus)
+        if abs(den) <= 1e-9 * (np.sqrt(dot(fminus, fminus)) * np.sqrt(dot(crow, crow))):
+            jflag[0] = 0.0
+        else:
+            for a in range(N):
+                for b in range(N):
+                    S[a, b] = R[a, b] + (fplus[a] - Rf[a]) * crow[b] / den
+            _jac_step(S, J, Jtmp)
+    return True
+
+
+@jit
 def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc):
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
     Returns OK, BUDGET or FAILED."""
@@ -639,78 +731,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
         if fired < 0:
             break
         # the switch
-        j = fired // 2
-        fminus = fv[0]
-        matvec(A, z, fminus)
-        crow[:] = c_rows[mi, fired]
-        old = st[j]
-        before[:m] = st
-        sig = 0
-        if old != STUCK:
-            if cp[j, CP_KT] > 0.0:
-                st[j] = STUCK
-                # its relative velocity set to zero exactly (as a rigid stick's): the root leaves a rounding
-                # residue that the stuck slider's first derivative kt u' would read as a release at once
-                Zj = sw[4]
-                Zj[0] = j
-                if not _project(z, Zj, 1, Minv, W, cp, omega, R, sw):
-                    return FAILED
-                if meas:
-                    if mc[j, MC_ANCHOR] == 1.0:
-                        # a creep: a slip from a held stick that the load never drove (the mass coasted
-                        # on the contact spring's swing); the contact still holds the mass, no new stop
-                        mc[j, MC_HELD] = 1.0
-                    else:
-                        # right after the stick u' has the sign opposite to the slip's (it decelerated
-                        # to zero); a stop once it returns to zero
-                        mc[j, MC_HELD] = 0.0
-                        mc[j, MC_SIGN] = -old
-                    mc[j, MC_ANCHOR] = 0.0
-            else:
-                if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
-                    return FAILED
-        else:
-            sig = 1 if fired % 2 == 0 else -1
-            if cp[j, CP_KT] > 0.0:
-                st[j] = sig
-                _identity(R)
-                slot = 2 * n + int(cp[j, CP_SLOT])
-                kt = cp[j, CP_KT]
-                R[slot, :] = 0.0
-                for i in range(n):
-                    R[slot, i] = W[j, i]
-                R[slot, N - 3] = -cp[j, CP_EY]
-                R[slot, N - 1] = -sig * cp[j, CP_MU] / kt
-                matvec(R, z, znew)
-                z[:] = znew
-                if meas:
-                    mc[j, MC_SLIPS] += 1.0
-                    # a slip from a held stick is a creep until the load drives it (_driven_step)
-                    mc[j, MC_ANCHOR] = mc[j, MC_HELD]
-                    mus = cp[j, CP_MUS]
-                    mu = cp[j, CP_MU]
-                    mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
-            else:
-                if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
-                    return FAILED
-        if meas:
-            for q in range(m):
-                if cp[q, CP_KT] <= 0.0 and st[q] == STUCK and before[q] != STUCK:
-                    mc[q, MC_STOPS] += 1.0
-        if jac:
-            mj = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
-            if not c_ok[mj]:
-                return FAILED
-            fplus = fv[1]
-            Rf = fv[2]
-            matvec(c_A[mj], z, fplus)
-            matvec(R, fminus, Rf)
-            den = dot(crow, fminus)
-            if abs(den) <= 1e-9 * (np.sqrt(dot(fminus, fminus)) * np.sqrt(dot(crow, crow))):
-                jflag[0] = 0.0
-            else:
-                for a in range(N):
-                    for b in range(N):
-                        S[a, b] = R[a, b] + (fplus[a] - Rf[a]) * crow[b] / den
-                _jac_step(S, J, Jtmp)
+        if not switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas,
+                      mc):
+            return FAILED
     return OK
