@@ -115,7 +115,7 @@ def switch_workspace(n, m, N):
 def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
     Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
-    Gauss nodes, the switch's workspace): the hot loops allocate nothing."""
+    Gauss nodes and their Taylor coefficients, the switch's workspace): the hot loops allocate nothing."""
     m1 = max(m, 1)
     return (np.full((CACHE, m1), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
             np.zeros((CACHE, m1, N)), np.zeros((CACHE, 2 * m1, N)),
@@ -125,7 +125,7 @@ def new_cache(n, m, N):
             np.empty((N, N)), np.empty((m1, N)), np.empty((N, N - 3)), np.empty((N, N - 3)), np.empty((3, N)),
             np.empty(N),
             np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)),
-            switch_workspace(n, m, N))
+            np.empty((GAUSS_X.shape[0] + 1, KT + 1)), switch_workspace(n, m, N))
 
 
 @jit
@@ -386,13 +386,35 @@ def _taylor_at(zk, col, s):
 
 
 @jit
-def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq):
+def _node_states(zk, s, zq, coef):
+    """zq[q] = z(x_q s) at the Gauss nodes x_q and zq[-1] = z(s), each sum_k zk[k] (x s)^k / k! as
+    taylor_state forms it (the same coefficients, summed in the same order: bit for bit its values), but
+    with the coefficients of all nodes formed first (coef) and each component summed in a register: the
+    per-node loop kept the division chain and a store per term on its critical path."""
+    nq = GAUSS_X.shape[0]
+    K1 = zk.shape[0]
+    for q in range(nq + 1):
+        x = s if q == nq else GAUSS_X[q] * s
+        c = 1.0
+        for k in range(K1):
+            coef[q, k] = c
+            c *= x / (k + 1)
+    for q in range(nq + 1):
+        for i in range(zk.shape[1]):
+            acc = 0.0
+            for k in range(K1):
+                acc += coef[q, k] * zk[k, i]
+            zq[q, i] = acc
+
+
+@jit
+def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq, coef):
     """Add one step (Taylor coefficients zk, length s) to the measurement; harm[:, 2] and harm[:, 3] (first
     rows) gather the excitation's work and the viscous dissipation (see energy_work); zq: a workspace for
-    the state at the Gauss nodes and at s (the extremes' search reads its velocities there)."""
+    the state at the Gauss nodes and at s (the extremes' search reads its velocities there); coef:
+    _node_states's workspace."""
     nq = GAUSS_X.shape[0]
-    for q in range(nq + 1):
-        taylor_state(zk, s if q == nq else GAUSS_X[q] * s, zq[q])
+    _node_states(zk, s, zq, coef)
     for q in range(nq):
         zt = zq[q]
         wq = GAUSS_W[q] * s
@@ -550,7 +572,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
     Returns OK, BUDGET or FAILED."""
     c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
-    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, sw = cache[10:]
+    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, coef, sw = cache[10:]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -612,7 +634,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 if meas:
                     if not have_zk:
                         powers(A, z, zk)
-                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
+                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
                 if jac:
                     if full:
                         _jac_step(E, J, Jtmp)
@@ -630,7 +652,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 powers(A, z, zk)
             taylor_state(zk, se, znew)
             if meas:
-                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
+                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
             if jac:
                 expm_apply(A, se, J, Jtmp, Jtmp2)
             z[:] = znew
