@@ -46,6 +46,15 @@ def contact_parameters(a: Assembled) -> np.ndarray:
     return cp
 
 
+def engine_arguments(a: Assembled, settings: dict | None = None,
+                     outputs: Sequence[str] = ("amplitude", "phase", "regime")) -> tuple:
+    """steady.solve_batch's arguments for structure a, in its order, without the points and the rows:
+    (M^-1, K, C, W (m x n), F_cos, F_sin_per_w, contact parameters, rest state, settings record)."""
+    n, m = len(a.dof_names), len(a.contact_names)
+    return (np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos, a.F_sin_per_w,
+            contact_parameters(a), rest_state(a), engine_settings(settings, outputs))
+
+
 def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None = None,
                  outputs: Sequence[str] = ("amplitude", "phase", "regime")) -> dict[str, np.ndarray]:
     """Steady state of each point (frequency[i], friction_scale[i]): per dof (P, n) amplitude,
@@ -62,9 +71,8 @@ def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None 
     good = np.isfinite(w) & (w > 0) & np.isfinite(s) & (s >= 0)
     if good.any():
         sub = np.full((int(good.sum()), rows.shape[1]), np.nan)
-        solve_batch(np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos,
-                    a.F_sin_per_w, contact_parameters(a), rest_state(a), w[good], s[good],
-                    engine_settings(settings, outputs), sub)
+        args = engine_arguments(a, settings, outputs)
+        solve_batch(*args[:8], w[good], s[good], args[8], sub)
         rows[good] = sub
     # a contact whose friction is zero at the point exerts no force: the engine leaves it out (INACTIVE)
     active = np.asarray(a.mu)[None, :] * s[:, None] > 0.0

@@ -63,7 +63,6 @@ from friction_sweep.kernels.structure.flow import (
     event_rows,
     expm_apply,
     expm_taylor,
-    matmul,
     matvec,
     mode_rate,
     mode_workspace,
@@ -555,9 +554,23 @@ def _measure_contacts(zk, s, zend, n, m, st, W, cp, N, omega, mc):
 
 @jit
 def _jac_step(M, J, tmp):
-    """J <- M J (tmp: a workspace of J's shape)."""
-    matmul(M, J, tmp)
-    J[:, :] = tmp
+    """J <- M J on its dynamic block (tmp: a workspace of J's shape). J = dz(t)/dz_dyn(0) has Nd =
+    J.shape[1] columns, and its rows past Nd (the forcing's cos, sin and 1, which no start state moves)
+    are zero and stay so: every transition matrix exp(A s) has a zero forcing-by-dynamic block, every
+    reset R and saltation matrix S the identity's forcing rows (f+ and R f- agree there). So only M's
+    dynamic block is read: the products it leaves out are exact zeros, the sums are matmul's, bit for bit."""
+    Nd = J.shape[1]
+    for i in range(Nd):
+        for c in range(Nd):
+            tmp[i, c] = 0.0
+        for k in range(Nd):
+            a = M[i, k]
+            if a != 0.0:
+                for c in range(Nd):
+                    tmp[i, c] += a * J[k, c]
+    for i in range(Nd):
+        for c in range(Nd):
+            J[i, c] = tmp[i, c]
 
 
 @jit
