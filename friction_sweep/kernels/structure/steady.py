@@ -68,6 +68,8 @@ NO_ORBIT, ORBIT, MEASURED = 0, 1, 2
 #: Newton measures its next period where its last relative residual squared is within this many tol
 #: (_speculate): at the default steady_tol 1e-10, a residual of 1e-4 of the state
 _SPECULATE = 100.0
+#: Newton iterations in a row whose residual falls by under a tenth before the shooting is given up
+_STALLED = 3
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -210,6 +212,7 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
     sts = st.copy()
     last = np.inf
     before = np.inf
+    stalled = 0
     # the residual is judged against the state Newton starts from, not the iterate: where no orbit exists
     # (resonance with too little friction) the iterates run off to infinity with a relative residual
     # that falls like 1 / |s| while the absolute one stays
@@ -240,6 +243,11 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
             st[:] = st0
             return MEASURED if meas else ORBIT
         if err > 2.0 * last:
+            return NO_ORBIT
+        # a residual that has stopped falling (_STALLED times in a row under a tenth of a gain each) is
+        # Newton stalled on a stick-slip sequence that its linearisation does not hold: the march goes on
+        stalled = stalled + 1 if err >= 0.9 * last else 0
+        if stalled >= _STALLED:
             return NO_ORBIT
         before = last
         last = err
