@@ -57,6 +57,15 @@ def contact_parameters(a: Assembled) -> np.ndarray:
     return cp
 
 
+def engine_arguments(a: Assembled, settings: dict | None = None,
+                     outputs: Sequence[str] = ("amplitude", "phase", "regime"), method: str = "event") -> tuple:
+    """steady.solve_batch's arguments for structure a, in its order, without the points and the rows:
+    (M^-1, K, C, W (m x n), F_cos, F_sin_per_w, contact parameters, rest state, settings record)."""
+    n, m = len(a.dof_names), len(a.contact_names)
+    return (np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos, a.F_sin_per_w,
+            contact_parameters(a), rest_state(a), engine_settings(settings, outputs, method))
+
+
 def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None = None,
                  outputs: Sequence[str] = ("amplitude", "phase", "regime"), method: str = "event",
                  start=None) -> dict[str, np.ndarray]:
@@ -81,9 +90,8 @@ def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None 
     if good.any():
         sub = np.full((int(good.sum()), rows.shape[1]), np.nan)
         sub_end = np.full((int(good.sum()), size), np.nan)
-        solve_batch(np.linalg.inv(a.M), a.K, a.C, np.ascontiguousarray(a.W).reshape(m, n), a.F_cos,
-                    a.F_sin_per_w, contact_parameters(a), rest_state(a), w[good], s[good],
-                    engine_settings(settings, outputs, method), sub, np.ascontiguousarray(starts[good]), sub_end)
+        args = engine_arguments(a, settings, outputs, method)
+        solve_batch(*args[:8], w[good], s[good], args[8], sub, np.ascontiguousarray(starts[good]), sub_end)
         rows[good] = sub
         ends[good] = sub_end
     # a contact whose friction is zero at the point exerts no force: the engine leaves it out (INACTIVE)

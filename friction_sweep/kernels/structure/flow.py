@@ -366,16 +366,20 @@ def expm_apply(A, s, J, Y, Z):
     for k in range(1, 80):
         f = s / k
         big = 0.0
-        for r in range(N):
+        # J's rows past Nc (the forcing's) are zero and A maps them only among themselves
+        # (period._jac_step): those rows of every Y_k are zero, and the terms reading them exact zeros
+        for r in range(Nc):
             for c in range(Nc):
                 Z[r, c] = 0.0
             for e in range(starts[r], starts[r + 1]):
                 q = cols[e]
+                if q >= Nc:
+                    continue
                 a = A[r, q] * f
                 for c in range(Nc):
                     Z[r, c] += a * Y[q, c]
         tot = 0.0
-        for r in range(N):
+        for r in range(Nc):
             for c in range(Nc):
                 v = Z[r, c]
                 Y[r, c] = v

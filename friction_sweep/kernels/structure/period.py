@@ -63,7 +63,6 @@ from friction_sweep.kernels.structure.flow import (
     event_rows,
     expm_apply,
     expm_taylor,
-    matmul,
     matvec,
     mode_rate,
     mode_workspace,
@@ -115,9 +114,10 @@ def switch_workspace(n, m, N):
 def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
     Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
-    Gauss nodes, the switch's workspace): the hot loops allocate nothing. The counts (cache[9]): the modes
-    cached, the next slot to replace, and the integrator: 0 the exact flow (advance), k > 0 classical RK4
-    with k steps per period (rk4.advance_rk4; steady.solve_point sets it from the settings)."""
+    Gauss nodes and their Taylor coefficients, the switch's workspace): the hot loops allocate nothing. The
+    counts (cache[9]): the modes cached, the next slot to replace, and the integrator: 0 the exact flow
+    (advance), k > 0 classical RK4 with k steps per period (rk4.advance_rk4; steady.solve_point sets it from
+    the settings)."""
     m1 = max(m, 1)
     return (np.full((CACHE, m1), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
             np.zeros((CACHE, m1, N)), np.zeros((CACHE, 2 * m1, N)),
@@ -127,7 +127,7 @@ def new_cache(n, m, N):
             np.empty((N, N)), np.empty((m1, N)), np.empty((N, N - 3)), np.empty((N, N - 3)), np.empty((3, N)),
             np.empty(N),
             np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)),
-            switch_workspace(n, m, N))
+            np.empty((GAUSS_X.shape[0] + 1, KT + 1)), switch_workspace(n, m, N))
 
 
 @jit
@@ -388,13 +388,35 @@ def _taylor_at(zk, col, s):
 
 
 @jit
-def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq):
+def _node_states(zk, s, zq, coef):
+    """zq[q] = z(x_q s) at the Gauss nodes x_q and zq[-1] = z(s), each sum_k zk[k] (x s)^k / k! as
+    taylor_state forms it (the same coefficients, summed in the same order: bit for bit its values), but
+    with the coefficients of all nodes formed first (coef) and each component summed in a register: the
+    per-node loop kept the division chain and a store per term on its critical path."""
+    nq = GAUSS_X.shape[0]
+    K1 = zk.shape[0]
+    for q in range(nq + 1):
+        x = s if q == nq else GAUSS_X[q] * s
+        c = 1.0
+        for k in range(K1):
+            coef[q, k] = c
+            c *= x / (k + 1)
+    for q in range(nq + 1):
+        for i in range(zk.shape[1]):
+            acc = 0.0
+            for k in range(K1):
+                acc += coef[q, k] * zk[k, i]
+            zq[q, i] = acc
+
+
+@jit
+def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq, coef):
     """Add one step (Taylor coefficients zk, length s) to the measurement; harm[:, 2] and harm[:, 3] (first
     rows) gather the excitation's work and the viscous dissipation (see energy_work); zq: a workspace for
-    the state at the Gauss nodes and at s (the extremes' search reads its velocities there)."""
+    the state at the Gauss nodes and at s (the extremes' search reads its velocities there); coef:
+    _node_states's workspace."""
     nq = GAUSS_X.shape[0]
-    for q in range(nq + 1):
-        taylor_state(zk, s if q == nq else GAUSS_X[q] * s, zq[q])
+    _node_states(zk, s, zq, coef)
     for q in range(nq):
         zt = zq[q]
         wq = GAUSS_W[q] * s
@@ -535,9 +557,23 @@ def _measure_contacts(zk, s, zend, n, m, st, W, cp, N, omega, mc):
 
 @jit
 def _jac_step(M, J, tmp):
-    """J <- M J (tmp: a workspace of J's shape)."""
-    matmul(M, J, tmp)
-    J[:, :] = tmp
+    """J <- M J on its dynamic block (tmp: a workspace of J's shape). J = dz(t)/dz_dyn(0) has Nd =
+    J.shape[1] columns, and its rows past Nd (the forcing's cos, sin and 1, which no start state moves)
+    are zero and stay so: every transition matrix exp(A s) has a zero forcing-by-dynamic block, every
+    reset R and saltation matrix S the identity's forcing rows (f+ and R f- agree there). So only M's
+    dynamic block is read: the products it leaves out are exact zeros, the sums are matmul's, bit for bit."""
+    Nd = J.shape[1]
+    for i in range(Nd):
+        for c in range(Nd):
+            tmp[i, c] = 0.0
+        for k in range(Nd):
+            a = M[i, k]
+            if a != 0.0:
+                for c in range(Nd):
+                    tmp[i, c] += a * J[k, c]
+    for i in range(Nd):
+        for c in range(Nd):
+            J[i, c] = tmp[i, c]
 
 
 @jit
@@ -555,7 +591,7 @@ def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget
     built). Shared by advance and the rk4 stepper (rk4.py)."""
     c_A, c_rows, c_ok = cache[1], cache[4], cache[8]
     znew, R, Atmp, Ltmp, Jtmp, fv, crow, before, S, sw = (cache[11], cache[14], cache[15], cache[16], cache[17],
-                                                         cache[19], cache[20], cache[21], cache[22], cache[24])
+                                                         cache[19], cache[20], cache[21], cache[22], cache[-1])
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -642,7 +678,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
     Returns OK, BUDGET or FAILED."""
     c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
-    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, sw = cache[10:]
+    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, coef, sw = cache[10:]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -704,7 +740,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 if meas:
                     if not have_zk:
                         powers(A, z, zk)
-                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
+                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
                 if jac:
                     if full:
                         _jac_step(E, J, Jtmp)
@@ -722,7 +758,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                 powers(A, z, zk)
             taylor_state(zk, se, znew)
             if meas:
-                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
+                _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
             if jac:
                 expm_apply(A, se, J, Jtmp, Jtmp2)
             z[:] = znew

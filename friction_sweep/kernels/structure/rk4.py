@@ -107,7 +107,8 @@ def advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
     """period.advance's contract (carry z over [0, T] from mode st, both in place; budget[0]: events and
     steps left; OK, BUDGET or FAILED) with classical RK4 on cache[9][2] steps per period."""
     c_L, c_rows, c_ck, c_act, c_ok = cache[3], cache[4], cache[5], cache[6], cache[8]
-    zk, znew, d, dmag, Jtmp, Jtmp2, zq = cache[10], cache[11], cache[12], cache[13], cache[17], cache[18], cache[23]
+    zk, znew, d, dmag, Jtmp, Jtmp2 = cache[10], cache[11], cache[12], cache[13], cache[17], cache[18]
+    zq, coef = cache[23], cache[24]
     steps = cache[9][2]
     n = K.shape[0]
     m = W.shape[0]
@@ -162,7 +163,7 @@ def advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
                     fired = f
             if se < 0.0:
                 if meas:
-                    _measure_step(poly, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
+                    _measure_step(poly, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
                 if jac:
                     rk4_jac(A, s, J, Jtmp, Jtmp2)
                 z[:] = znew
@@ -179,7 +180,7 @@ def advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
             # an event at t + se: the interpolant's state there
             taylor_state(poly, se, znew)
             if meas:
-                _measure_step(poly, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq)
+                _measure_step(poly, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
             if jac:
                 rk4_jac(A, se, J, Jtmp, Jtmp2)
             z[:] = znew

@@ -74,6 +74,13 @@ _LAG_SUGGESTS = 0.1
 #: the march (the 1-DoF kernel's STICK_SHOT_REACH: static friction holds several orbits, and the march's start
 #: decides which one a point settles on)
 _STICK_SHOT_REACH = 0.05
+#: _newton's results: no orbit; an orbit; an orbit whose confirming period was measured
+NO_ORBIT, ORBIT, MEASURED = 0, 1, 2
+#: Newton measures its next period where its last relative residual squared is within this many tol
+#: (_speculate): at the default steady_tol 1e-10, a residual of 1e-4 of the state
+_SPECULATE = 100.0
+#: Newton iterations in a row whose residual falls by under a tenth before the shooting is given up
+_STALLED = 3
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -218,41 +225,56 @@ def _least_period(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget,
 
 
 @jit
-def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, harm, xmax, mc):
-    """Newton shooting on P^k(s) = s from z (in place where it converges); True where it did."""
+def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, J, jflag, harm, xmax,
+            mc):
+    """Newton shooting on P^k(s) = s from z (in place where it converges): NO_ORBIT, or ORBIT, or MEASURED
+    where the period that confirmed convergence was also measured (_speculate): harm, xmax, mc then hold
+    the measurement of P^k from z (mc's label state after one pass) and J, jflag its monodromy, as
+    _measure's own passes would give them bit for bit (the same passes from the same state)."""
     N = z.shape[0]
     Nd = N - 3
     zs = z.copy()
     sts = st.copy()
-    J = np.zeros((N, Nd))
-    jflag = np.ones(1)
     last = np.inf
+    before = np.inf
+    stalled = 0
     # the residual is judged against the state Newton starts from, not the iterate: where no orbit exists
     # (resonance with too little friction) the iterates run off to infinity with a relative residual
     # that falls like 1 / |s| while the absolute one stays
     ref = max(_norm(z, Nd), scale)
     for _ in range(_NEWTON_ITERATIONS):
         if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1]):
-            return False
+            return NO_ORBIT
         z0 = zs.copy()
         st0 = sts.copy()
         J[:, :] = 0.0
         for i in range(Nd):
             J[i, i] = 1.0
         jflag[0] = 1.0
-        if _periods(zs, sts, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag, False,
+        meas = _speculate(last, before, ref, tol)
+        if meas:
+            mc[:, :] = 0.0
+            harm[:, :] = 0.0
+            xmax[:] = 0.0
+        if _periods(zs, sts, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag, meas,
                     harm, xmax, mc) != OK:
-            return False
+            return NO_ORBIT
         res = zs[:Nd] - z0[:Nd]
         err = _norm(res, Nd)
         if not np.isfinite(err):
-            return False
+            return NO_ORBIT
         if err <= tol * ref:
             z[:] = z0
             st[:] = st0
-            return True
+            return MEASURED if meas else ORBIT
         if err > 2.0 * last:
-            return False
+            return NO_ORBIT
+        # a residual that has stopped falling (_STALLED times in a row under a tenth of a gain each) is
+        # Newton stalled on a stick-slip sequence that its linearisation does not hold: the march goes on
+        stalled = stalled + 1 if err >= 0.9 * last else 0
+        if stalled >= _STALLED:
+            return NO_ORBIT
+        before = last
         last = err
         Mx = J[:Nd, :] - np.eye(Nd)
         delta = np.linalg.lstsq(Mx, -res)[0]
@@ -260,43 +282,59 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
         sts[:] = st0
         for i in range(Nd):
             zs[i] += delta[i]
-    return False
+    return NO_ORBIT
+
+
+@jit
+def _speculate(last, before, ref, tol):
+    """Whether the next Newton period is likely the one that confirms convergence, and so worth measuring
+    as it goes (a measured step costs about twice a plain one; a right guess saves _measure a period,
+    two with stability): the last residual e converging faster than linearly (under a tenth of the one
+    before) and small enough that Newton's quadratic rate, e -> e^2 / |s|, takes it under tol:
+    (e / |s|)^2 <= _SPECULATE x tol. A wrong guess costs the measurement, never a result."""
+    rel = last / ref
+    return last <= 0.1 * before and rel * rel <= _SPECULATE * tol
 
 
 @jit
 def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm, xmax, mc, settings,
-             row):
+             row, measured):
     """Measure the orbit through z over its `orbit` periods into row; CONVERGED, or UNBALANCED where the
     excitation's work per period misses the viscous and friction dissipation (an orbit that is none), or
-    the advance's failure."""
+    the advance's failure. measured: Newton's confirming period was this pass (_newton's MEASURED; harm,
+    xmax, mc, J and jflag hold what it gathered), so the passes it stands for are not run again."""
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
     Nd = N - 3
     pt = 3 * n + 4 * m
-    mc[:, :] = 0.0
+    if not measured:
+        mc[:, :] = 0.0
     jenkins = False
     for j in range(m):
         jenkins = jenkins or (cp[j, CP_KT] > 0.0 and st[j] != INACTIVE)
     if jenkins:
         # a Jenkins contact's labels depend on its label state at the section (a held stick or a creep
-        # begun before t = 0): the orbit's own, from one pass over it (jenkins_steady.shoot_jenkins's rule)
+        # begun before t = 0): the orbit's own, from one pass over it (jenkins_steady.shoot_jenkins's rule;
+        # Newton's measured period was that pass)
+        if not measured:
+            zm = z.copy()
+            stm = st.copy()
+            code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
+                            True, harm, xmax, mc)
+            if code != OK:
+                return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+        for col in MC_SUMS:
+            mc[:, col] = 0.0
+    if jenkins or not measured:
+        harm[:, :] = 0.0
+        xmax[:] = 0.0
         zm = z.copy()
         stm = st.copy()
         code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
                         True, harm, xmax, mc)
         if code != OK:
             return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
-        for col in MC_SUMS:
-            mc[:, col] = 0.0
-    harm[:, :] = 0.0
-    xmax[:] = 0.0
-    zm = z.copy()
-    stm = st.copy()
-    code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
-                    True, harm, xmax, mc)
-    if code != OK:
-        return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
     tk = orbit * T
     fric = 0.0
     for j in range(m):
@@ -333,14 +371,17 @@ def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, 
         row[3 * n + 3 * m + j] = mc[j, MC_ENERGY] / orbit
     row[pt + 1] = orbit
     if settings[SET_STABILITY] != 0.0:
-        zf = z.copy()
-        stf = st.copy()
-        J[:, :] = 0.0
-        for i in range(Nd):
-            J[i, i] = 1.0
-        jflag[0] = 1.0
-        if _periods(zf, stf, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag,
-                    False, harm, xmax, mc) == OK and jflag[0] == 1.0:
+        ok = True
+        if not measured:
+            zf = z.copy()
+            stf = st.copy()
+            J[:, :] = 0.0
+            for i in range(Nd):
+                J[i, i] = 1.0
+            jflag[0] = 1.0
+            ok = _periods(zf, stf, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag,
+                          False, harm, xmax, mc) == OK
+        if ok and jflag[0] == 1.0:
             Phi = J[:Nd, :].astype(np.complex128)
             ev = np.linalg.eigvals(Phi)
             big = 0.0
@@ -465,7 +506,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 break
         if orbit > 0:
             code = _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm, xmax,
-                            mc, settings, row)
+                            mc, settings, row, False)
             status = code
             if code == _UNBALANCED and p < max_periods:
                 orbit = 0
@@ -479,34 +520,37 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 zs = zc.copy()
                 sts = stc.copy()
                 lag = held
-                found = True
+                found = ORBIT
                 held = 0
             else:
                 zs = z.copy()
                 sts = st.copy()
                 lag = _suggested_lag(z, hist, p, maxk, Nd)
                 found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
-                                harm, xmax, mc)
-                if not found and lag > 1:
+                                J, jflag, harm, xmax, mc)
+                if found == NO_ORBIT and lag > 1:
                     # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
                     # Newton misses): shoot on P as without it
                     zs[:] = z
                     sts[:] = st
                     lag = 1
                     found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
-                                    R, harm, xmax, mc)
-                if found and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > _STICK_SHOT_REACH * size:
+                                    R, J, jflag, harm, xmax, mc)
+                if found != NO_ORBIT and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > _STICK_SHOT_REACH * size:
                     # an orbit static friction holds elsewhere, or the one the march approaches from afar:
-                    # held until the march comes near it
+                    # held until the march comes near it (measured afresh then)
                     zc[:] = zs
                     stc[:] = sts
                     held = lag
-                    found = False
-            if found:
-                lag = _least_period(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale,
-                                    J, jflag, harm, xmax, mc)
+                    found = NO_ORBIT
+            if found != NO_ORBIT:
+                least = _least_period(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale,
+                                      J, jflag, harm, xmax, mc)
+                # Newton's measured period covered P^lag: a shorter least period is measured afresh
+                measured = found == MEASURED and least == lag
+                lag = least
                 code = _measure(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm,
-                                xmax, mc, settings, row)
+                                xmax, mc, settings, row, measured)
                 if code != _UNBALANCED:
                     status = code
                     orbit = lag
