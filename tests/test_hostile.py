@@ -23,6 +23,7 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 from conftest import in_dir
+from structure_specs import two_mass
 
 from friction_sweep.cli import main
 from friction_sweep.codes import Regime, SteadyState
@@ -467,23 +468,8 @@ def _wrong_orbit_cube(path: Path) -> None:
 
 # ---- issue 30: structure specs (the issue's spec; each row changes one thing) ------------------------
 
-STRUCTURE = """\
-scene: {excitation: force}
-structure:
-  masses: {blade: 1.0, damper: 0.1}
-  springs: [[ground, blade, 1.0], [blade, damper, 2.0]]
-  dampers: [[ground, blade, 0.004]]
-  contacts:
-    - {name: platform, between: [damper, ground], friction: 0.3}
-    - {name: root, between: [blade, base], friction: 0.2, stiffness: 20, static_friction_ratio: 1.2}
-  forcing: {blade: 1.0}
-grid:
-  frequency: {start: 0.2, stop: 3.0, num: 561}
-  friction_scale: [0.25, 0.5, 1.0, 2.0]
-method: event
-outputs: [amplitude, phase, regime]
-output: out.h5
-"""
+STRUCTURE = two_mass(561, "[0.25, 0.5, 1.0, 2.0]", "[amplitude, phase, regime]", static_friction_ratio=1.2,
+                     output="out.h5")
 #: the same structure under base excitation (no forcing; the root contact moves with the base)
 STRUCTURE_BASE = STRUCTURE.replace("{excitation: force}", "{excitation: base}").replace("  forcing: {blade: 1.0}\n",
                                                                                         "  base_amplitude: 0.5\n")

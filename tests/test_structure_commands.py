@@ -14,6 +14,7 @@ import pytest
 import xarray as xr
 from click.testing import CliRunner
 from conftest import in_dir, one_error_line
+from structure_specs import two_mass
 
 import friction_sweep as fs
 from friction_sweep import consistency_structure as rules
@@ -24,22 +25,7 @@ pytest.importorskip("matplotlib")
 
 #: a blade (1) and a damper (0.1): springs ground-blade 1, blade-damper 2; a rigid contact damper-ground and a
 #: Jenkins one (k_t 20) blade-base. friction_scale 0 (linear, contacts free) and 20 (every contact stuck)
-FORCE = """\
-scene: {excitation: force}
-structure:
-  masses: {blade: 1.0, damper: 0.1}
-  springs: [[ground, blade, 1.0], [blade, damper, 2.0]]
-  dampers: [[ground, blade, 0.004]]
-  contacts:
-    - {name: platform, between: [damper, ground], friction: 0.3}
-    - {name: root, between: [blade, base], friction: 0.2, stiffness: 20}
-  forcing: {blade: 1.0}
-grid:
-  frequency: {start: 0.2, stop: 3.0, num: 24}
-  friction_scale: [0.0, 0.5, 20.0]
-method: event
-outputs: [amplitude, phase, regime, friction_energy]
-"""
+FORCE = two_mass(24, "[0.0, 0.5, 20.0]", "[amplitude, phase, regime, friction_energy]")
 #: base excitation, a dashpot to the base, the rigid contact to the moving base
 BASE = """\
 scene: {excitation: base}

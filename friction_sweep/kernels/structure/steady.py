@@ -81,6 +81,9 @@ NO_ORBIT, ORBIT, MEASURED = 0, 1, 2
 _SPECULATE = 100.0
 #: Newton iterations in a row whose residual falls by under a tenth before the shooting is given up
 _STALLED = 3
+#: the march takes a repeat at lag k > 1 for a period-k orbit only where the state is farther than this many
+#: steady_tol from the one d periods back for every proper divisor d of k (_distinct_points)
+_DISTINCT = 1e3
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -177,6 +180,20 @@ def _lag_distance(z, hist, p, k, maxk, Nd):
     for i in range(Nd):
         d = max(d, abs(z[i] - prev[i]))
     return d
+
+
+@jit
+def _distinct_points(z, hist, p, k, maxk, Nd, bound):
+    """Whether the march's repeat at lag k is a period-k orbit: every proper divisor d of k moves the state
+    by more than bound. A decaying transient whose free motion nearly returns after k periods (a mode at
+    close to a multiple of 1/k of the forcing frequency: |mu^k - 1| << |mu - 1| for its multiplier mu)
+    repeats at lag k to steady_tol while P itself still moves it by a few steady_tol: that is the period-d
+    orbit still settling, not a period-k one (the 'between' structure at w 2.5, scale 2, stuck: lag 8 matched
+    43 periods before lag 1 did)."""
+    for d in range(1, k):
+        if k % d == 0 and _lag_distance(z, hist, p, d, maxk, Nd) <= bound:
+            return False
+    return True
 
 
 @jit
@@ -502,7 +519,8 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
         norms[p - 1] = size
         for k in range(1, min(maxk, p) + 1):
             if _lag_distance(z, hist, p, k, maxk, Nd) <= tol * size:
-                orbit = k
+                if k == 1 or _distinct_points(z, hist, p, k, maxk, Nd, _DISTINCT * tol * size):
+                    orbit = k
                 break
         if orbit > 0:
             code = _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm, xmax,
