@@ -252,6 +252,10 @@ MAX_HARMONIC = 64
 _HARMONICS = _int(16, 1, MAX_HARMONIC, "highest harmonic k of the output harmonics (exact Fourier coefficients "
                   "at k r): each costs a closed-form integral per piece of the orbit and a plane of the cube")
 _STARTS = _int(2, 1, 2, "1: from rest only; 2: also from a moving start where static exceeds kinetic friction")
+#: With static above kinetic friction a point can have two steady states; the simulation methods then
+#: solve it from a second start as well (README, "Two steady states") and store that state's per-point
+#: variables beside those from rest, each name with this suffix.
+MOVING_SUFFIX = "_moving"
 #: the simulations (event exactly, rk4 on its grid) model the Jenkins contact too (kernels/jenkins.py,
 #: kernels/jenkins_rk4.py); the closed forms and the paper's procedure do not
 _SIMULATED = ("viscous_damping", "static_friction_ratio", "contact_stiffness")

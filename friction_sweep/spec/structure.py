@@ -807,7 +807,7 @@ class StructureSpec(_Sourced):
     def variables(self) -> tuple[str, ...]:
         """The cube's variables, in output order (slips_per_period only with a Jenkins contact); with two starts
         each again from the moving start (MOVING_SUFFIX), and with the regime `steady_states`."""
-        from friction_sweep.storage.schema import MOVING_SUFFIX
+        from friction_sweep.catalogue import MOVING_SUFFIX
 
         jenkins = any(c.stiffness is not None for c in self.structure.contacts)
         names = tuple(name for group in self.outputs for name in OUTPUT_GROUPS[group]

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from friction_sweep import codes
-from friction_sweep.catalogue import EFFECTS, MAX_HARMONIC
+from friction_sweep.catalogue import EFFECTS, MAX_HARMONIC, MOVING_SUFFIX
 from friction_sweep.codes import MethodUsed, Regime, SteadyState
 from friction_sweep.theory.phase import PHASE_RANGE_DEG
 
@@ -389,10 +389,6 @@ VARIABLES.update({
                                               valid_range=(-math.inf, math.inf)),
 })
 
-#: With static above kinetic friction a point can have two steady states; the simulation methods then
-#: solve it from a second start as well (README, "Two steady states") and store that state's per-point
-#: variables beside those from rest, each name with this suffix.
-MOVING_SUFFIX = "_moving"
 #: per-point variables that describe one steady state (and so have a "_moving" twin)
 STATE_VARIABLES = ("transmissibility", "peak_transmissibility", "phase", "peak_phase", "regime", "stops_per_period",
                    "stuck_fraction", "periods", "steady_state", "orbit_period", "friction_energy",
