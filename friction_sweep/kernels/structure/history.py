@@ -13,9 +13,9 @@ import numpy as np
 
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.settings import SET_STOP_TOL, SET_WORK_BUDGET
-from friction_sweep.kernels.structure.flow import CP_KT, INACTIVE
+from friction_sweep.kernels.structure.flow import INACTIVE
 from friction_sweep.kernels.structure.period import MC_SIZE, OK, advance, lookup, new_cache
-from friction_sweep.kernels.structure.steady import _section, _start
+from friction_sweep.kernels.structure.steady import _section, _start, flow_size
 
 #: replay statuses: the samples are written; the replay failed (budget, a mode that cannot be built)
 SAMPLED, NOT_SAMPLED = 0, 1
@@ -27,11 +27,7 @@ def sample_orbit(Minv, K, C, W, F, cp, omega, settings, state, periods, samples,
     t = (p + s / S) T for p < periods, s < S = samples; SAMPLED, or NOT_SAMPLED where the replay failed."""
     n = K.shape[0]
     m = W.shape[0]
-    mJ = 0
-    for j in range(m):
-        if cp[j, CP_KT] > 0.0:
-            mJ += 1
-    N = 2 * n + mJ + 3
+    N = flow_size(K, W, cp)
     Nd = N - 3
     T = 2.0 * np.pi / omega
     dt = T / samples

@@ -39,6 +39,11 @@ from friction_sweep.kernels.settings import (
     SET_STOP_TOL,
     SET_WORK_BUDGET,
 )
+
+# with static above kinetic friction Newton's orbit is taken only within STICK_SHOT_REACH of the state's size
+# from the march, as for one mass: static friction holds several orbits, and the march's start decides which one
+# a point settles on
+from friction_sweep.kernels.steady import STICK_SHOT_REACH
 from friction_sweep.kernels.structure.flow import CP_EY, CP_KT, CP_MU, CP_MUS, CP_SLOT, INACTIVE, STUCK
 from friction_sweep.kernels.structure.period import (
     MC_ENERGY,
@@ -70,10 +75,6 @@ _UNBALANCED = int(SteadyState.UNBALANCED)
 _RESOLVED = 1e-10
 #: the march suggests a period-k orbit (k > 1) where P^k moves the state by under this share of P's move
 _LAG_SUGGESTS = 0.1
-#: with static above kinetic friction Newton's orbit is taken only within this share of the state's size from
-#: the march (the 1-DoF kernel's STICK_SHOT_REACH: static friction holds several orbits, and the march's start
-#: decides which one a point settles on)
-_STICK_SHOT_REACH = 0.05
 #: _newton's results: no orbit; an orbit; an orbit whose confirming period was measured
 NO_ORBIT, ORBIT, MEASURED = 0, 1, 2
 #: Newton measures its next period where its last relative residual squared is within this many tol
@@ -415,6 +416,17 @@ def state_size(n: int, m: int, jenkins: int) -> int:
 
 
 @jit
+def flow_size(K, W, cp):
+    """N, the length of the flow's state: x and v of each mass, each Jenkins slider's position, and the
+    forcing's cos, sin and 1 (DESIGN §7)."""
+    mJ = 0
+    for j in range(W.shape[0]):
+        if cp[j, CP_KT] > 0.0:
+            mJ += 1
+    return 2 * K.shape[0] + mJ + 3
+
+
+@jit
 def _start(z, st, start, W, cp, n, Nd):
     """z and st from a start state (state_size's layout; sliders of every Jenkins contact, statuses as
     floats). A contact without friction here is INACTIVE whatever the start says; one the start had
@@ -441,11 +453,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     where the search stopped (the steady orbit's where it converged) into `end`, NaN where not finite."""
     n = K.shape[0]
     m = W.shape[0]
-    mJ = 0
-    for j in range(m):
-        if cp[j, CP_KT] > 0.0:
-            mJ += 1
-    N = 2 * n + mJ + 3
+    N = flow_size(K, W, cp)
     Nd = N - 3
     T = 2.0 * np.pi / omega
     tol = settings[SET_STEADY_TOL]
@@ -532,7 +540,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
             break
         # the march has come near the orbit a Newton shot found earlier (held back as too far from the
         # march then, with static friction): that is the orbit it approaches
-        near = held > 0 and _norm(z[:Nd] - zc[:Nd], Nd) <= _STICK_SHOT_REACH * size
+        near = held > 0 and _norm(z[:Nd] - zc[:Nd], Nd) <= STICK_SHOT_REACH * size
         if near or (shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0):
             if near:
                 zs = zc.copy()
@@ -554,7 +562,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                     lag = 1
                     found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
                                     R, J, jflag, harm, xmax, mc)
-                if found != NO_ORBIT and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > _STICK_SHOT_REACH * size:
+                if found != NO_ORBIT and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > STICK_SHOT_REACH * size:
                     # an orbit static friction holds elsewhere, or the one the march approaches from afar:
                     # held until the march comes near it (measured afresh then)
                     zc[:] = zs
