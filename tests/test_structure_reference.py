@@ -288,8 +288,11 @@ def test_engine_energy_balances_per_period(point):
     W = ref["work"]
     assert got["friction_energy"].sum() + ref["viscous"] == pytest.approx(W, rel=1e-10, abs=1e-14)
     if auto.md.Y == 0:
+        # from the engine's first harmonics, good to the bound they meet against the reference (1e-8): a point
+        # the march settles slowly keeps about steady_tol / (1 - |multiplier|) of its transient ('between' at
+        # 2.5 x 2, settled by the march after 562 periods: 1.0e-9)
         own = np.pi * np.sum(auto.md.F * got["amplitude"] * np.sin(np.radians(got["phase"])))
-        assert own == pytest.approx(W, rel=1e-9, abs=1e-14)
+        assert own == pytest.approx(W, rel=1e-8, abs=1e-14)
 
 
 FLOQUET = [("chain", 1.2, 0.1), ("between", 1.2, 1.0), ("three", 2.0, 1.0), ("chain", 0.8, 1.0),
