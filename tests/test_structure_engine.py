@@ -241,3 +241,23 @@ def test_floquet_multiplier_of_one_mass_is_the_1dof_kernels():
     np.testing.assert_allclose(got["floquet_multiplier"], ref[:, one_dof.OUT["floquet_multiplier"]], rtol=1e-8)
     plain = solve_points(a, r, beta)
     assert np.isnan(plain["floquet_multiplier"]).all()
+
+
+def test_node_matrices_are_the_matrix_exponential_at_each_node():
+    """flow.expm_nodes (the measurement's exp(A x_q h) at the Gauss nodes, one Taylor series for all) against
+    SciPy's Pade expm, on a random matrix scaled to one step (|A| h = 1/2)."""
+    import scipy.linalg
+
+    from friction_sweep.kernels.structure.flow import expm_nodes, expm_taylor
+    from friction_sweep.kernels.structure.period import GAUSS_X
+
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(7, 7))
+    h = 0.5 / np.abs(A).sum(axis=1).max()
+    G = np.empty((GAUSS_X.size, 7, 7))
+    expm_nodes(A, h, GAUSS_X, G)
+    for q, x in enumerate(GAUSS_X):
+        np.testing.assert_allclose(G[q], scipy.linalg.expm(A * x * h), rtol=0, atol=1e-15)
+    E = np.empty((7, 7))
+    expm_taylor(A, h, E)
+    np.testing.assert_allclose(E, scipy.linalg.expm(A * h), rtol=0, atol=1e-15)

@@ -314,18 +314,33 @@ def sparsity(A, cols, starts):
 
 @jit
 def expm_taylor(A, h, E):
-    """E = exp(A h) by its Taylor series, for h short against A's rates (terms fall like (|A| h)^k / k!):
-    E = sum_k T_k, T_0 = I, T_k = T_{k-1} (A h) / k, up to the first term below 1e-18 of the sum; the
-    products skip A's zeros."""
+    """E = exp(A h) by its Taylor series, for h short against A's rates (expm_nodes at the one fraction 1)."""
+    expm_nodes(A, h, _ONE, E.reshape((1, E.shape[0], E.shape[1])))
+
+
+#: expm_taylor's one node fraction
+_ONE = np.ones(1)
+
+
+@jit
+def expm_nodes(A, h, xs, G):
+    """G[q] = exp(A xs[q] h) for every fraction xs[q] in (0, 1] by one Taylor series, for h short against
+    A's rates (terms fall like (|A| h)^k / k!): G_q = sum_k xs_q^k T_k, T_0 = I, T_k = T_{k-1} (A h) / k,
+    up to the first T_k below 1e-18 of the largest sum (the nodes below 1 have converged by then); the
+    products skip A's zeros. At the one fraction 1 this is exp(A h) term for term (x^k = 1 exactly)."""
     N = A.shape[0]
+    nq = xs.shape[0]
     cols = np.empty(N * N, dtype=np.int64)
     starts = np.empty(N + 1, dtype=np.int64)
     sparsity(A, cols, starts)
     term = np.zeros((N, N))
     nxt = np.empty((N, N))
-    E[:, :] = 0.0
+    xk = np.ones(nq)
+    G[:, :, :] = 0.0
+    for q in range(nq):
+        for i in range(N):
+            G[q, i, i] = 1.0
     for i in range(N):
-        E[i, i] = 1.0
         term[i, i] = 1.0
     for k in range(1, 80):
         f = h / k
@@ -338,15 +353,18 @@ def expm_taylor(A, h, E):
                     for e in range(starts[q], starts[q + 1]):
                         c = cols[e]
                         nxt[i, c] += t * A[q, c]
+        for q in range(nq):
+            xk[q] *= xs[q]
         big = 0.0
         tot = 0.0
         for i in range(N):
             for c in range(N):
                 v = nxt[i, c]
                 term[i, c] = v
-                E[i, c] += v
                 big = max(big, abs(v))
-                tot = max(tot, abs(E[i, c]))
+                for q in range(nq):
+                    G[q, i, c] += xk[q] * v
+                    tot = max(tot, abs(G[q, i, c]))
         if big <= 1e-18 * tot:
             break
 

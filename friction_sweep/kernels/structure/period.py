@@ -62,6 +62,7 @@ from friction_sweep.kernels.structure.flow import (
     dot,
     event_rows,
     expm_apply,
+    expm_nodes,
     expm_taylor,
     matvec,
     mode_rate,
@@ -114,7 +115,8 @@ def switch_workspace(n, m, N):
 def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
     Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
-    Gauss nodes and their Taylor coefficients, the switch's workspace): the hot loops allocate nothing. The
+    Gauss nodes and their Taylor coefficients, each mode's node matrices (_node_matrices) and whether they
+    are built, the switch's workspace): the hot loops allocate nothing. The
     counts (cache[9]): the modes cached, the next slot to replace, and the integrator: 0 the exact flow
     (advance), k > 0 classical RK4 with k steps per period (rk4.advance_rk4; steady.solve_point sets it from
     the settings)."""
@@ -127,7 +129,8 @@ def new_cache(n, m, N):
             np.empty((N, N)), np.empty((m1, N)), np.empty((N, N - 3)), np.empty((N, N - 3)), np.empty((3, N)),
             np.empty(N),
             np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)),
-            np.empty((GAUSS_X.shape[0] + 1, KT + 1)), switch_workspace(n, m, N))
+            np.empty((GAUSS_X.shape[0] + 1, KT + 1)), np.empty((CACHE, GAUSS_X.shape[0], N, N)),
+            np.zeros(CACHE, dtype=np.bool_), switch_workspace(n, m, N))
 
 
 @jit
@@ -157,6 +160,7 @@ def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
     A = c_A[i]
     ok = build_mode(st, Minv, K, C, W, F, cp, omega, A, c_L[i], cache[-1])
     c_ok[i] = ok
+    cache[26][i] = False
     if not ok:
         return i
     h = STEP_RATE / mode_rate(A, n)
@@ -415,8 +419,30 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F,
     rows) gather the excitation's work and the viscous dissipation (see energy_work); zq: a workspace for
     the state at the Gauss nodes and at s (the extremes' search reads its velocities there); coef:
     _node_states's workspace."""
-    nq = GAUSS_X.shape[0]
     _node_states(zk, s, zq, coef)
+    _measure_nodes(zk, True, zk, zk[0], s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq)
+
+
+#: a mode's node matrices cost about 16 N^3 to build and save about 8 N^2 on each full measured step (the
+#: KT matrix-vector products of powers and the nodes' Taylor sums, against one product per node): they are
+#: built where one measured period of the mode has more full steps than NODES_PAY x N
+NODES_PAY = 2.0
+
+
+@jit
+def _node_matrices(h, T, N):
+    """Whether the measurement of a mode's full steps (length h) goes through its node matrices
+    G[q] = exp(A x_q h) (zq[q] = G[q] z; advance builds them once per mode, in the cache): where a period
+    holds enough of its steps to repay them (NODES_PAY)."""
+    return T / h > NODES_PAY * N
+
+
+@jit
+def _measure_nodes(zk, have, A, z, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F, zq):
+    """_measure_step's body from the states at the nodes and at s (zq); zk: the step's Taylor coefficients
+    where `have`, else a workspace that powers(A, z, zk) fills the first time a refinement needs them (a
+    velocity's zero, a Jenkins stick's reversal, a creep's drive)."""
+    nq = GAUSS_X.shape[0]
     for q in range(nq):
         zt = zq[q]
         wq = GAUSS_W[q] * s
@@ -441,12 +467,15 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F,
     # rounding, the root's error entering squared)
     for i in range(n):
         prev_s = 0.0
-        prev_v = zk[0, n + i]
-        xmax[i] = max(xmax[i], abs(zk[0, i]))
+        prev_v = z[n + i]
+        xmax[i] = max(xmax[i], abs(z[i]))
         for q in range(nq + 1):
             sq = s if q == nq else GAUSS_X[q] * s
             v = zq[q, n + i]
             if (prev_v > 0.0 and v < 0.0) or (prev_v < 0.0 and v > 0.0):
+                if not have:
+                    powers(A, z, zk)
+                    have = True
                 lo = prev_s
                 hi = sq
                 for _ in range(_EXTREME_HALVINGS):
@@ -460,7 +489,7 @@ def _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, Lm, Cmat, F,
             prev_v = v
             prev_s = sq
         xmax[i] = max(xmax[i], abs(zq[nq, i]))
-    _measure_contacts(zk, s, zq[nq], n, m, st, W, cp, N, omega, mc)
+    _measure_contacts(zk, have, A, z, s, zq[nq], n, m, st, W, cp, N, omega, mc)
 
 
 @jit
@@ -512,11 +541,11 @@ def _u2(a, x):
 
 
 @jit
-def _measure_contacts(zk, s, zend, n, m, st, W, cp, N, omega, mc):
-    """Add one step (Taylor coefficients zk, length s, end state zend) to the per-contact measures mc:
-    stuck time, sliding energy, a held Jenkins stick's reversal (its stop)."""
+def _measure_contacts(zk, have, A, z0, s, zend, n, m, st, W, cp, N, omega, mc):
+    """Add one step (start state z0, length s, end state zend; Taylor coefficients zk where `have`, else
+    powers(A, z0, zk) when a refinement needs them) to the per-contact measures mc: stuck time, sliding
+    energy, a held Jenkins stick's reversal (its stop)."""
     K1 = zk.shape[0]
-    z0 = zk[0]
     for j in range(m):
         if st[j] == INACTIVE:
             continue
@@ -528,6 +557,9 @@ def _measure_contacts(zk, s, zend, n, m, st, W, cp, N, omega, mc):
                 # was MC_SIGN); that instant is refined on u's Taylor polynomial over the step
                 u1 = rel_velocity(zend, W, cp, j, n, N, omega)
                 if mc[j, MC_SIGN] != 0.0 and u1 * mc[j, MC_SIGN] <= 0.0:
+                    if not have:
+                        powers(A, z0, zk)
+                        have = True
                     lo = 0.0
                     hi = s
                     for _ in range(60):
@@ -548,8 +580,12 @@ def _measure_contacts(zk, s, zend, n, m, st, W, cp, N, omega, mc):
             if cp[j, CP_KT] > 0.0:
                 slot = 2 * n + int(cp[j, CP_SLOT])
                 mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(zend[slot] - z0[slot])
-                if mc[j, MC_ANCHOR] == 1.0 and _driven_step(zk, s, j, st[j], n, W, cp, N, omega):
-                    mc[j, MC_ANCHOR] = 0.0
+                if mc[j, MC_ANCHOR] == 1.0:
+                    if not have:
+                        powers(A, z0, zk)
+                        have = True
+                    if _driven_step(zk, s, j, st[j], n, W, cp, N, omega):
+                        mc[j, MC_ANCHOR] = 0.0
             else:
                 mc[j, MC_ENERGY] += cp[j, CP_MU] * abs(rel_position(zend, W, cp, j, n, N)
                                                        - rel_position(z0, W, cp, j, n, N))
@@ -678,7 +714,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
     Returns OK, BUDGET or FAILED."""
     c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
-    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, coef, sw = cache[10:]
+    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, coef, c_G, c_gok, sw = cache[10:]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -738,9 +774,19 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     fired = f
             if se < 0.0:
                 if meas:
-                    if not have_zk:
-                        powers(A, z, zk)
-                    _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
+                    if full and not have_zk and _node_matrices(h, T, N):
+                        if not c_gok[mi]:
+                            expm_nodes(A, h, GAUSS_X, c_G[mi])
+                            c_gok[mi] = True
+                        for q in range(GAUSS_X.shape[0]):
+                            matvec(c_G[mi, q], z, zq[q])
+                        zq[GAUSS_X.shape[0], :] = znew
+                        _measure_nodes(zk, False, A, z, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F,
+                                       zq)
+                    else:
+                        if not have_zk:
+                            powers(A, z, zk)
+                        _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
                 if jac:
                     if full:
                         _jac_step(E, J, Jtmp)
