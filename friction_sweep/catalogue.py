@@ -241,7 +241,8 @@ _STEADY = {
                         "most about 30 s a point"),
     "shoot_after": _int(0, 0, 1_000_000, "periods marched before the first shooting attempt; 0: first from "
                         "Den Hartog's orbit where the steady state is unique, before any march (fastest, make bench)"),
-    "shoot_every": _int(48, 1, 1_000_000, "periods between shooting attempts"),
+    "shoot_every": _int(48, 1, 1_000_000, "periods between shooting attempts (structures: the longest gap; their "
+                        "attempts follow a miss after 1, 2, 4, ... periods)"),
     "initial_displacement": _float(0.0, -2.0, 2.0, "start of the march at forcing phase 0, in the equation's "
                                    "length unit: farther starts settle on wrong or no orbits within the budget"),
     "initial_velocity": _float(0.0, -2.0, 2.0, "start of the march, in the equation's velocity unit: farther "

@@ -94,6 +94,10 @@ STRUCTURES = {
     "dragged": structure("force", {"m1": 1.0, "m2": 0.5}, [("ground", "m1", 1.0)],
                          [("ground", "m1", 0.02), ("m1", "m2", 0.3)], [contact("hold", "m2", "ground", 0.1)],
                          {"m1": 1.0}),
+    # the chain's blade and damper as benchmarks/structures.py sweeps them: damped 5x more lightly (zeta 0.002),
+    # so transients outlast the march's first periods and Newton shoots from states still far from the orbit
+    "blade": structure("force", {"blade": 1.0, "damper": 0.1}, [("ground", "blade", 1.0), ("blade", "damper", 2.0)],
+                       [("ground", "blade", 0.004)], [contact("platform", "damper", "ground", 0.3)], {"blade": 1.0}),
     "static": structure("force", {"m1": 1.0, "m2": 0.6}, [("ground", "m1", 1.0), ("m1", "m2", 0.7)],
                         [("ground", "m1", 0.03)],
                         [contact("joint", "m1", "m2", 0.12, ratio=1.5),
@@ -116,6 +120,10 @@ POINTS = [
 ]
 
 
+#: the blade's benchmark plane (benchmarks/structures.py): frequencies and friction scales
+_BLADE_W = np.linspace(0.2, 3.0, 200)
+_BLADE_S = np.geomspace(0.05, 20.0, 20)
+
 #: points built to break an engine: a mass held only by a contact, no dashpot anywhere, next to the grazing
 #: boundary between continuous motion and stick-slip (the chain at w = 2: a stick of 0.8 % of the period
 #: above it, a near-touch below), eight masses with three contacts; then the hostile structures above in
@@ -133,6 +141,12 @@ ADVERSARIAL = [
     pytest.param(("stiff", 0.5, 1.0), marks=pytest.mark.slow), ("stiff", 1.0, 0.5), ("stiff", 1.0, 10.0),
     ("dragged", 0.8, 1.0), ("dragged", 1.5, 1.0),
     ("static", 0.6, 1.0), ("static", 1.2, 1.0), ("static", 1.0, 5.0),
+    # points of the blade's 200 x 20 benchmark plane where the engine once answered a stuck orbit with a
+    # stick-slip one: Newton from a still-slipping transient landed on the stuck positions' member at the band's
+    # edge, slipping 1e-12 a period (a tolerance's residue); and where it took a transient spiralling in with a
+    # multiplier near a fifth root of unity for a period-5 orbit (the reference: stuck, stuck, period 1)
+    ("blade", float(_BLADE_W[57]), float(_BLADE_S[14])), ("blade", float(_BLADE_W[199]), float(_BLADE_S[10])),
+    ("blade", float(_BLADE_W[102]), float(_BLADE_S[18])),
 ]
 
 

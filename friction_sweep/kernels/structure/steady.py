@@ -3,11 +3,17 @@
 From rest (model.rest_state: v = 0, every contact unstretched, the springs in equilibrium with the base
 at y(0); Jenkins springs unloaded; the stick set at t = 0 chosen as at any switch), march
 forcing periods of the exact period map (period.advance) until P^k(s) repeats within steady_tol (k up
-to max_orbit_period), and from period shoot_after on (then every shoot_every periods) try Newton
-shooting on P^k(s) = s with the exact monodromy (transition matrices times saltation matrices; least
+to max_orbit_period), and from period shoot_after on (then again after 1, 2, 4, ... periods, the gaps
+doubling up to shoot_every: a miss early in the transient is retried soon, a long march not shot at every
+period; every shoot_every periods where static friction holds several steady states) try Newton shooting
+on P^k(s) = s with the exact monodromy (transition matrices times saltation matrices; least
 squares, since a stuck contact's position is a neutral direction), k = 1 unless the march suggests a
 period-k orbit (_suggested_lag; P alone where P^k's Newton misses), k lowered to the orbit's least period
-(_least_period). A converged orbit is measured over its k periods; its largest Floquet multiplier
+(_least_period). Newton's orbit is refused, and the march goes on, where a contact slips less than
+_MICRO_SLIP steady_tol x the state's size per period (_micro_slip: a stuck orbit's neutral family, the
+stuck positions, has a member at its band's edge, which Newton from a still-slipping transient lands on,
+the slip then a tolerance's residue; the march settles inside the band), _MICRO_TRIES times at most. A
+converged orbit is measured over its k periods; its largest Floquet multiplier
 (eigenvalue of the monodromy of P^k) where the settings ask. Amplitude still growing at the cap: GROWING;
 otherwise PERIOD_CAP; the events-and-steps budget: EVENT_BUDGET; a non-finite state or a mode that
 cannot be built: NONFINITE. A point may start instead from a given state at the section (another
@@ -85,6 +91,14 @@ _STALLED = 3
 #: the march takes a repeat at lag k > 1 for a period-k orbit only where the state is farther than this many
 #: steady_tol from the one d periods back for every proper divisor d of k (_distinct_points)
 _DISTINCT = 1e3
+#: Newton's orbit with a contact slipping under this many steady_tol x the state's size per period is
+#: refused (_micro_slip), up to _MICRO_TRIES times per point
+_MICRO_SLIP = 10.0
+_MICRO_TRIES = 3
+#: a Newton iterate's work (events and steps) may be this many times a marched period's per period shot,
+#: plus the slack
+_NEWTON_COST = 8
+_NEWTON_SLACK = 1000
 
 
 def row_layout(n: int, m: int) -> dict[str, slice]:
@@ -135,6 +149,20 @@ def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
         elif st[j] != STUCK and abs(u1) > 0.0:
             st[j] = 1 if u1 > 0.0 else -1
     return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws)
+
+
+@jit
+def _micro_slip(row, cp, n, m, bound):
+    """Whether a measured orbit (row) has a contact that slips, but less than `bound` per period (its
+    friction energy over its kinetic friction: the sliding distance, and for a Jenkins contact with static
+    above kinetic friction that plus its unloading loss over mu)."""
+    at = 3 * n + 3 * m
+    for j in range(m):
+        mu = cp[j, CP_MU]
+        e = row[at + j]
+        if mu > 0.0 and e > 0.0 and e <= bound * mu:
+            return True
+    return False
 
 
 @jit
@@ -244,11 +272,13 @@ def _least_period(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget,
 
 @jit
 def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, J, jflag, harm, xmax,
-            mc):
+            mc, cap):
     """Newton shooting on P^k(s) = s from z (in place where it converges): NO_ORBIT, or ORBIT, or MEASURED
     where the period that confirmed convergence was also measured (_speculate): harm, xmax, mc then hold
     the measurement of P^k from z (mc's label state after one pass) and J, jflag its monodromy, as
-    _measure's own passes would give them bit for bit (the same passes from the same state)."""
+    _measure's own passes would give them bit for bit (the same passes from the same state). An iterate whose
+    k periods cost more than k x `cap` units of work (events and steps) is no orbit: a step far off the orbit can
+    land where contacts switch without end, and the march, which never goes there, is cheaper."""
     N = z.shape[0]
     Nd = N - 3
     zs = z.copy()
@@ -274,8 +304,12 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
             mc[:, :] = 0.0
             harm[:, :] = 0.0
             xmax[:] = 0.0
-        if _periods(zs, sts, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag, meas,
-                    harm, xmax, mc) != OK:
+        held_back = max(budget[0] - k * cap, 0)
+        budget[0] -= held_back
+        code = _periods(zs, sts, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, True, J, jflag, meas, harm,
+                        xmax, mc)
+        budget[0] += held_back
+        if code != OK:
             return NO_ORBIT
         res = zs[:Nd] - z0[:Nd]
         err = _norm(res, Nd)
@@ -515,11 +549,20 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     zc = np.empty(N)
     stc = st.copy()
     held = 0
+    next_shot = max(shoot_after, 1)
+    # with static above kinetic friction the march from rest decides between steady states: Newton from an
+    # early transient may find another, so the attempts keep shoot_every apart there
+    gap = shoot_every if _holds_several(cp) else 1
+    micro = 0
     while p < max_periods:
         hist[p % maxk, :] = z[:Nd]
+        before = budget[0]
         code = _periods(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False,
                         harm, xmax, mc)
         p += 1
+        # a Newton iterate may cost _NEWTON_COST times a marched period per period (its periods start near
+        # the march's state), and never more than the budget left
+        cap = _NEWTON_COST * (before - budget[0]) + _NEWTON_SLACK
         if code != OK:
             status = _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
             break
@@ -541,7 +584,11 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
         # the march has come near the orbit a Newton shot found earlier (held back as too far from the
         # march then, with static friction): that is the orbit it approaches
         near = held > 0 and _norm(z[:Nd] - zc[:Nd], Nd) <= STICK_SHOT_REACH * size
-        if near or (shooting and p >= max(shoot_after, 1) and (p - max(shoot_after, 1)) % shoot_every == 0):
+        scheduled = shooting and p >= next_shot
+        if scheduled:
+            next_shot = p + gap
+            gap = min(2 * gap, shoot_every)
+        if near or scheduled:
             if near:
                 zs = zc.copy()
                 sts = stc.copy()
@@ -553,7 +600,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 sts = st.copy()
                 lag = _suggested_lag(z, hist, p, maxk, Nd)
                 found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
-                                J, jflag, harm, xmax, mc)
+                                J, jflag, harm, xmax, mc, cap)
                 if found == NO_ORBIT and lag > 1:
                     # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
                     # Newton misses): shoot on P as without it
@@ -561,7 +608,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                     sts[:] = st
                     lag = 1
                     found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
-                                    R, J, jflag, harm, xmax, mc)
+                                    R, J, jflag, harm, xmax, mc, cap)
                 if found != NO_ORBIT and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > STICK_SHOT_REACH * size:
                     # an orbit static friction holds elsewhere, or the one the march approaches from afar:
                     # held until the march comes near it (measured afresh then)
@@ -577,14 +624,18 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 lag = least
                 code = _measure(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm,
                                 xmax, mc, settings, row, measured)
-                if code != _UNBALANCED:
+                if (code == _CONVERGED and micro < _MICRO_TRIES
+                        and _micro_slip(row, cp, n, m, _MICRO_SLIP * tol * max(_norm(zs, Nd), scale))):
+                    micro += 1
+                elif code != _UNBALANCED:
                     status = code
                     orbit = lag
                     z[:] = zs
                     st[:] = sts
                     break
-                # an orbit that does not balance its energy: no orbit (growth at resonance); march on
-                shooting = False
+                else:
+                    # an orbit that does not balance its energy: no orbit (growth at resonance); march on
+                    shooting = False
             if budget[0] < 0:
                 status = _EVENT_BUDGET
                 break
