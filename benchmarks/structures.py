@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from friction_sweep.kernels import steady as one_dof
-from friction_sweep.kernels.structure.steady import row_size, solve_batch
+from friction_sweep.kernels.structure.steady import row_size, solve_batch, state_size
 from friction_sweep.methods import event
 from friction_sweep.structures import ContactDef, StructureDef, assemble, solve_points
 from friction_sweep.structures.solve import engine_arguments
@@ -60,12 +60,15 @@ def engine_per_point(a, w, s, repeat: int = 1) -> np.ndarray:
     """CPU seconds of each point, solved alone by the engine (steady.solve_batch; the least of `repeat`
     runs, a point's result depending on its inputs only)."""
     args = engine_arguments(a)
-    row = np.empty((1, row_size(len(a.dof_names), len(a.contact_names))))
+    n, m = len(a.dof_names), len(a.contact_names)
+    row = np.empty((1, row_size(n, m)))
+    start = np.full((1, state_size(n, m, int(np.count_nonzero(a.kt > 0)))), np.nan)  # NaN: from rest
+    end = np.empty_like(start)
     out = np.full(w.size, np.inf)
     for i in range(w.size):
         for _ in range(repeat):
             t = time.process_time()
-            solve_batch(*args[:8], w[i:i + 1], s[i:i + 1], args[8], row)
+            solve_batch(*args[:8], w[i:i + 1], s[i:i + 1], args[8], row, start, end)
             out[i] = min(out[i], time.process_time() - t)
     return out
 
