@@ -425,6 +425,18 @@ def expm(A, t, h, E):
 
 
 @jit
+def term_sizes(ck, z, dmag):
+    """dmag[k] = sum_i |ck[k, i] z[i]|, the size of the terms of an event function's k-th derivative c A^k . z
+    (ck[k] = c A^k): what is zero to rounding against it (roots.at_start) is judged the same by every
+    integrator."""
+    for k in range(dmag.shape[0]):
+        acc = 0.0
+        for i in range(z.shape[0]):
+            acc += abs(ck[k, i] * z[i])
+        dmag[k] = acc
+
+
+@jit
 def powers(A, z, zk):
     """zk[k] = A^k z for k = 0..KT (the Taylor coefficients of z(t) at t = 0, times k!)."""
     zk[0, :] = z

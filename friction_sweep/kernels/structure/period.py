@@ -70,6 +70,7 @@ from friction_sweep.kernels.structure.flow import (
     powers,
     solve_small,
     taylor_state,
+    term_sizes,
     vecmat,
 )
 from friction_sweep.kernels.structure.roots import ZERO_RTOL, at_start, first_root
@@ -763,11 +764,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                         continue
                 for k in range(KT + 1):
                     d[k] = dot(ck[k], z)
-                for k in range(4):
-                    acc = 0.0
-                    for i in range(N):
-                        acc += abs(ck[k, i] * z[i])
-                    dmag[k] = acc
+                term_sizes(ck, z, dmag)
                 r = first_root(d, dmag, s, start)
                 if r >= 0.0 and (se < 0.0 or r < se):
                     se = r

@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.structure.flow import dot, matvec, mode_rate, taylor_state
+from friction_sweep.kernels.structure.flow import dot, matvec, mode_rate, taylor_state, term_sizes
 from friction_sweep.kernels.structure.period import BUDGET, FAILED, OK, _measure_step, lookup, switch
 from friction_sweep.kernels.structure.roots import first_root
 
@@ -151,12 +151,7 @@ def advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
                     dd[q] = dot(row, poly[q])
                 # the size of the terms of each derivative at the start, as the engine measures it (from the
                 # row's A-powers, c A^q . z): what is zero to rounding there is judged alike (roots.at_start)
-                ck = c_ck[mi, f]
-                for q in range(dmag.shape[0]):
-                    acc = 0.0
-                    for i in range(N):
-                        acc += abs(ck[q, i] * z[i])
-                    dmag[q] = acc
+                term_sizes(c_ck[mi, f], z, dmag)
                 r = first_root(dd, dmag, s, start)
                 if r >= 0.0 and (se < 0.0 or r < se):
                     se = r

@@ -349,6 +349,18 @@ def _speculate(last, before, ref, tol):
 
 
 @jit
+def _measured_pass(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm, xmax, mc):
+    """One measured pass over the orbit's `orbit` periods from a copy of (z, st) into harm, xmax, mc:
+    _CONVERGED, or the point's status where the advance fails."""
+    zm = z.copy()
+    stm = st.copy()
+    if _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, True, harm,
+                xmax, mc) != OK:
+        return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+    return _CONVERGED
+
+
+@jit
 def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm, xmax, mc, settings,
              row, measured):
     """Measure the orbit through z over its `orbit` periods into row; CONVERGED, or UNBALANCED where the
@@ -370,23 +382,19 @@ def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, 
         # begun before t = 0): the orbit's own, from one pass over it (jenkins_steady.shoot_jenkins's rule;
         # Newton's measured period was that pass)
         if not measured:
-            zm = z.copy()
-            stm = st.copy()
-            code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
-                            True, harm, xmax, mc)
-            if code != OK:
-                return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+            code = _measured_pass(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm,
+                                  xmax, mc)
+            if code != _CONVERGED:
+                return code
         for col in MC_SUMS:
             mc[:, col] = 0.0
     if jenkins or not measured:
         harm[:, :] = 0.0
         xmax[:] = 0.0
-        zm = z.copy()
-        stm = st.copy()
-        code = _periods(zm, stm, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag,
-                        True, harm, xmax, mc)
-        if code != OK:
-            return _EVENT_BUDGET if budget[0] < 0 else _NONFINITE
+        code = _measured_pass(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, J, jflag, harm,
+                              xmax, mc)
+        if code != _CONVERGED:
+            return code
     tk = orbit * T
     fric = 0.0
     for j in range(m):
