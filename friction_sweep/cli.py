@@ -464,7 +464,7 @@ def _run_locked(s, spec, out, overwrite, resume, jobs, quiet, executor, schedule
                    f"{s.scene.excitation} excitation, method {s.method}: {n_s} friction scales x {n_f} frequencies "
                    f"= {n_s * n_f} points in {elapsed:.2f} s")
         _echo_contact_regimes({name: (dims, values) for name, (dims, values, _) in parts.data_vars.items()},
-                              parts.coords)
+                              parts.coords["contact"][1].tolist())
         return
     r = s.frequency_ratio
     click.echo(
@@ -513,22 +513,31 @@ def _echo_regimes(arrays) -> None:
     if "regime" in arrays:
         click.echo("  regimes: " + _regime_summary(arrays["regime"]))
     if "steady_states" in arrays:
-        n = arrays["steady_states"]
-        click.echo(f"  two steady states (from rest and from a moving start): {int((n >= 2).sum())} of {n.size} "
-                   "points (a lower bound)")
+        _echo_steady_states(arrays["steady_states"])
     if "regime_moving" in arrays:
         click.echo("  regimes from a moving start: " + _regime_summary(arrays["regime_moving"]))
 
 
-def _echo_contact_regimes(arrays, coords) -> None:
-    """A structure cube's regime counts, one line per contact. arrays: name -> (dims, values); coords as
-    storage.cube.CubeParts holds them (name -> (dims, values, attributes))."""
-    if "regime" not in arrays:
-        return
-    dims, values = arrays["regime"]
-    axis = list(dims).index("contact")
-    for j, name in enumerate(coords["contact"][1].tolist()):
-        click.echo(f"  regimes at contact {escape(name)}: " + _regime_summary(np.take(values, j, axis=axis)))
+def _echo_steady_states(n) -> None:
+    click.echo(f"  two steady states (from rest and from a moving start): {int((n >= 2).sum())} of {n.size} "
+               "points (a lower bound)")
+
+
+def _echo_contact_regimes(arrays, contacts) -> None:
+    """A structure cube's regime counts, one line per contact; where static friction gave it two starts, how
+    many points hold two states and each contact's regimes from the moving start. arrays: name -> (dims,
+    values); contacts: the contact names."""
+    from friction_sweep.storage.schema import MOVING_SUFFIX
+
+    for name, what in (("regime", "regimes"), ("regime" + MOVING_SUFFIX, "regimes from a moving start")):
+        if name not in arrays:
+            continue
+        dims, values = arrays[name]
+        axis = list(dims).index("contact")
+        for j, contact in enumerate(contacts):
+            click.echo(f"  {what} at contact {escape(contact)}: " + _regime_summary(np.take(values, j, axis=axis)))
+        if name == "regime" and "steady_states" in arrays:
+            _echo_steady_states(arrays["steady_states"][1])
 
 
 def _regime_summary(values) -> str:
@@ -635,10 +644,8 @@ def _info_structure(result: Path, ds, a: dict) -> None:
     click.echo("  versions: " + ", ".join(f"{k[: -len('_version')]} {v}" for k, v in a.items()
                                           if k.endswith("_version")))
     click.echo(f"  spec: {a.get('spec_path')}")
-    if "regime" in ds:
-        regime = ds["regime"]
-        for name in ds["contact"].values.tolist():
-            click.echo(f"  regimes at contact {escape(name)}: {_regime_summary(regime.sel(contact=name).values)}")
+    _echo_contact_regimes({name: (ds[name].dims, ds[name].values) for name in ds.data_vars},
+                          ds["contact"].values.tolist())
     for name in ("amplitude", "peak_amplitude"):
         if name in ds:
             click.echo(f"  {name}:{_units_note(ds[name]) or ' dimensionless'}")

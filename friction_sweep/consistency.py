@@ -543,15 +543,24 @@ def check(ds: xr.Dataset) -> list[Finding]:
     with the suffix `_moving`)."""
     cube = _read(ds)
     findings = [rule(cube) for rule in RULES]
-    twins = [n for n in schema.STATE_VARIABLES if n + schema.MOVING_SUFFIX in ds]
-    if twins:
-        moving = _read(ds.drop_vars([n for n in twins if n in ds])
-                       .rename({n + schema.MOVING_SUFFIX: n for n in twins}))
+    twin = moving_twin(ds)
+    if twin is not None:
+        moving = _read(twin)
         for rule in MOVING_RULES:
             finding = rule(moving)
             finding.rule += schema.MOVING_SUFFIX
             findings.append(finding)
     return findings
+
+
+def moving_twin(ds: xr.Dataset) -> xr.Dataset | None:
+    """The cube as the states from the moving start make it (static friction: each `*_moving` variable under
+    its own name, in place of the one from rest), for the rules that hold at any steady state; None where
+    the cube has no such variables."""
+    twins = [str(n)[: -len(schema.MOVING_SUFFIX)] for n in ds.data_vars if str(n).endswith(schema.MOVING_SUFFIX)]
+    if not twins:
+        return None
+    return ds.drop_vars([n for n in twins if n in ds]).rename({n + schema.MOVING_SUFFIX: n for n in twins})
 
 
 def failed(findings) -> bool:

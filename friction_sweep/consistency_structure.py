@@ -18,6 +18,9 @@ own variables and the structure it records (structures.recorded), with no kernel
                   Under base excitation a contact to the moving base does work the cube does not record:
                   those cubes are skipped; without one the forcing's work is pi Y (K_b.Xs + w C_b.Xc)
 
+Each rule holds at any steady state, so where static friction gave the cube the states from a moving start
+too (`*_moving` variables) every rule runs on those again (its name with the suffix `_moving`).
+
 Amplitudes in the cube are over `amplitude_unit` (Y for base excitation); phases are lags behind the
 excitation, so the complex first harmonic is X = |X| (cos phi - i sin phi) for x = Re(X e^{i w t}).
 """
@@ -29,7 +32,18 @@ import xarray as xr
 
 from friction_sweep import codes
 from friction_sweep.codes import Regime, SteadyState
-from friction_sweep.consistency import FAILED, MAX_EXAMPLES, OK, PARTIAL, SKIPPED, CubeError, Finding, _value
+from friction_sweep.consistency import (
+    FAILED,
+    MAX_EXAMPLES,
+    OK,
+    PARTIAL,
+    SKIPPED,
+    CubeError,
+    Finding,
+    _value,
+    moving_twin,
+)
+from friction_sweep.storage.schema import MOVING_SUFFIX
 from friction_sweep.structures.linear import compliances, forcing, free_response, stuck_response
 from friction_sweep.structures.model import Assembled
 
@@ -245,4 +259,11 @@ def check(ds: xr.Dataset) -> list[Finding]:
         a = recorded.assembled(ds)
     except recorded.UnreadableStructure as err:
         raise CubeError(str(err)) from None
-    return [rule(ds, a) for rule in RULES]
+    findings = [rule(ds, a) for rule in RULES]
+    twin = moving_twin(ds)
+    if twin is not None:
+        for rule in RULES:
+            finding = rule(twin, a)
+            finding.rule += MOVING_SUFFIX
+            findings.append(finding)
+    return findings

@@ -43,8 +43,11 @@ grid:
 method: event
 outputs: [amplitude, phase, regime, friction_energy]
 """
+#: static friction 1.5 x kinetic at the Jenkins root: the cube also holds the states from a moving start
+STATIC = two_mass(24, "[0.0, 0.5, 20.0]", "[amplitude, phase, regime, friction_energy]", static_friction_ratio=1.5)
 SPECS = {"force": FORCE, "undamped": FORCE.replace("  dampers: [[ground, blade, 0.004]]\n", ""), "base": BASE,
-         "base_ground": BASE.replace("[damper, base]", "[damper, ground]")}
+         "base_ground": BASE.replace("[damper, base]", "[damper, ground]"), "static": STATIC}
+RULES = {"unsettled", "free_limit", "stuck_limit", "bound", "energy"}
 
 
 @pytest.fixture(scope="module")
@@ -90,12 +93,34 @@ def test_info_gives_the_natural_frequencies_stuck_and_free_and_the_units(paths):
 @pytest.mark.parametrize("name", sorted(SPECS))
 def test_every_rule_passes_on_the_cubes_the_engine_writes(cubes, name):
     found = findings(cubes[name])
-    assert set(found) == {"unsettled", "free_limit", "stuck_limit", "bound", "energy"}
+    # every rule holds at any steady state: with two starts, on the moving start's states too
+    assert set(found) == RULES | ({rule + "_moving" for rule in RULES} if name == "static" else set())
     skipped = {"energy"} if name == "base" else set()  # the contact to the moving base does unrecorded work
     for rule, f in found.items():
         assert f.status == ("skipped" if rule in skipped else "ok"), (rule, f)
     assert found["free_limit"].checked == 24  # friction_scale 0, every frequency
     assert found["stuck_limit"].checked > 0 and found["bound"].checked == 72
+    if name == "static":
+        assert found["bound_moving"].checked == 72 and found["stuck_limit_moving"].checked > 0
+
+
+def test_the_moving_starts_states_are_checked_on_their_own(cubes):
+    """A corrupted state from the moving start fails that start's rule only; the state from rest still passes."""
+    ds = cubes["static"]
+    assert int((ds["steady_states"] >= 2).sum()) > 0  # the grid has points with two states
+    found = findings(corrupt(ds, "amplitude_moving", 1e3, friction_scale=0.5, frequency=ds.frequency[3],
+                             dof="blade"))
+    assert found["bound_moving"].status == "failed" and found["bound_moving"].violations == 1
+    assert found["bound"].status == "ok"
+
+
+def test_info_gives_the_regimes_from_the_moving_start_per_contact(paths):
+    res = CliRunner().invoke(main, ["info", str(paths["static"])])
+    assert res.exit_code == 0, res.output
+    for contact in ("platform", "root"):
+        assert f"  regimes at contact {contact}: stuck " in res.output
+        assert f"  regimes from a moving start at contact {contact}: stuck " in res.output
+    assert "two steady states (from rest and from a moving start): " in res.output
 
 
 def test_without_zero_friction_or_a_stuck_point_the_linear_limits_say_so(cubes):
