@@ -74,6 +74,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/scale.py
 	$(BIN)/python benchmarks/performance_curve.py --excitation joined
 	$(BIN)/python benchmarks/performance_curve.py --excitation base
+	$(BIN)/python benchmarks/performance_curve.py --structure
 	$(BIN)/python benchmarks/structures.py
 	$(BIN)/python benchmarks/structure_rk4.py
 	$(BIN)/python benchmarks/one_engine.py
