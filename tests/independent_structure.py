@@ -570,7 +570,7 @@ class Automaton:
         return {"amplitude": amplitude, "phase": lag, "stops_per_period": stops, "slips_per_period": slips,
                 "stuck_fraction": log["stuck"] / hi, "regime": regime, "friction_energy": fric / k,
                 "work": work / k, "viscous": viscous / k, "slide": slide / k, "stop_times": log["times"],
-                "orbit_period": k, "end": (z1, m1)}
+                "orbit_period": k, "end": (z1, m1), "pieces": log["pieces"]}
 
     def _base_force(self, X, V, y, yd, lam):
         """Q_y, the elements' generalized force on the base coordinate y: springs -dE/dy, dashpots, contacts

@@ -66,7 +66,7 @@ def sample_orbit(Minv, K, C, W, F, cp, omega, settings, state, periods, samples,
                         lam += c_L[mi, j, i] * z[i]
                 lams[row, j] = lam
             if advance(z, st, dt, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False, harm,
-                       xmax, mc) != OK:
+                       xmax, mc, None) != OK:
                 return NOT_SAMPLED
         # the forcing's phase back to exactly 0 at each section, as the steady search does
         z[N - 3] = 1.0

@@ -73,6 +73,7 @@ from friction_sweep.kernels.structure.flow import (
     term_sizes,
     vecmat,
 )
+from friction_sweep.kernels.structure.fourier import fourier_step
 from friction_sweep.kernels.structure.roots import ZERO_RTOL, at_start, first_root
 
 _GX, _GW = np.polynomial.legendre.leggauss(8)
@@ -711,9 +712,10 @@ def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget
 
 
 @jit
-def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc):
+def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc, fou):
     """Carry z (in place) over [0, T] from mode st (in place); budget[0]: events and steps left.
-    Returns OK, BUDGET or FAILED."""
+    Returns OK, BUDGET or FAILED. fou: None (a compile-time choice: the steady search compiles none of it),
+    or fourier.new_fourier's record, to which every step adds its exact Fourier integrals."""
     c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
     zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, coef, c_G, c_gok, sw = cache[10:]
     n = K.shape[0]
@@ -784,6 +786,10 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                         if not have_zk:
                             powers(A, z, zk)
                         _measure_step(zk, s, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
+                if fou is not None:
+                    if not have_zk:
+                        powers(A, z, zk)
+                    fourier_step(fou, zk, s, full, mi, h, st, c_L[mi], n, m, N, omega)
                 if jac:
                     if full:
                         _jac_step(E, J, Jtmp)
@@ -802,6 +808,8 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
             taylor_state(zk, se, znew)
             if meas:
                 _measure_step(zk, se, n, m, st, W, cp, N, omega, harm, xmax, mc, c_L[mi], C, F, zq, coef)
+            if fou is not None:
+                fourier_step(fou, zk, se, False, mi, h, st, c_L[mi], n, m, N, omega)
             if jac:
                 expm_apply(A, se, J, Jtmp, Jtmp2)
             z[:] = znew

@@ -192,7 +192,7 @@ def _periods(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
                                harm, xmax, mc)
         else:
             code = advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm,
-                           xmax, mc)
+                           xmax, mc, None)
         if code != OK:
             return code
         z[N - 3] = 1.0
