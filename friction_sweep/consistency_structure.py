@@ -17,6 +17,10 @@ own variables and the structure it records (structures.recorded), with no kernel
                   (Parseval; C >= 0): an equality without dashpots, an inequality with them (ENERGY_RTOL).
                   Under base excitation a contact to the moving base does work the cube does not record:
                   those cubes are skipped; without one the forcing's work is pi Y (K_b.Xs + w C_b.Xc)
+    harmonics     (outputs: harmonics) the exact harmonics' X_1 is the first harmonic that amplitude and phase
+                  give (two integrations of one orbit: closed form, Gauss-Legendre; HARMONICS_RTOL), and
+                  each contact's force, at most s mu_s_j in size, has |F_0| <= s mu_s_j and
+                  |F_k| <= (4/pi) s mu_s_j for k >= 1 (the square wave's, the largest a bounded force has)
 
 Each rule holds at any steady state, so where static friction gave the cube the states from a moving start
 too (`*_moving` variables) every rule runs on those again (its name with the suffix `_moving`).
@@ -57,6 +61,9 @@ STUCK_RTOL = 1e-8
 BOUND_RTOL = 1e-6
 #: rule `energy`: relative slack on the balance (the engine measures its work integrals by quadrature)
 ENERGY_RTOL = 1e-6
+#: rule `harmonics`: X_1 against amplitude and phase, relative to the point's largest |X| (both exact to rounding;
+#: their tests hold them to 1e-12), and the slack on the force bound
+HARMONICS_RTOL = 1e-9
 PLANE = ("friction_scale", "frequency")
 
 
@@ -245,7 +252,42 @@ def check_energy(ds: xr.Dataset, a: Assembled) -> Finding:
     return tally.finding(rule, checked, note)
 
 
-RULES = (check_unsettled, check_free_limit, check_stuck_limit, check_bound, check_energy)
+def check_harmonics(ds: xr.Dataset, a: Assembled) -> Finding:
+    """Rule `harmonics`: X_1 of the harmonics is amplitude and phase's; each contact force's coefficients within
+    its bound (module docstring), at every settled point."""
+    rule = "harmonics"
+    parts = [_plane(ds, f"{row}_harmonic_{part}") for row in ("response", "friction") for part in ("real", "imag")]
+    if any(p is None for p in parts):
+        return Finding(rule, SKIPPED, note="no harmonics")
+    X = (parts[0] + 1j * parts[1]) * a.amplitude_unit  # (n_s, n_w, n, H + 1)
+    F = parts[2] + 1j * parts[3]  # (n_s, n_w, m, H + 1)
+    first = harmonics(ds, a)
+    s = ds["friction_scale"].values.astype(float)
+    limit = np.full(F.shape[-1], 4.0 / np.pi)
+    limit[0] = 1.0
+    tally = _Tally(ds)
+    checked = 0
+    for i, k in np.argwhere(_settled(ds)):
+        checked += 1
+        size = float(np.abs(X[i, k]).max(initial=0.0))
+        if first is not None:
+            found = X[i, k, :, 1] if "phase" in ds else np.abs(X[i, k, :, 1])
+            bad = ~(np.abs(found - first[i, k]) <= HARMONICS_RTOL * size)
+            if bad.any():
+                d = int(np.flatnonzero(bad)[0])
+                tally.add(int(i), int(k), a.dof_names[d], f"X_1 {complex(found[d]):.10g}",
+                          f"{complex(first[i, k, d]):.10g} (amplitude and phase)")
+                continue
+        bound = s[i] * a.mu_s[:, None] * limit[None, :]
+        over = ~(np.abs(F[i, k]) <= bound * (1.0 + HARMONICS_RTOL))
+        if over.any():
+            j, h = (int(v) for v in np.argwhere(over)[0])
+            tally.add(int(i), int(k), f"{a.contact_names[j]}, harmonic {h}", f"|F| {abs(F[i, k, j, h]):.10g}",
+                      f"at most {bound[j, h]:.10g}")
+    return tally.finding(rule, checked)
+
+
+RULES = (check_unsettled, check_free_limit, check_stuck_limit, check_bound, check_energy, check_harmonics)
 
 
 def check(ds: xr.Dataset) -> list[Finding]:

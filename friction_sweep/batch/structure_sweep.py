@@ -61,6 +61,8 @@ def recorded_settings(spec: StructureSpec, settings: dict[str, Any]) -> dict[str
 
     defaults = METHODS[spec.method].defaults
     recorded = {**{k: defaults[k] for k in STRUCTURE_SETTINGS[spec.method]}, **settings}
+    if "harmonics" not in spec.outputs:  # the output's size: no knob of a run without it
+        recorded.pop("harmonics", None)
     if spec.sweep is not None:  # the sweep is the start: no second one (batch.pipeline's rule)
         recorded.pop("starts", None)
         recorded["sweep"] = spec.sweep.direction
@@ -119,12 +121,36 @@ def compute_tile(args) -> dict[str, np.ndarray]:
     s = np.repeat(scale, n_f)
     a = assemble(definition)
     solved = solve_points(a, f, s, settings, outputs, method)
+    if "harmonics" in outputs:
+        solved.update(_harmonics(a, f, s, settings, solved))
     if any(name.endswith(MOVING_SUFFIX) for name in variables):  # the spec's two_starts
         moving = starts.solve_moving(a, f, s, settings, outputs, method)
+        if "harmonics" in outputs:
+            moving.update(_harmonics(a, f, s, settings, moving))
         solved.update({name + MOVING_SUFFIX: values for name, values in moving.items()})
         solved["steady_states"] = starts.count_states(solved, moving)
     return {name: np.asarray(solved[name], dtype=STRUCTURE_VARIABLES[name].dtype).reshape(
         (n_s, n_f, *np.shape(solved[name])[1:])) for name in variables}
+
+
+def highest_harmonic(settings: dict[str, Any]) -> int:
+    """H of the output harmonics: the setting, else the event method's default (catalogue)."""
+    from friction_sweep.catalogue import METHODS
+
+    return int(settings.get("harmonics", METHODS["event"].defaults["harmonics"]))
+
+
+def _harmonics(a, f, s, settings: dict[str, Any], solved: dict) -> dict[str, np.ndarray]:
+    """The output harmonics' variables of a solve's points (structures.harmonics), each (points, dof or
+    contact, harmonic)."""
+    from friction_sweep.structures.harmonics import orbit_harmonics
+
+    h = orbit_harmonics(a, f, s, highest_harmonic(settings), settings, solved)
+    out = {}
+    for row, values in (("response", h["displacement"]), ("friction", h["contact_force"])):
+        along = np.swapaxes(values, 1, 2)  # the harmonic last (schema.STRUCTURE_VARIABLES)
+        out[f"{row}_harmonic_real"], out[f"{row}_harmonic_imag"] = along.real, along.imag
+    return out
 
 
 def compile_kernels(spec: StructureSpec, settings: dict[str, Any]) -> None:
@@ -145,7 +171,8 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
 
     frequency, scale = spec.frequency, spec.friction_scale
     definition = structure_def(spec)
-    sizes = {"dof": len(spec.structure.dofs), "contact": len(spec.structure.contacts)}
+    sizes = {"dof": len(spec.structure.dofs), "contact": len(spec.structure.contacts),
+             "harmonic": highest_harmonic(settings) + 1}
     parts = _parts(spec)
     direction = _direction(spec)
     # a swept run's tile: some friction scales by every frequency; else some frequencies by every scale
@@ -253,6 +280,8 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
               "dof": np.array(list(spec.structure.dofs), dtype=str),
               "contact": np.array([c.name for c in spec.structure.contacts], dtype=str),
               **physical_coordinates(spec)}
+    if "harmonics" in spec.outputs:
+        coords["harmonic"] = np.arange(highest_harmonic(settings) + 1)
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,

@@ -96,6 +96,8 @@ OUTPUT_GROUPS = {
                "orbit_period"),
     "friction_energy": ("friction_energy",),
     "stability": ("floquet_multiplier",),
+    "harmonics": ("response_harmonic_real", "response_harmonic_imag", "friction_harmonic_real",
+                  "friction_harmonic_imag"),
 }
 DEFAULT_OUTPUTS = ("amplitude", "phase", "regime")
 #: a static over kinetic friction ratio: measured ratios are 1-2 (the 1-DoF effect's bounds)
@@ -706,7 +708,7 @@ class StructureSpec(_Sourced):
 
     @model_validator(mode="after")
     def _excitation(self):
-        _raise_all("Spec", list(self._excitation_problems()))
+        _raise_all("Spec", [*self._excitation_problems(), *self._harmonic_problems()])
         self._scale()
         return self
 
@@ -780,6 +782,32 @@ class StructureSpec(_Sourced):
                 yield _error("base_unconnected", "nothing connects to base, so the base's motion drives nothing: "
                              "connect a spring, dashpot or contact to base", ("structure",))
 
+    def _harmonic_problems(self):
+        """The output `harmonics` (settings.harmonics: its highest harmonic H; structures.harmonics): the exact
+        engine's (the event method), H + 1 values per point and mass or contact, not for a swept run (the
+        1-DoF spec's rules)."""
+        from friction_sweep.catalogue import METHODS as CATALOGUED
+
+        wanted = "harmonics" in self.outputs
+        if not wanted and "harmonics" in self.settings:
+            yield _error("harmonics_unused", "given, but harmonics is not listed in outputs",
+                         ("settings", "harmonics"))
+        if not wanted:
+            return
+        if self.method != METHOD:
+            yield _error("harmonics_method", f"the harmonics are integrated exactly over the event engine's orbit: "
+                         f"method {METHOD!r}, not {self.method!r}", ("method",))
+        if self.sweep is not None:
+            yield _error("harmonics_sweep", "a swept run does not store harmonics: run the grid without sweep",
+                         ("sweep",))
+        H = self.settings.get("harmonics", CATALOGUED[METHOD].defaults["harmonics"])
+        values = self.grid.values("friction_scale").size * self.grid.values("frequency").size * (H + 1) * max(
+            len(self.structure.dofs), len(self.structure.contacts))
+        if isinstance(H, int) and values > g.MAX_POINTS:
+            yield _error("harmonics_size", f"{values} values (grid points x {H + 1} harmonics x masses or contacts) "
+                         f"exceed {g.MAX_POINTS} per variable", ("settings", "harmonics") if "harmonics" in
+                         self.settings else ("outputs",))
+
     @property
     def frequency(self) -> np.ndarray:
         """The engine's angular frequencies (a physical structure's: over omega_0, spec.structure_units)."""
@@ -822,7 +850,7 @@ class StructureSpec(_Sourced):
 #: ranges), which the engine reads; rk4 its steps per period, and not stop_tol (as for one mass: a switch's
 #: rounding tolerance there, kept at event's default)
 _STEADY_KNOBS = ("max_periods", "max_orbit_period", "work_budget", "shoot_after", "shoot_every", "starts")
-STRUCTURE_SETTINGS = {"event": ("steady_tol", "stop_tol", *_STEADY_KNOBS),
+STRUCTURE_SETTINGS = {"event": ("steady_tol", "stop_tol", *_STEADY_KNOBS, "harmonics"),
                       "rk4": ("steady_tol", "steps_per_period", *_STEADY_KNOBS)}
 #: the settings of fsweep peak / optimize / backbone (friction_sweep.design.structure), which the engine does
 #: not read: peak_dof, the mass whose resonance peak is taken

@@ -440,6 +440,7 @@ STRUCTURE_COORDS = {
 #: omega / omega_0, an amplitude times length_scale metres, a friction energy times force_scale x
 #: length_scale joules)
 STRUCTURE_EXTRA_COORDS = {
+    **HARMONIC_COORDS,  # the output harmonics' numbers
     # the first natural frequencies of the linear structure, every contact stuck or every contact free
     # (structures.model.natural_frequencies; free: left out where a mass is held only by a contact)
     "frequency_ratio_stuck": Variable(("frequency",), np.float64, "frequency over the first natural frequency, "
@@ -450,8 +451,9 @@ STRUCTURE_EXTRA_COORDS = {
                              valid_range=POSITIVE),
     "friction_force": Variable(("friction_scale", "contact"), np.float64, "kinetic friction force of the contact",
                                "N", valid_range=NONNEGATIVE),
-    "reference_frequency": Variable((), np.float64, "angular frequency unit omega_0 (the first natural frequency, "
-                                    "contacts as grid.reference says)", "rad s-1", valid_range=POSITIVE),
+    "reference_frequency": Variable((), np.float64, "angular frequency unit omega_0", "rad s-1",
+                                    valid_range=POSITIVE, comment="the first natural frequency, contacts as "
+                                    "grid.reference says"),
     "mass_scale": Variable((), np.float64, "mass unit m_0 (the first DoF's mass)", "kg", valid_range=POSITIVE),
     "stiffness_scale": Variable((), np.float64, "stiffness unit k_0 = m_0 omega_0^2", "N m-1", valid_range=POSITIVE),
     "force_scale": Variable((), np.float64, "force unit F_0 (largest forcing, or k_0 Y)", "N", valid_range=POSITIVE),
@@ -460,39 +462,51 @@ STRUCTURE_EXTRA_COORDS = {
 }
 
 STRUCTURE_VARIABLES = {
-    "amplitude": Variable(DOF_DIMS, np.float64, "first-harmonic amplitude of the mass's absolute displacement", "1",
-                          _STRUCTURE_UNITS, valid_range=AMPLITUDE_VALID),
-    "peak_amplitude": Variable(DOF_DIMS, np.float64, "peak absolute displacement max|x| of the mass over the steady "
-                               "orbit", "1", _STRUCTURE_UNITS, valid_range=AMPLITUDE_VALID),
-    "phase": Variable(DOF_DIMS, np.float64, "first-harmonic phase lag of the mass's displacement behind the "
-                      "excitation", "degree", _PHASE_NOTE, valid_range=PHASE_VALID),
-    "regime": Variable(CONTACT_DIMS, np.int8, "motion regime of the contact in the steady state", "1",
-                       codes.flags(Regime)),
-    "stops_per_period": Variable(CONTACT_DIMS, np.float64, "stops of the contact (slip to stick) per forcing period; "
-                                 "NaN where unknown", "1", valid_range=COUNT_VALID),
-    "slips_per_period": Variable(CONTACT_DIMS, np.float64, "slips of the Jenkins contact's slider per forcing period; "
-                                 "NaN for a rigid contact", "1", valid_range=COUNT_VALID),
-    "stuck_fraction": Variable(CONTACT_DIMS, np.float64, "fraction of the steady-state period the contact spends "
-                               "stuck", "1", valid_range=FRACTION_VALID,
+    "amplitude": Variable(DOF_DIMS, np.float64, "first-harmonic amplitude of the mass", "1",
+                          _STRUCTURE_UNITS, valid_range=AMPLITUDE_VALID, comment="of its absolute displacement"),
+    "peak_amplitude": Variable(DOF_DIMS, np.float64, "peak absolute displacement max|x| of the mass", "1",
+                               _STRUCTURE_UNITS, valid_range=AMPLITUDE_VALID, comment="over the steady orbit"),
+    "phase": Variable(DOF_DIMS, np.float64, "first-harmonic phase lag of the mass", "degree", _PHASE_NOTE,
+                      valid_range=PHASE_VALID),
+    "regime": Variable(CONTACT_DIMS, np.int8, "motion regime of the contact", "1", codes.flags(Regime),
+                       comment="in the steady state"),
+    "stops_per_period": Variable(CONTACT_DIMS, np.float64, "stops per forcing period at the contact", "1",
+                                 valid_range=COUNT_VALID, comment="a stop: slip to stick; NaN where unknown"),
+    "slips_per_period": Variable(CONTACT_DIMS, np.float64, "slips of the Jenkins slider per forcing period", "1",
+                                 valid_range=COUNT_VALID, comment="NaN for a rigid contact"),
+    "stuck_fraction": Variable(CONTACT_DIMS, np.float64, "fraction of the period the contact is stuck", "1",
+                               valid_range=FRACTION_VALID,
                                comment="rigid contact: time its relative velocity is held at zero; Jenkins contact: "
                                "time it holds the mass (a stick during which the relative velocity returned to "
                                "zero, as the 1-DoF Jenkins kernel), 1 where its slider never slips; a contact "
                                "without friction: 0"),
-    "friction_energy": Variable(CONTACT_DIMS, np.float64, "energy the contact's friction dissipates per forcing "
-                                "period (friction force x sliding distance), in the structure's units; NaN without "
-                                "a steady state", "1", valid_range=NONNEGATIVE),
+    "friction_energy": Variable(CONTACT_DIMS, np.float64, "friction energy per forcing period", "1",
+                                valid_range=NONNEGATIVE,
+                                comment="the energy the contact's friction dissipates (friction force x sliding "
+                                "distance), in the structure's units; NaN without a steady state"),
     "steady_state": Variable(STRUCTURE_DIMS, np.int8, "why the steady-state search stopped", "1",
                              codes.flags(SteadyState)),
-    "orbit_period": Variable(STRUCTURE_DIMS, np.float64, "period of the steady orbit in forcing periods (1 harmonic, "
-                             "k subharmonic)", "1", valid_range=(1.0, COUNT_MAX), integral=True),
-    "periods": Variable(STRUCTURE_DIMS, np.float64, "forcing periods integrated for the point, all told", "1",
-                        valid_range=COUNT_VALID),
-    "floquet_multiplier": Variable(STRUCTURE_DIMS, np.float64, "output stability: largest modulus among the "
+    "orbit_period": Variable(STRUCTURE_DIMS, np.float64, "steady orbit's period in forcing periods", "1",
+                             valid_range=(1.0, COUNT_MAX), integral=True, comment="1 harmonic, k subharmonic"),
+    "periods": Variable(STRUCTURE_DIMS, np.float64, "forcing periods integrated for the point", "1",
+                        valid_range=COUNT_VALID, comment="all told"),
+    "floquet_multiplier": Variable(STRUCTURE_DIMS, np.float64, "largest Floquet multiplier of the steady orbit", "1",
+                                   valid_range=NONNEGATIVE, comment="output stability: largest modulus among the "
                                    "multipliers of the steady orbit's period map over its orbit_period periods "
                                    "(below 1: attracting); NaN where undefined (at rest, without a periodic steady "
-                                   "state, where the period map is not smooth at the orbit)", "1",
-                                   valid_range=NONNEGATIVE),
+                                   "state, where the period map is not smooth at the orbit)"),
 }
+#: exact harmonics (outputs: harmonics; structures.harmonics): each mass's displacement and each contact's force,
+#: the harmonic last, so that the plane (friction_scale, frequency) leads as in every structure variable
+STRUCTURE_VARIABLES.update({
+    f"{row}_harmonic_{part}": replace(_harmonic(what, symbol, word, first), dims=(*dims, HARMONIC_DIM), extra=extra,
+                                      long_name=f"{what} harmonics, {word} part")
+    for row, what, symbol, first, dims, extra in (
+        ("response", "mass displacement", "x", "amplitude", DOF_DIMS, _STRUCTURE_UNITS),
+        ("friction", "contact force", "lambda", "force", CONTACT_DIMS,
+         {"comment": "lambda, the force on the contact's relative coordinate (the masses feel -w_j lambda_j), as "
+          "the time histories' contact_force"}))
+    for part, word in (("real", "real"), ("imag", "imaginary"))})
 #: static above kinetic friction at a contact: each variable from the moving start too (the 1-DoF rule above,
 #: structures.starts), and the count of distinct states
 for _name, _v in list(STRUCTURE_VARIABLES.items()):
