@@ -82,6 +82,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/compile_profile.py
 	$(BIN)/python benchmarks/harmonics.py --excitation base
 	$(BIN)/python benchmarks/harmonics.py --excitation joined
+	$(BIN)/python benchmarks/harmonics.py --structure
 	$(BIN)/fsweep bench --calibrate --calibration results/bench/calibration.json -o results/bench/workprecision.nc --overwrite
 
 # fsweep calibrate on the rig's data, then four folds out of sample (results/calibration/summary.md)
