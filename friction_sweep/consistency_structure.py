@@ -257,10 +257,11 @@ def check_harmonics(ds: xr.Dataset, a: Assembled) -> Finding:
     its bound (module docstring), at every settled point."""
     rule = "harmonics"
     parts = [_plane(ds, f"{row}_harmonic_{part}") for row in ("response", "friction") for part in ("real", "imag")]
-    if any(p is None for p in parts):
+    xr_, xi, fr, fi = parts
+    if xr_ is None or xi is None or fr is None or fi is None:
         return Finding(rule, SKIPPED, note="no harmonics")
-    X = (parts[0] + 1j * parts[1]) * a.amplitude_unit  # (n_s, n_w, n, H + 1)
-    F = parts[2] + 1j * parts[3]  # (n_s, n_w, m, H + 1)
+    X = (xr_ + 1j * xi) * a.amplitude_unit  # (n_s, n_w, n, H + 1)
+    F = fr + 1j * fi  # (n_s, n_w, m, H + 1)
     first = harmonics(ds, a)
     s = ds["friction_scale"].values.astype(float)
     limit = np.full(F.shape[-1], 4.0 / np.pi)
