@@ -219,7 +219,7 @@ def _structure_design_problem(parsed: StructureSpec, variable: Any, r_tol: Any):
         raise FsweepError(f"{where}: grid.frequency: the peak is searched from at least 3 increasing frequencies "
                           f"(got {w.size})")
     a = assemble(structure_sweep.structure_def(parsed))
-    settings, _ = structure_sweep.run_settings(parsed)
+    settings, _ = accuracy_settings(parsed)
     dof = parsed.settings.get(design_structure.DOF_SETTING) or design_structure.default_dof(a)
     problem = design_structure.StructureProblem(a, dof, settings, variable)
     attrs: dict[str, Any] = {"spec": str(where), "method": parsed.method, "excitation": parsed.scene.excitation,
@@ -280,14 +280,11 @@ def _shown(value: Any) -> str:
 
 def accuracy_settings(spec: Spec | StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
     """The run's settings and the attributes recording what `accuracy:` chose; FsweepError if nothing can."""
+    from friction_sweep.batch import structure_sweep
     from friction_sweep.batch.pipeline import run_settings
 
-    if isinstance(spec, StructureSpec):  # no `accuracy:`: the spec's settings
-        from friction_sweep.batch import structure_sweep
-
-        return structure_sweep.run_settings(spec)
     try:
-        return run_settings(spec)
+        return structure_sweep.run_settings(spec) if isinstance(spec, StructureSpec) else run_settings(spec)
     except LookupError as err:
         raise FsweepError(f"{spec.source_path}: accuracy: {err}") from None
 

@@ -378,7 +378,7 @@ def _refuse_destroying_spec(out: Path, spec: Path) -> None:
 
 def _refuse_replacing_calibration(s, out: Path) -> None:
     """Exit 2 where the run would replace the calibration its `accuracy:` reads (an input, like the spec)."""
-    if _is_structure(s) or s.accuracy is None:
+    if s.accuracy is None:
         return
     from friction_sweep.bench.workprecision import calibration_path
     from friction_sweep.storage.outputs import refuse_replacing

@@ -48,10 +48,19 @@ def si_structure_def(spec: StructureSpec):
                         base_amplitude=st.base_motion, dofs=st.dofs, matrices=st.given_matrices)
 
 
-def run_settings(spec: StructureSpec) -> tuple[dict[str, Any], dict[str, Any]]:
-    """The run's settings (the spec's: a structure has no `accuracy:`; not the design's peak_dof, which no
-    number of the cube depends on), and no attributes recording a choice."""
-    return {k: v for k, v in spec.settings.items() if k not in DESIGN_SETTINGS}, {}
+def run_settings(spec: StructureSpec, table: dict | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The run's settings (the spec's, with the knobs `accuracy:` chooses from the benchmark's structure rows in
+    the calibration, `table` or the file's; not the design's peak_dof, which no number of the cube depends on)
+    and the cube attributes that record that choice (batch.pipeline.run_settings's). LookupError where no
+    calibrated setting meets the accuracy."""
+    settings = {k: v for k, v in spec.settings.items() if k not in DESIGN_SETTINGS}
+    if spec.accuracy is None:
+        return settings, {}
+    from friction_sweep.bench.workprecision import choose  # reads the calibration file
+
+    chosen, row = choose(spec.method, spec.accuracy, table, structure=True)
+    settings.update(chosen)
+    return settings, {"accuracy_requested": spec.accuracy, "accuracy_choice": json.dumps(row, sort_keys=True)}
 
 
 def recorded_settings(spec: StructureSpec, settings: dict[str, Any]) -> dict[str, Any]:

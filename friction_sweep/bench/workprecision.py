@@ -10,6 +10,12 @@ The rows `event_jenkins` (and those of any other VARIANTS) measure a method on a
 Jenkins contact at CONTACT_STIFFNESS: the same points (their regions named after the rigid model's
 regimes), against the same method at its tightest setting with the effect (no closed form covers it;
 tests/test_jenkins.py checks that reference against an independent DOP853 integrator of the contact).
+
+The rows `event_structure` and `rk4_structure` (STRUCTURE_ROWS) measure the multi-DoF engine (issue 31) on
+STRUCTURE, the issue's blade and under-platform damper with a rigid and a Jenkins contact, in the column
+`structure` of the excitation dim (force on the blade): points by the platform contact's regime, against
+`event` at its tightest setting (tests/test_structure_reference.py checks the engine against an independent
+DOP853 integrator of structures), the error the largest over the masses of |X_i - X_ref_i| / max |X_ref|.
 """
 
 from __future__ import annotations
@@ -52,31 +58,57 @@ CONTACT_STIFFNESS = 100.0
 #: rows of a method on a scene with an effect: name -> (method, effects)
 VARIANTS = {"event_jenkins": ("event", {"contact_stiffness": CONTACT_STIFFNESS}),
             "rk4_jenkins": ("rk4", {"contact_stiffness": CONTACT_STIFFNESS})}
+#: rows of a method on STRUCTURE (the multi-DoF engine): name -> method
+STRUCTURE_ROWS = {"event_structure": "event", "rk4_structure": "rk4"}
+#: their column of the excitation dim (a force on the structure's blade)
+STRUCTURE_COLUMN = "structure"
+#: the structure those rows measure: the issue's blade (1) and under-platform damper (0.1) on springs
+#: ground-blade 1 and blade-damper 2, a dashpot ground-blade 0.004, a rigid contact damper-ground (friction
+#: 0.3) and a Jenkins one blade-base (0.2, k_t 20), the force on the blade (structures.StructureDef's fields)
+STRUCTURE = {"excitation": "force", "masses": {"blade": 1.0, "damper": 0.1},
+             "springs": (("ground", "blade", 1.0), ("blade", "damper", 2.0)), "dampers": (("ground", "blade", 0.004),),
+             "contacts": ({"name": "platform", "between": ("damper", "ground"), "friction": 0.3},
+                          {"name": "root", "between": ("blade", "base"), "friction": 0.2, "stiffness": 20.0}),
+             "forcing": {"blade": 1.0}}
+#: its points (angular frequency, friction_scale) by the platform contact's regime: continuous; stick-slip with
+#: two stops a period; many stops (6 and 4 a period at low frequency, and the root's 4 with the platform stuck)
+STRUCTURE_REGIONS = {"continuous": [(0.8, 0.3), (2.5, 0.3), (1.2, 0.1)],
+                     "two_stops": [(0.8, 1.0), (2.0, 1.0), (1.6, 3.0)],
+                     "many_stops": [(0.1, 1.0), (0.3, 0.1), (0.2, 3.0)]}
 QUICK_SETTINGS = {"event": SETTINGS["event"][:5:2], "rk4": SETTINGS["rk4"][1::2], "paper": SETTINGS["paper"][:1]}
-for _name, (_method, _) in VARIANTS.items():
+for _name, _method in (*((n, m) for n, (m, _) in VARIANTS.items()), *STRUCTURE_ROWS.items()):
     SETTINGS[_name] = SETTINGS[_method]
     QUICK_SETTINGS[_name] = QUICK_SETTINGS[_method]
+# rk4 on the structure from 128 steps a period: at 32 and 64 its many-stops orbit at frequency 0.1 never settles
+# (16 and 6 s a point to the work budget, the error infinite)
+SETTINGS["rk4_structure"] = [row for row in SETTINGS["rk4"] if row["steps_per_period"] >= 128]
+QUICK_SETTINGS["rk4_structure"] = [row for row in QUICK_SETTINGS["rk4"] if row["steps_per_period"] >= 128]
 REFERENCE_SETTINGS = {"stop_tol": 1e-13, "steady_tol": 1e-12}
 #: the compiled kernels the rows call (module, entry point): each family compiles on its first call where
 #: numba's cache does not hold it (batch.kernel_cache; batch.estimate.COMPILE_SECONDS says how long)
-KERNELS = (("steady", "solve_points"), ("jenkins_steady", "solve_points_jenkins"))
+KERNELS = (("steady", "solve_points"), ("jenkins_steady", "solve_points_jenkins"), ("structure.steady", "solve_batch"))
 #: CPU seconds (user + sys) of `fsweep bench [--quick]` with those kernels cached, on the 2-core reference
 #: machine (/usr/bin/time: 8.8 and 94.8 s, measured while other users loaded it, so that the wall times were
 #: 29 and 1490 s). The bench measures in one thread, so alone on a core its wall time is about this. Most of
 #: --quick is the DOP853 cross-check (bench/reference.py, one point per region; cProfile).
-CACHED_SECONDS = {"quick": 9.0, "full": 95.0}
+CACHED_SECONDS = {"quick": 9.0 + 4.5, "full": 95.0 + 12.4}  # + the structure rows (4.5 and 12.4 s, measured alone)
 METHODS = {"event": event, "rk4": rk4, "paper": paper}
-ALL_ROWS = ("event", "rk4", "paper", *VARIANTS)
+ALL_ROWS = ("event", "rk4", "paper", *VARIANTS, *STRUCTURE_ROWS)
 
 
 def method_and_effects(name: str) -> tuple[str, dict]:
     """The method a row runs and the scene effects it runs with."""
+    if name in STRUCTURE_ROWS:
+        return STRUCTURE_ROWS[name], {}
     return VARIANTS.get(name, (name, {}))
 
 
-def calibrated_rows(method: str, effects=None) -> str:
-    """Whose rows `accuracy:` reads for a method on a scene: those measured with the scene's costly effect
-    (a VARIANTS entry: the Jenkins contact, at CONTACT_STIFFNESS), else the method's own."""
+def calibrated_rows(method: str, effects=None, structure: bool = False) -> str:
+    """Whose rows `accuracy:` reads for a method on a scene: a structure's those measured on STRUCTURE;
+    those measured with the scene's costly effect (a VARIANTS entry: the Jenkins contact, at
+    CONTACT_STIFFNESS), else the method's own."""
+    if structure:
+        return next(name for name, of in STRUCTURE_ROWS.items() if of == method)
     for name, (of, measured_with) in VARIANTS.items():
         if of == method and set(measured_with) <= set(effects or {}):
             return name
@@ -117,6 +149,32 @@ def reference(region, excitation, quick, effects=None):
     return ref, worst
 
 
+def _structure():
+    from friction_sweep.structures import ContactDef, StructureDef, assemble
+
+    contacts = tuple(ContactDef(**c) for c in STRUCTURE["contacts"])
+    return assemble(StructureDef(**{**STRUCTURE, "contacts": contacts}))
+
+
+def _structure_solve(pts, settings, method, repeat=1):
+    """STRUCTURE's first-harmonic amplitudes (points, masses) at `pts` by `method`, and seconds per point."""
+    from friction_sweep.structures import solve_points
+
+    a = _structure()
+    w, s = pts[:, 0], pts[:, 1]
+    solve_points(a, w[:1], s[:1], settings, method=method)  # compiled before timing
+    t = time.perf_counter()
+    for _ in range(repeat):
+        amplitude = solve_points(a, w, s, settings, method=method)["amplitude"]
+    return amplitude, (time.perf_counter() - t) / (repeat * w.size)
+
+
+def _structure_error(values, ref) -> float:
+    """The largest over the points of max_i |X_i - X_ref_i| / max_i |X_ref_i| (inf where one failed)."""
+    rel = np.abs(values - ref).max(axis=1) / np.abs(ref).max(axis=1)
+    return float(rel.max()) if np.all(np.isfinite(rel)) else np.inf
+
+
 def _time_points(row, excitation, pts, settings, repeat):
     """(transmissibility per point, seconds per point)."""
     method_name, effects = method_and_effects(row)
@@ -138,11 +196,28 @@ def run(quick: bool = False, methods=ALL_ROWS, log=print) -> xr.Dataset:
     table = QUICK_SETTINGS if quick else SETTINGS
     methods = list(methods)
     n_set = max(len(table[m]) for m in methods)
-    shape = (len(methods), n_set, len(REGIONS), len(EXCITATIONS))
+    columns = [*EXCITATIONS, *([STRUCTURE_COLUMN] if set(methods) & set(STRUCTURE_ROWS) else [])]
+    shape = (len(methods), n_set, len(REGIONS), len(columns))
     error = np.full(shape, np.nan)
     seconds = np.full(shape, np.nan)
     labels = np.full((len(methods), n_set), "", dtype=object)
     crosscheck = {}
+    for j, region in enumerate(REGIONS):  # the structure's column: its rows only
+        if STRUCTURE_COLUMN not in columns:
+            break
+        k = columns.index(STRUCTURE_COLUMN)
+        pts = np.array(STRUCTURE_REGIONS[region][:1] if quick else STRUCTURE_REGIONS[region])
+        ref = _structure_solve(pts, REFERENCE_SETTINGS, "event")[0]
+        for i, m in enumerate(methods):
+            if m not in STRUCTURE_ROWS:
+                continue
+            for s, settings in enumerate(table[m]):
+                labels[i, s] = label(settings)
+                values, sec = _structure_solve(pts, settings, STRUCTURE_ROWS[m], repeat=3)
+                error[i, s, j, k] = _structure_error(values, ref)
+                seconds[i, s, j, k] = sec
+                log(f"{STRUCTURE_COLUMN} {region:10s} {m:15s} {labels[i, s]:32s} error {error[i, s, j, k]:.2e} "
+                    f"{sec * 1e3:.3f} ms/point")
     for k, exc in enumerate(EXCITATIONS):
         for j, region in enumerate(REGIONS):
             pts = np.array(_points(region, exc, quick))
@@ -151,6 +226,8 @@ def run(quick: bool = False, methods=ALL_ROWS, log=print) -> xr.Dataset:
             refs = {name: reference(region, exc, quick, effects)[0] for name, (_, effects) in VARIANTS.items()
                     if name in methods}
             for i, m in enumerate(methods):
+                if m in STRUCTURE_ROWS:
+                    continue  # measured in their own column above
                 if m == "paper" and (quick and region != "continuous"):
                     continue  # the chattering baseline is slow off the continuous region; full runs only
                 for s, settings in enumerate(table[m]):
@@ -169,10 +246,11 @@ def run(quick: bool = False, methods=ALL_ROWS, log=print) -> xr.Dataset:
                                   {"long_name": "wall time per grid point, one core", "units": "s"}),
             "setting_label": (("method", "setting"), labels.astype(str), {"long_name": "accuracy knobs"}),
         },
-        coords={"method": methods, "setting": np.arange(n_set), "region": list(REGIONS),
-                "excitation": list(EXCITATIONS)},
+        coords={"method": methods, "setting": np.arange(n_set), "region": list(REGIONS), "excitation": columns},
         attrs={"reference": "theory (continuous); event at " + json.dumps(REFERENCE_SETTINGS) + " elsewhere; "
-               "rows with effects: their method at that setting with the effects, everywhere",
+               "rows with effects: their method at that setting with the effects, everywhere; structure rows "
+               "(column structure): event at that setting on the structure",
+               "structure": json.dumps(STRUCTURE), "structure_points": json.dumps(STRUCTURE_REGIONS),
                "effects": json.dumps({name: effects for name, (_, effects) in VARIANTS.items() if name in methods}),
                "reference_crosscheck_dop853_max_rel": json.dumps(crosscheck),
                "settings": json.dumps({m: table[m] for m in methods}), "quick": int(quick)},
@@ -194,11 +272,35 @@ def cheapest(ds: xr.Dataset, accuracy: float, method: str, excitation: str | Non
     return best, str(sub["setting_label"].values[best]), float(cost.values[best]), float(worst.values[best])
 
 
+def _columns(row: str) -> list[str]:
+    """The excitation columns a row is measured in: the structure's, or the 1-DoF walls."""
+    return [STRUCTURE_COLUMN] if row in STRUCTURE_ROWS else list(EXCITATIONS)
+
+
 def markdown(ds: xr.Dataset) -> str:
-    cols = [(r, e) for e in ds.excitation.values for r in ds.region.values]
+    """The table of every row (the 1-DoF rows, then the structure's in a table of their own) and the cheapest
+    setting of each for three accuracies."""
+    lines: list[str] = []
+    for structure in (False, True):
+        rows = [str(m) for m in ds.method.values if (str(m) in STRUCTURE_ROWS) is structure]
+        if rows:
+            lines += [*([""] if lines else []), *_table(ds, rows, _columns(rows[0]))]
+    lines += ["", "Each cell: largest relative error of the first-harmonic transmissibility (structure: of the masses' "
+              "first-harmonic amplitudes, over the largest) / wall time per point.", ""]
+    for target in (1e-3, 1e-6, 1e-9):
+        for m in ds.method.values:
+            pick = cheapest(ds, target, str(m))
+            if pick is not None:
+                lines.append(f"- for {target:.0e} in transmissibility, method {m} at {pick[1]} costs "
+                             f"{pick[2] * 1e3:.3g} ms per point (worst error measured {pick[3]:.1e})")
+    return "\n".join(lines)
+
+
+def _table(ds: xr.Dataset, rows: list[str], excitations: list[str]) -> list[str]:
+    cols = [(r, e) for e in excitations for r in ds.region.values]
     lines = ["| method | setting | " + " | ".join(f"{e} {r}" for r, e in cols) + " |",
              "|---|---|" + "---|" * len(cols)]
-    for m in ds.method.values:
+    for m in rows:
         for s in ds.setting.values:
             lab = str(ds["setting_label"].sel({"method": m, "setting": s}).values)
             if not lab:
@@ -209,14 +311,7 @@ def markdown(ds: xr.Dataset) -> str:
                 sec = float(ds["seconds_per_point"].sel({"method": m, "setting": s, "region": r, "excitation": e}))
                 cells.append("–" if np.isnan(sec) else f"{err:.0e} / {sec * 1e3:.2g} ms")
             lines.append(f"| {m} | {lab} | " + " | ".join(cells) + " |")
-    lines += ["", "Each cell: largest relative error of the first-harmonic transmissibility / wall time per point.", ""]
-    for target in (1e-3, 1e-6, 1e-9):
-        for m in ds.method.values:
-            pick = cheapest(ds, target, str(m))
-            if pick is not None:
-                lines.append(f"- for {target:.0e} in transmissibility, method {m} at {pick[1]} costs "
-                             f"{pick[2] * 1e3:.3g} ms per point (worst error measured {pick[3]:.1e})")
-    return "\n".join(lines)
+    return lines
 
 
 def figure(ds: xr.Dataset, path) -> None:
@@ -328,9 +423,10 @@ def calibration_table(ds: xr.Dataset) -> dict:
     settings = json.loads(ds.attrs["settings"])
     for m in ds.method.values:
         rows = []
+        own = {"excitation": _columns(str(m))}  # the cells the row is measured in
         for s, st in enumerate(settings[str(m)]):
-            err = ds["error"].sel({"method": m, "setting": s}).values
-            sec = ds["seconds_per_point"].sel({"method": m, "setting": s}).values
+            err = ds["error"].sel({"method": m, "setting": s, **own}).values
+            sec = ds["seconds_per_point"].sel({"method": m, "setting": s, **own}).values
             complete = np.all(np.isfinite(sec))
             rows.append({"settings": st, "worst_error": float(np.max(err)) if complete else None,
                          "seconds_per_point": float(np.nanmean(sec))})
@@ -426,14 +522,15 @@ def _shown(value) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def choose(method: str, accuracy: float, table: dict | None = None, effects=None) -> tuple[dict, dict]:
+def choose(method: str, accuracy: float, table: dict | None = None, effects=None,
+           structure: bool = False) -> tuple[dict, dict]:
     """The cheapest calibrated setting of `method`, within the catalogue's ranges, whose worst measured
-    error meets `accuracy`, on a scene with `effects` (calibrated_rows).
+    error meets `accuracy`, on a scene with `effects` or on a structure (calibrated_rows).
 
     Returns (settings, the calibration row). Raises LookupError when none does, CalibrationError where the
     calibration file is not one (read_calibration)."""
     table = table if table is not None else read_calibration(calibration_path())
-    rows_of = calibrated_rows(method, effects)
+    rows_of = calibrated_rows(method, effects, structure)
     # only settings that a spec could give itself: the benchmark also measures looser ones, to show
     # the whole curve, but outside the catalogue's ranges a point may be mislabelled
     known = catalogue.method(method).settings
@@ -442,7 +539,8 @@ def choose(method: str, accuracy: float, table: dict | None = None, effects=None
     rows = [row for row in measured if row["worst_error"] <= accuracy]
     if not rows:
         best = min((row["worst_error"] for row in measured), default=None)
-        measured_as = "" if rows_of == method else f" (as measured with {', '.join(VARIANTS[rows_of][1])})"
+        measured_as = ("" if rows_of == method else " (as measured on the benchmark's structure)" if structure
+                       else f" (as measured with {', '.join(VARIANTS[rows_of][1])})")
         raise LookupError(f"no calibrated setting of method {method!r}{measured_as} reaches {accuracy:g} "
                           f"(the best measured is {best:.1e})" if best is not None else
                           f"method {method!r}{measured_as} has no calibration")

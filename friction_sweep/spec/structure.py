@@ -618,6 +618,9 @@ class StructureSpec(_Sourced):
     outputs: tuple[str, ...] = DEFAULT_OUTPUTS
     output: str | None = None
     settings: dict[str, Any] = Field(default_factory=dict)
+    #: the error the run must meet: the method's knobs from the benchmark's structure rows (`fsweep bench`,
+    #: bench.workprecision.STRUCTURE_ROWS), as the 1-DoF spec's `accuracy:`
+    accuracy: Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0, lt=1)] | None = None
     #: a stepped-sine sweep along frequency at each friction scale (the 1-DoF `sweep:`, structures.starts)
     sweep: Sweep | None = None
 
@@ -708,7 +711,7 @@ class StructureSpec(_Sourced):
 
     @model_validator(mode="after")
     def _excitation(self):
-        _raise_all("Spec", [*self._excitation_problems(), *self._harmonic_problems()])
+        _raise_all("Spec", [*self._excitation_problems(), *self._harmonic_problems(), *self._accuracy_problems()])
         self._scale()
         return self
 
@@ -781,6 +784,17 @@ class StructureSpec(_Sourced):
             if not any("base" in ends for _, _, ends in elements):
                 yield _error("base_unconnected", "nothing connects to base, so the base's motion drives nothing: "
                              "connect a spring, dashpot or contact to base", ("structure",))
+
+    def _accuracy_problems(self):
+        """`accuracy:` sets the method's accuracy knobs (catalogue): not beside them (the 1-DoF spec's rule)."""
+        from friction_sweep.catalogue import METHODS as CATALOGUED
+
+        if self.accuracy is None:
+            return
+        knobs = sorted(set(self.settings) & set(CATALOGUED[self.method].accuracy_knobs))
+        if knobs:
+            yield _error("accuracy_and_knobs", f"give either accuracy or the knobs it sets, not both "
+                         f"(settings also has {', '.join(knobs)})", ("accuracy",))
 
     def _harmonic_problems(self):
         """The output `harmonics` (settings.harmonics: its highest harmonic H; structures.harmonics): the exact
