@@ -168,6 +168,8 @@ def compile_kernels(spec: StructureSpec, settings: dict[str, Any]) -> None:
     frequency, scale = spec.frequency[:1], spec.friction_scale[:1]
     compute_tile((structure_def(spec), frequency, scale, spec.variables, spec.outputs, dict(settings), None,
                   spec.method))
+    if spec.time_history is not None:  # the sampler's kernel, on the first point
+        histories(spec, settings, slice(0, 1))
 
 
 def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, executor: str = DEFAULT_EXECUTOR,
@@ -211,7 +213,31 @@ def compute(spec: StructureSpec, settings: dict[str, Any], *, jobs: int = 1, exe
              sum(points[i] for i in todo), executor, jobs)
     run_tiles(compute_tile, work, place, done=done, executor=executor, jobs=jobs, scheduler=scheduler,
               on_done=on_done)
+    if spec.time_history is not None:
+        results.update(histories(spec, settings))
     return results
+
+
+def histories(spec: StructureSpec, settings: dict[str, Any], points: slice = slice(None)) -> dict[str, np.ndarray]:
+    """The time-history variables of the spec's chosen points (outputs: time_history; schema's history_*): each
+    orbit from rest sampled by the engine's flow (structures.time_histories), and each contact's relative
+    displacement u = w . x - ey cos(w t) beside its force."""
+    from friction_sweep.kernels.structure.flow import CP_EY
+    from friction_sweep.structures import assemble, time_histories
+    from friction_sweep.structures.solve import contact_parameters
+
+    assert spec.time_history is not None
+    a = assemble(structure_def(spec))
+    pts = np.asarray(spec.time_history.points, dtype=float)[points]
+    h = time_histories(a, pts, spec.time_history.samples_per_period, settings)
+    m = len(a.contact_names)
+    W = np.asarray(a.W, dtype=float).reshape(m, -1)
+    ey = contact_parameters(a)[:, CP_EY]
+    u = h["displacement"] @ W.T - ey * np.cos(2.0 * np.pi * h["time"])[..., None]
+    orbit = np.where(np.isfinite(h["time"][:, 0]), np.nan_to_num(h["orbit_period"]), 0.0)
+    return {"history_orbit_period": orbit, "history_time": h["time"],
+            "history_displacement": h["displacement"] / a.amplitude_unit, "history_contact_force": h["contact_force"],
+            "history_relative_displacement": u / a.amplitude_unit}
 
 
 def physical_coordinates(spec: StructureSpec) -> dict[str, Any]:
@@ -291,6 +317,9 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
               **physical_coordinates(spec)}
     if "harmonics" in spec.outputs:
         coords["harmonic"] = np.arange(highest_harmonic(settings) + 1)
+    if spec.time_history is not None:
+        points = np.asarray(spec.time_history.points, dtype=float)
+        coords.update(history_frequency=points[:, 0], history_friction_scale=points[:, 1])
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,

@@ -98,7 +98,14 @@ OUTPUT_GROUPS = {
     "stability": ("floquet_multiplier",),
     "harmonics": ("response_harmonic_real", "response_harmonic_imag", "friction_harmonic_real",
                   "friction_harmonic_imag"),
+    # on dims of their own (history_point, sample), beside the plane: StructureSpec.history_variables
+    "time_history": (),
 }
+#: the time-history variables (outputs: time_history; structures.history), on (history_point, sample[, dof or
+#: contact]), and the coordinates on history_point that say where each lies
+HISTORY_VARIABLES = ("history_orbit_period", "history_time", "history_displacement", "history_contact_force",
+                     "history_relative_displacement")
+HISTORY_COORDS = ("history_frequency", "history_friction_scale")
 DEFAULT_OUTPUTS = ("amplitude", "phase", "regime")
 #: a static over kinetic friction ratio: measured ratios are 1-2 (the 1-DoF effect's bounds)
 STATIC_RATIO = (1.0, 100.0)
@@ -608,6 +615,29 @@ class StructureGrid(_Model):
         return values
 
 
+class StructureTimeHistory(_Model):
+    """Points (frequency, friction_scale) whose steady orbits are stored (outputs: time_history), sampled
+    samples_per_period times a forcing period over the orbit's periods (structures.time_histories)."""
+
+    points: Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]],
+                      Field(min_length=1, max_length=1000)]
+    samples_per_period: Annotated[int, Strict(), Field(ge=8, le=100_000)] = 256
+
+    @field_validator("points")
+    @classmethod
+    def _in_range(cls, v):
+        problems = []
+        for i, (w, scale) in enumerate(v):
+            if not w > 0:
+                problems.append(_error("history_frequency", f"the angular frequency must be > 0 (got {show(w)})",
+                                       (i, 0)))
+            if not scale >= 0:
+                problems.append(_error("history_friction_scale", f"friction_scale must be >= 0 (got {show(scale)})",
+                                       (i, 1)))
+        _raise_all("points", problems)
+        return v
+
+
 class StructureSpec(_Sourced):
     """A validated structure spec. Grid values: `frequency`, `friction_scale` (read-only float64)."""
 
@@ -623,6 +653,7 @@ class StructureSpec(_Sourced):
     accuracy: Annotated[float, Strict(), Field(allow_inf_nan=False, gt=0, lt=1)] | None = None
     #: a stepped-sine sweep along frequency at each friction scale (the 1-DoF `sweep:`, structures.starts)
     sweep: Sweep | None = None
+    time_history: StructureTimeHistory | None = None
 
     @field_validator("method", mode="before")
     @classmethod
@@ -711,7 +742,8 @@ class StructureSpec(_Sourced):
 
     @model_validator(mode="after")
     def _excitation(self):
-        _raise_all("Spec", [*self._excitation_problems(), *self._harmonic_problems(), *self._accuracy_problems()])
+        _raise_all("Spec", [*self._excitation_problems(), *self._harmonic_problems(), *self._accuracy_problems(),
+                            *self._history_problems()])
         self._scale()
         return self
 
@@ -795,6 +827,39 @@ class StructureSpec(_Sourced):
         if knobs:
             yield _error("accuracy_and_knobs", f"give either accuracy or the knobs it sets, not both "
                          f"(settings also has {', '.join(knobs)})", ("accuracy",))
+
+    def _history_problems(self):
+        """`time_history:` with the output time_history, and the output with it (the 1-DoF spec's rules); its
+        points' frequencies as the engine's (a plain structure's grid of angular frequencies); its samples
+        bounded."""
+        from .model import MAX_HISTORY_SAMPLES
+
+        wanted, given = "time_history" in self.outputs, self.time_history is not None
+        if wanted and not given:
+            yield _error("history_missing", "outputs lists time_history: give `time_history: {points: [[frequency, "
+                         "friction_scale], ...]}`", ("outputs",))
+        if given and not wanted:
+            yield _error("history_unused", "time_history is given but not listed in outputs", ("time_history",))
+        if not (wanted and given):
+            return
+        assert self.time_history is not None
+        if self.structure.units == "physical" or self.grid.frequency_ratio is not None:
+            yield _error("history_units", "its points are angular frequencies in the structure's own units: give "
+                         "them for a structure without units and a grid of `frequency` (a physical one's: not yet)",
+                         ("time_history",))
+        if self.sweep is not None:
+            yield _error("sweep_and_history", "a swept run's time histories would not follow the sweep: store them "
+                         "from a run without sweep", ("sweep",))
+        rows = len(self.time_history.points) * self.time_history.samples_per_period * max(
+            len(self.structure.dofs), len(self.structure.contacts))
+        if rows > MAX_HISTORY_SAMPLES:
+            yield _error("history_size", f"{rows} samples (points x samples per period x masses or contacts) exceed "
+                         f"{MAX_HISTORY_SAMPLES} per variable", ("time_history", "samples_per_period"))
+
+    @property
+    def history_variables(self) -> tuple[str, ...]:
+        """The time-history variables of the cube (outputs: time_history), beside `variables`."""
+        return HISTORY_VARIABLES if "time_history" in self.outputs else ()
 
     def _harmonic_problems(self):
         """The output `harmonics` (settings.harmonics: its highest harmonic H; structures.harmonics): the exact

@@ -216,8 +216,8 @@ def _values(ds, name, var, spec) -> list[Problem]:
     if spec.integral and floating:
         with np.errstate(invalid="ignore"):
             report(finite & ~outside & (values != np.round(values)), "are not whole numbers")
-    if is_coord and values.ndim == 1 and values.size > 1 and name not in schema.HISTORY_COORDS:
-        # (the time-history points lie where the spec lists them, in its order)
+    if is_coord and values.ndim == 1 and values.size > 1 and spec.dims != (schema.HISTORY_DIM,):
+        # (the time-history points, 1-DoF or structure, lie where the spec lists them, in its order)
         # among values that are numbers (a NaN is reported above, once)
         known = ~np.isnan(values) if floating else np.ones(values.shape, dtype=bool)
         with np.errstate(invalid="ignore"):

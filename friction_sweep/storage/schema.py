@@ -441,6 +441,11 @@ STRUCTURE_COORDS = {
 #: length_scale joules)
 STRUCTURE_EXTRA_COORDS = {
     **HARMONIC_COORDS,  # the output harmonics' numbers
+    # where each time history lies (outputs: time_history)
+    "history_frequency": Variable((HISTORY_DIM,), np.float64, "angular frequency of the time-history point", "1",
+                                  valid_range=POSITIVE),
+    "history_friction_scale": Variable((HISTORY_DIM,), np.float64, "friction_scale of the time-history point", "1",
+                                       valid_range=NONNEGATIVE),
     # the first natural frequencies of the linear structure, every contact stuck or every contact free
     # (structures.model.natural_frequencies; free: left out where a mass is held only by a contact)
     "frequency_ratio_stuck": Variable(("frequency",), np.float64, "frequency over the first natural frequency, "
@@ -519,6 +524,28 @@ STRUCTURE_VARIABLES["steady_states"] = replace(
     extra={"comment": "reached from the starts (rest, moving); two states are one when every contact is stuck in "
            "both, both are unbounded, or every contact has the same regime and stops per period and every mass's "
            "first-harmonic amplitude agrees within 1e-5 relative; an unsettled result counts as no state"})
+#: time histories of chosen points (outputs: time_history; structures.time_histories), from rest, on dims of
+#: their own (no _moving twin): each mass's displacement and each contact's force and relative displacement
+STRUCTURE_VARIABLES.update({
+    "history_orbit_period": replace(VARIABLES["history_orbit_period"], long_name="period of the stored orbit in "
+                                    "forcing periods", comment="0 where the point has no steady state (its samples "
+                                    "NaN)"),
+    "history_time": Variable(HISTORY_DIMS, np.float64, "time in forcing periods from the section", "1",
+                             valid_range=NONNEGATIVE, comment="from a maximum of the excitation (t = 0), over the "
+                             "orbit's history_orbit_period periods; NaN past a shorter orbit's end"),
+    "history_displacement": Variable((*HISTORY_DIMS, "dof"), np.float64, "absolute displacement of the mass", "1",
+                                     _STRUCTURE_UNITS, valid_range=DISPLACEMENT_VALID),
+    "history_contact_force": Variable((*HISTORY_DIMS, "contact"), np.float64, "force lambda of the contact", "1",
+                                      valid_range=DISPLACEMENT_VALID,
+                                      comment="on the contact's relative coordinate u (the masses feel -w lambda): "
+                                      "sigma mu slipping, the constraint force stuck (rigid), k_t (u - p) (Jenkins); "
+                                      "0 without friction; against history_relative_displacement, the hysteresis "
+                                      "loop, whose area is friction_energy; in the structure's force unit"),
+    "history_relative_displacement": Variable((*HISTORY_DIMS, "contact"), np.float64,
+                                              "relative displacement u of the contact", "1", _STRUCTURE_UNITS,
+                                              valid_range=DISPLACEMENT_VALID,
+                                              comment="u = w . x minus the base's motion at an end on the base"),
+})
 
 
 def is_structure(attrs) -> bool:
