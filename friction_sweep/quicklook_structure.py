@@ -8,9 +8,13 @@
     phase    the same for `phase` (linear: a lag changes sign)
     map      `regime` of each contact over the (frequency, friction_scale) plane, a panel per contact,
              coloured by its flags (quicklook.regime_mesh) with each regime's count
+    orbit    a stored time history (outputs: time_history): each mass's displacement against time, a panel
+             per mass, then each contact's force against its relative displacement (its hysteresis loop, whose
+             area is its friction energy per period), a panel per contact
 
---sel chooses: friction_scale=V (curves, phase; nearest value, repeatable), dof=NAME (curves, phase: the
-masses drawn), contact=NAME (every kind: the contacts drawn). The figures are the 1-DoF quick looks' kind
+--sel chooses: friction_scale=V (curves, phase; nearest value, repeatable), dof=NAME (curves, phase, orbit:
+the masses drawn), contact=NAME (every kind: the contacts drawn), history_point=K (orbit: the stored orbit,
+by default the first). The figures are the 1-DoF quick looks' kind
 (quicklook._figure: Agg, no pyplot state); matplotlib is imported only inside the drawing functions.
 """
 
@@ -24,18 +28,19 @@ import numpy as np
 
 from friction_sweep import quicklook as ql
 from friction_sweep.quicklook import PlotError
+from friction_sweep.storage.schema import HISTORY_DIM
 
 if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.figure import Figure
 
-KINDS = ("map", "curves", "phase")
+KINDS = ("map", "curves", "phase", "orbit")
 PLANE = ("friction_scale", "frequency")
 CURVE_VARIABLE = {"curves": "amplitude", "phase": "phase"}
-NEEDS = {"map": "regime", "curves": "amplitude", "phase": "phase"}
+NEEDS = {"map": "regime", "curves": "amplitude", "phase": "phase", "orbit": "history_displacement"}
 #: which --sel names each kind takes
 SELECTIONS = {"map": ("contact",), "curves": ("friction_scale", "dof", "contact"),
-              "phase": ("friction_scale", "dof", "contact")}
+              "phase": ("friction_scale", "dof", "contact"), "orbit": (HISTORY_DIM, "dof", "contact")}
 #: a log axis shows at most this far below the panel's largest amplitude (a mass held by a stuck contact moves
 #: by rounding, 1e-16, which would otherwise squeeze the curves into its top decades)
 FLOOR = 1e-6
@@ -52,10 +57,17 @@ class Choice:
         self.scales: list[int] = []
         self.dofs: list[str] = []
         self.contacts: list[str] = []
+        self.history = 0
         for name, text in ql.parse_selection(items):
             if name not in SELECTIONS[kind]:
                 raise PlotError(f"--sel {name}={text} does not apply to --kind {kind} of a structure cube (it "
                                 f"takes {', '.join(SELECTIONS[kind])})")
+            if name == HISTORY_DIM:
+                n = ds.sizes[HISTORY_DIM]
+                if not (text.isdigit() and int(text) < n):
+                    raise PlotError(f"--sel {name}={text}: the cube holds histories 0..{n - 1}")
+                self.history = int(text)
+                continue
             if name == "friction_scale":
                 try:
                     value = float(text)
@@ -82,9 +94,11 @@ def curve_indices(n: int) -> list[int]:
 
 
 def default_kind(ds: xr.Dataset, sel: Sequence[str] = ()) -> str:
-    """As the 1-DoF rule: `curves` with a friction_scale or dof selection; `map` for a plane (more than one
-    frequency and friction scale) with regimes; `curves` otherwise."""
+    """As the 1-DoF rule: `orbit` with a history_point selection; `curves` with a friction_scale or dof one;
+    `map` for a plane (more than one frequency and friction scale) with regimes; `curves` otherwise."""
     names = {name for name, _ in ql.parse_selection(sel)}
+    if HISTORY_DIM in names:
+        return "orbit"
     if names & {"friction_scale", "dof"}:
         return "curves"
     plane = all(ds.sizes.get(d, 0) > 1 for d in PLANE)
@@ -109,10 +123,12 @@ def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = (), yscal
     cannot be drawn so."""
     kind = kind or default_kind(ds, sel)
     if kind not in KINDS:
-        why = " (a structure cube holds no time history yet)" if kind == "orbit" else ""
-        raise PlotError(f"--kind {kind}: a structure cube draws {', '.join(KINDS)}{why}")
+        raise PlotError(f"--kind {kind}: a structure cube draws {', '.join(KINDS)}")
     if not all(d in ds.dims for d in (*PLANE, "dof", "contact")):
         raise PlotError("not a structure cube: it lacks the dims friction_scale, frequency, dof, contact")
+    if kind == "orbit" and NEEDS[kind] not in ds:
+        raise PlotError("--kind orbit: the cube holds no time history (add time_history to the spec's outputs, "
+                        "with a time_history: section)")
     if NEEDS[kind] not in ds:
         raise PlotError(f"--kind {kind} needs the variable {NEEDS[kind]}, which the cube lacks (it has "
                         f"{', '.join(map(str, ds.data_vars))}); add it to the spec's outputs")
@@ -120,10 +136,13 @@ def draw(ds: xr.Dataset, kind: str | None = None, sel: Sequence[str] = (), yscal
         raise PlotError(f"unknown y scale {yscale!r} (scales: {', '.join(ql.YSCALES)})")
     if yscale == "log" and kind != "curves":
         raise PlotError(f"--yscale log applies to --kind curves (amplitudes); --kind {kind} draws "
-                        + ("friction scales" if kind == "map" else "phase lags, which change sign"))
+                        + {"map": "friction scales", "phase": "phase lags, which change sign",
+                           "orbit": "displacements, which change sign"}[kind])
     choice = Choice(ds, kind, sel)
     if kind == "map":
         return draw_map(ds, choice.contacts)
+    if kind == "orbit":
+        return draw_orbit(ds, choice)
     return draw_curves(ds, CURVE_VARIABLE[kind], choice, yscale)
 
 
@@ -188,4 +207,33 @@ def draw_curves(ds: xr.Dataset, var: str, choice: Choice, yscale: str = "auto") 
     if n != ds.sizes["friction_scale"]:
         phrases.append(f"({n} of {ds.sizes['friction_scale']} friction scales; choose with --sel friction_scale=...)")
     ql.fit_title(fig, phrases)
+    return fig
+
+
+def draw_orbit(ds: xr.Dataset, choice: Choice) -> Figure:
+    """Stored orbit choice.history: each chosen mass's displacement against time (gid "orbit DOF"), then each
+    chosen contact's force against its relative displacement (gid "loop CONTACT"), closed over the orbit."""
+    k = choice.history
+    one = ds.isel({HISTORY_DIM: k})
+    t = one["history_time"].values.astype(float)
+    keep = np.isfinite(t)
+    if not keep.any():
+        raise PlotError(f"history {k} holds no steady orbit (its point has no steady state)")
+    dofs, contacts = choice.dofs, choice.contacts
+    loops = all(n in ds for n in ("history_contact_force", "history_relative_displacement"))
+    rows = len(dofs) + (len(contacts) if loops else 0)
+    fig, axes = ql._figure(rows, 1, size=(7.6, 1.0 + 2.6 * rows))
+    for ax, dof in zip(axes[:len(dofs), 0], dofs, strict=True):
+        x = one["history_displacement"].sel(dof=dof).values[keep]
+        ax.plot(t[keep], x, "-", gid=f"orbit {dof}")
+        ax.set(xlabel="time [forcing periods]", ylabel=ql._wrapped(f"displacement of {dof}", 30))
+    if loops:
+        for ax, name in zip(axes[len(dofs):, 0], contacts, strict=True):
+            u = one["history_relative_displacement"].sel(contact=name).values[keep]
+            f = one["history_contact_force"].sel(contact=name).values[keep]
+            ax.plot(np.append(u, u[:1]), np.append(f, f[:1]), "-", gid=f"loop {name}")
+            ax.set(xlabel=f"relative displacement u of {name}", ylabel=ql._wrapped(f"force of {name}", 30))
+    where = (f"frequency {float(one['history_frequency']):g}, friction scale "
+             f"{float(one['history_friction_scale']):g}") if "history_frequency" in one.coords else f"history {k}"
+    ql.fit_title(fig, title_phrases(ds, f"orbit {k} of {ds.sizes[HISTORY_DIM]} at {where}"))
     return fig

@@ -287,7 +287,7 @@ def test_fsweep_plot_refuses_in_one_line(paths, tmp_path):
     with in_dir(tmp_path):
         line = one_error_line(CliRunner().invoke(main, ["plot", str(paths["base"]), "--kind", "orbit",
                                                         "-o", "o.png"]), 2)
-    assert "a structure cube draws map, curves, phase" in line and not (tmp_path / "o.png").exists()
+    assert "--kind orbit: the cube holds no time history" in line and not (tmp_path / "o.png").exists()
 
 
 def test_a_jenkins_contact_without_friction_is_not_labelled_stuck():

@@ -37,11 +37,11 @@ def run(tmp_path_factory):
     a = assemble(structure_sweep.structure_def(spec))
     p = np.array(POINTS)
     solved = solve_points(a, p[:, 0], p[:, 1], outputs=("amplitude", "phase", "regime", "friction_energy"))
-    return fs.open_cube(folder / "h.h5"), solved, a
+    return fs.open_cube(folder / "h.h5"), solved, a, folder / "h.h5"
 
 
 def test_the_cube_holds_each_history_where_the_spec_put_it(run):
-    ds, solved, _ = run
+    ds, solved, *_ = run
     np.testing.assert_array_equal(ds["history_frequency"].values, [p[0] for p in POINTS])
     np.testing.assert_array_equal(ds["history_friction_scale"].values, [p[1] for p in POINTS])
     assert ds["history_displacement"].dims == ("history_point", "sample", "dof")
@@ -53,7 +53,7 @@ def test_the_cube_holds_each_history_where_the_spec_put_it(run):
 def test_the_samples_first_harmonic_is_the_engines_amplitude(run):
     """An FFT of each mass's samples over the orbit gives its first harmonic, to the aliasing of 4,096 samples a
     period (the harmonics of a stick-slip orbit fall like k^-3)."""
-    ds, solved, _ = run
+    ds, solved, *_ = run
     x = ds["history_displacement"].values  # (point, sample, dof)
     X1 = 2.0 * np.fft.rfft(x, axis=1)[:, 1, :] / x.shape[1]
     np.testing.assert_allclose(np.abs(X1), solved["amplitude"], rtol=1e-7)
@@ -66,7 +66,7 @@ def test_the_hysteresis_loops_area_is_the_friction_energy(run):
     dissipates. The trapezoid rule is second order but for the interval holding a rigid contact's stop, where the
     force jumps from mu to the stuck force: (jump / 2) x the slip's last du there, which depends on where the stop
     falls between samples (1.2e-5 of the energy at 1,024 samples a period, 3e-8 at 4,096)."""
-    ds, solved, _ = run
+    ds, solved, *_ = run
     u = ds["history_relative_displacement"].values
     f = ds["history_contact_force"].values
     u, f = np.concatenate([u, u[:, :1]], axis=1), np.concatenate([f, f[:, :1]], axis=1)  # the closed loop
@@ -78,7 +78,7 @@ def test_the_hysteresis_loops_area_is_the_friction_energy(run):
 def test_contact_forces_obey_their_laws(run):
     """The rigid platform's force never leaves its band and is +-mu exactly while it slips; without friction
     (the third point) no contact pushes."""
-    ds, solved, a = run
+    ds, solved, a, _ = run
     f = ds["history_contact_force"].sel(contact="platform").values
     mu = a.mu[0] * np.array([p[1] for p in POINTS])
     assert (np.abs(f) <= mu[:, None] * (1 + 1e-12)).all()
@@ -127,3 +127,25 @@ time_history: {points: [[1.0, 1.0]]}
 """)
     res = CliRunner().invoke(main, ["validate", str(spec)])
     assert res.exit_code == 2 and ": time_history: its points are angular frequencies" in res.stderr, res.output
+
+
+def test_fsweep_plot_draws_a_stored_orbit_and_its_loops(run, tmp_path):
+    """--kind orbit: a panel per mass (its displacement against time) and a panel per contact (its force against
+    its relative displacement, the loop closed over the orbit); history_point picks the orbit."""
+    from friction_sweep import quicklook_structure
+
+    ds = run[0]
+    fig = quicklook_structure.draw(ds, "orbit", ("history_point=1", "contact=platform"))
+    lines = {line.get_gid(): line for ax in fig.axes for line in ax.lines}
+    assert set(lines) == {"orbit blade", "orbit damper", "loop platform"}
+    u, f = lines["loop platform"].get_data()
+    np.testing.assert_array_equal(u, np.append(ds["history_relative_displacement"].isel(history_point=1).sel(
+        contact="platform").values, u[0]))
+    assert u[0] == u[-1] and f[0] == f[-1]
+    assert quicklook_structure.default_kind(ds, ("history_point=2",)) == "orbit"
+    with pytest.raises(quicklook_structure.PlotError, match="holds histories 0..2"):
+        quicklook_structure.draw(ds, "orbit", ("history_point=3",))
+    with in_dir(tmp_path):
+        res = CliRunner().invoke(main, ["plot", str(run[3]), "--kind", "orbit", "-o", "o.png"])
+        assert res.exit_code == 0, res.output
+        assert (tmp_path / "o.png").stat().st_size > 0
