@@ -107,26 +107,46 @@ def test_spec_errors_name_the_key(tmp_path, change, key, reason):
         assert not (tmp_path / "bad.h5").exists()
 
 
-def test_a_physical_structures_points_are_refused_for_now(tmp_path):
-    """Points of a physical structure would need units of their own: refused, naming the section, not read as
-    the engine's dimensionless frequencies."""
-    spec = tmp_path / "p.yaml"
-    spec.write_text("""\
+PHYSICAL = """\
 scene: {excitation: force}
 structure:
-  masses: {blade: 2 kg}
-  springs: [[ground, blade, 40 kN/m]]
+  masses: {blade: 2 kg, damper: 0.25 kg}
+  springs: [[ground, blade, 40 kN/m], [blade, damper, 80 kN/m]]
+  dampers: [[ground, blade, 4 N*s/m]]
   contacts:
-    - {name: root, between: [blade, ground], friction: 8 N}
+    - {name: platform, between: [damper, ground], friction: 8 N}
   forcing: {blade: 30 N}
 grid:
   frequency: {start: 10 Hz, stop: 60 Hz, num: 6}
   friction_scale: [0.5, 1.0]
 outputs: [amplitude, time_history]
-time_history: {points: [[1.0, 1.0]]}
-""")
+time_history: {points: [[25 Hz, 1.0], [1200 rpm, 0.5]], samples_per_period: 64}
+"""
+
+
+def test_a_physical_structures_points_carry_their_unit(tmp_path):
+    """A physical structure's points give their frequency with a unit, as its grid does: the cube's
+    history_frequency is the engine's (over reference_frequency, as `frequency`), history_frequency_hz the
+    written one, and the samples those of the engine at that frequency (structures.time_histories); a point
+    without its unit is refused, located."""
+    from friction_sweep.structures import time_histories
+
+    spec = tmp_path / "p.yaml"
+    spec.write_text(PHYSICAL)
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(tmp_path / "p.h5"), "-q"])
+    assert res.exit_code == 0, res.output
+    ds = fs.open_cube(tmp_path / "p.h5")
+    # (the engine's frequency is rounded to 12 significant digits, as the grid's: spec.system.ratios)
+    np.testing.assert_allclose(ds["history_frequency_hz"].values, [25.0, 20.0], rtol=1e-12)
+    w0 = float(ds["reference_frequency"])
+    np.testing.assert_allclose(ds["history_frequency"].values, 2 * np.pi * np.array([25.0, 20.0]) / w0, rtol=1e-11)
+    parsed = load_spec(spec)
+    h = time_histories(assemble(structure_sweep.structure_def(parsed)), parsed.history_points, 64)
+    np.testing.assert_array_equal(ds["history_displacement"].values, h["displacement"])
+    spec.write_text(PHYSICAL.replace("[[25 Hz, 1.0]", "[[25.0, 1.0]"))
     res = CliRunner().invoke(main, ["validate", str(spec)])
-    assert res.exit_code == 2 and ": time_history: its points are angular frequencies" in res.stderr, res.output
+    assert res.exit_code == 2 and ": time_history.points[0][0]: a physical structure's point gives its frequency " \
+        "with a unit" in res.stderr, res.output
 
 
 def test_fsweep_plot_draws_a_stored_orbit_and_its_loops(run, tmp_path):

@@ -228,7 +228,7 @@ def histories(spec: StructureSpec, settings: dict[str, Any], points: slice = sli
 
     assert spec.time_history is not None
     a = assemble(structure_def(spec))
-    pts = np.asarray(spec.time_history.points, dtype=float)[points]
+    pts = spec.history_points[points]
     h = time_histories(a, pts, spec.time_history.samples_per_period, settings)
     m = len(a.contact_names)
     W = np.asarray(a.W, dtype=float).reshape(m, -1)
@@ -318,8 +318,10 @@ def cube(spec: StructureSpec, arrays: dict[str, np.ndarray], settings: dict[str,
     if "harmonics" in spec.outputs:
         coords["harmonic"] = np.arange(highest_harmonic(settings) + 1)
     if spec.time_history is not None:
-        points = np.asarray(spec.time_history.points, dtype=float)
+        points = spec.history_points
         coords.update(history_frequency=points[:, 0], history_friction_scale=points[:, 1])
+        if spec.physical is not None:
+            coords["history_frequency_hz"] = points[:, 0] * spec.physical.omega / (2.0 * np.pi)
     n, m = len(spec.structure.dofs), len(spec.structure.contacts)
     return cubes.structure_cube_parts(
         arrays, coords=coords, excitation=excitation,

@@ -710,6 +710,7 @@ class StructureSpec(_Sourced):
 
     _map: StructureMap | None = PrivateAttr(default=None)
     _frequency: np.ndarray | None = PrivateAttr(default=None)
+    _history_frequency: np.ndarray | None = PrivateAttr(default=None)
 
     @model_validator(mode="before")
     @classmethod
@@ -740,6 +741,46 @@ class StructureSpec(_Sourced):
                                 for e in err.errors()])
         return {**data, "grid": {**data["grid"], "frequency": [2.0 * math.pi * f for f in hz]}}
 
+    @model_validator(mode="before")
+    @classmethod
+    def _physical_history(cls, data: Any) -> Any:
+        """The time-history points' frequencies written as the grid's: a physical structure's with their unit
+        (as angular frequencies in rad/s from here on, like its grid's), where its grid gives `frequency`;
+        plain numbers otherwise (the structure's angular frequencies, or frequency ratios with a grid of
+        `frequency_ratio`)."""
+        from .quantities import FREQUENCY, QuantityError, to_si
+
+        if not isinstance(data, dict) or not isinstance(data.get("time_history"), dict):
+            return data
+        points = data["time_history"].get("points")
+        grid = data.get("grid")
+        if not isinstance(points, list) or not isinstance(grid, dict):
+            return data
+        with_unit = is_physical(data.get("structure")) and "frequency" in grid
+        problems, converted = [], []
+        for i, p in enumerate(points):
+            if not (isinstance(p, list) and len(p) == 2):
+                converted.append(p)  # the field's own checks say why
+                continue
+            at = ("time_history", "points", i, 0)
+            if not with_unit:
+                if isinstance(p[0], str):
+                    problems.append(_error("history_unit", "a frequency with a unit goes with a physical "
+                                           "structure's grid of frequencies; here it is a number, as the grid's "
+                                           "(the structure's angular frequency, or a frequency ratio)", at))
+                converted.append(p)
+                continue
+            if not isinstance(p[0], str):
+                problems.append(_error("history_unit", f"a physical structure's point gives its frequency with a "
+                                       f"unit, as its grid does (e.g. '12 Hz'; got {show(p[0])})", at))
+                continue
+            try:
+                converted.append([2.0 * math.pi * to_si(p[0], FREQUENCY), p[1]])
+            except QuantityError as err:
+                problems.append(_error("quantity", str(err), at))
+        _raise_all("time_history", problems)
+        return {**data, "time_history": {**data["time_history"], "points": converted}}
+
     @model_validator(mode="after")
     def _excitation(self):
         _raise_all("Spec", [*self._excitation_problems(), *self._harmonic_problems(), *self._accuracy_problems(),
@@ -756,18 +797,25 @@ class StructureSpec(_Sourced):
 
         grid = self.grid
         by_ratio = grid.frequency_ratio is not None
+        history = None if self.time_history is None else np.array([p[0] for p in self.time_history.points])
         if self.structure.units != "physical" and not by_ratio:
+            self._history_frequency = history
             return
         try:
             mapped = structure_map(self.structure, self.scene.excitation, grid.reference)
         except ValueError as err:
             raise _error("reference", str(err), ("grid", "reference")) from None
         given = grid.values("frequency_ratio" if by_ratio else "frequency")
+
+        def engine(values: np.ndarray) -> np.ndarray:
+            if self.structure.units == "physical":
+                return values if by_ratio else ratios(values, mapped.omega)
+            return values * mapped.omega
+
         if self.structure.units == "physical":
             self._map = mapped
-            frequency = given if by_ratio else ratios(given, mapped.omega)
-        else:
-            frequency = given * mapped.omega
+        frequency = engine(given)
+        self._history_frequency = None if history is None else engine(history)
         if not (np.isfinite(frequency).all() and (frequency > 0).all()):
             raise _error("frequency_range", "the frequencies over the reference natural frequency leave a double's "
                          "range", ("grid",))
@@ -843,10 +891,6 @@ class StructureSpec(_Sourced):
         if not (wanted and given):
             return
         assert self.time_history is not None
-        if self.structure.units == "physical" or self.grid.frequency_ratio is not None:
-            yield _error("history_units", "its points are angular frequencies in the structure's own units: give "
-                         "them for a structure without units and a grid of `frequency` (a physical one's: not yet)",
-                         ("time_history",))
         if self.sweep is not None:
             yield _error("sweep_and_history", "a swept run's time histories would not follow the sweep: store them "
                          "from a run without sweep", ("sweep",))
@@ -855,6 +899,14 @@ class StructureSpec(_Sourced):
         if rows > MAX_HISTORY_SAMPLES:
             yield _error("history_size", f"{rows} samples (points x samples per period x masses or contacts) exceed "
                          f"{MAX_HISTORY_SAMPLES} per variable", ("time_history", "samples_per_period"))
+
+    @property
+    def history_points(self) -> np.ndarray:
+        """The time-history points (P, 2): the engine's angular frequency (as `frequency`: a physical
+        structure's over omega_0, a frequency ratio's times the reference natural frequency) and friction_scale."""
+        assert self.time_history is not None and self._history_frequency is not None
+        scale = np.array([p[1] for p in self.time_history.points], dtype=float)
+        return np.column_stack([self._history_frequency, scale])
 
     @property
     def history_variables(self) -> tuple[str, ...]:

@@ -443,9 +443,12 @@ STRUCTURE_EXTRA_COORDS = {
     **HARMONIC_COORDS,  # the output harmonics' numbers
     # where each time history lies (outputs: time_history)
     "history_frequency": Variable((HISTORY_DIM,), np.float64, "angular frequency of the time-history point", "1",
-                                  valid_range=POSITIVE),
+                                  valid_range=POSITIVE, comment="as the frequency coordinate (a physical "
+                                  "structure's: over reference_frequency)"),
     "history_friction_scale": Variable((HISTORY_DIM,), np.float64, "friction_scale of the time-history point", "1",
                                        valid_range=NONNEGATIVE),
+    "history_frequency_hz": Variable((HISTORY_DIM,), np.float64, "forcing frequency of the time-history point",
+                                     "Hz", valid_range=POSITIVE),
     # the first natural frequencies of the linear structure, every contact stuck or every contact free
     # (structures.model.natural_frequencies; free: left out where a mass is held only by a contact)
     "frequency_ratio_stuck": Variable(("frequency",), np.float64, "frequency over the first natural frequency, "
