@@ -11,6 +11,7 @@ compared only with another run of the same spec, or with what the spec says.
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -257,3 +258,26 @@ def test_a_base_excited_structure_records_the_base_amplitude():
     ds = fs.sweep_yaml(text)
     assert ds.attrs["excitation"] == "base" and json.loads(ds.attrs["structure"])["base_amplitude"] == 0.5
     assert "forcing" not in text and dict(ds.sizes) == {"friction_scale": 2, "frequency": 3, "dof": 2, "contact": 2}
+
+
+def test_the_estimate_counts_the_harmonics_replay_and_its_compile(spec_file, monkeypatch, tmp_path):
+    """outputs: harmonics adds its replay (HARMONICS_COST a point), its values' memory and, with an empty numba
+    cache, the replay's own compile beside the engine's."""
+    from friction_sweep.batch.estimate import (
+        COMPILE_SECONDS,
+        HARMONICS_COST,
+        STRUCTURE_HARMONICS_KERNEL,
+        STRUCTURE_KERNEL,
+        estimate,
+    )
+    from friction_sweep.spec import load_spec
+
+    plain = load_spec(spec_file)
+    path = tmp_path / "h.yaml"
+    path.write_text(re.sub(r"outputs: \[(.*)\]", r"outputs: [\1, harmonics]", SPEC))
+    harmonic = load_spec(path)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "cache"))
+    cold, cold_h = (estimate(s, jobs=1, executor="threads") for s in (plain, harmonic))
+    assert cold_h.compile == COMPILE_SECONDS[STRUCTURE_KERNEL[0]] + COMPILE_SECONDS[STRUCTURE_HARMONICS_KERNEL[0]]
+    assert cold_h.seconds - cold_h.compile > (HARMONICS_COST - 0.01) * (cold.seconds - cold.compile - 0.4)
+    assert cold_h.bytes > cold.bytes
