@@ -17,11 +17,10 @@ from __future__ import annotations
 import numpy as np
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.settings import SET_STOP_TOL, SET_WORK_BUDGET
-from friction_sweep.kernels.structure.flow import CP_MU, CP_MUS
+from friction_sweep.kernels.settings import SET_STOP_TOL
 from friction_sweep.kernels.structure.fourier import new_fourier
-from friction_sweep.kernels.structure.period import MC_SIZE, OK, advance, new_cache
-from friction_sweep.kernels.structure.steady import _section, _start, flow_size
+from friction_sweep.kernels.structure.period import OK, advance
+from friction_sweep.kernels.structure.steady import flow_size, point_forces, replay_start
 
 #: replay statuses: the coefficients are written; the replay failed (budget, a mode that cannot be built)
 REPLAYED, NOT_REPLAYED = 0, 1
@@ -35,27 +34,12 @@ def orbit_harmonics(Minv, K, C, W, F, cp, omega, settings, state, periods, out):
     n = K.shape[0]
     m = W.shape[0]
     N = flow_size(K, W, cp)
-    Nd = N - 3
     T = 2.0 * np.pi / omega
     vtol = settings[SET_STOP_TOL]
-    budget = np.array([int(settings[SET_WORK_BUDGET])])
-    cache = new_cache(n, m, N)
-    A = np.empty((N, N))
-    L = np.empty((max(m, 1), N))
-    R = np.empty((N, N))
-    J = np.zeros((N, Nd))
-    jflag = np.ones(1)
-    harm = np.zeros((n, 4))
-    xmax = np.zeros(n)
-    mc = np.zeros((max(m, 1), MC_SIZE))
     fou = new_fourier(n, m, N, out.shape[0] - 1)
-    z = np.zeros(N)
-    z[N - 3] = 1.0
-    z[N - 1] = 1.0
-    st = np.zeros(max(m, 1), dtype=np.int64)[:m]
-    _start(z, st, state, W, cp, n, Nd)
     out[:, :] = np.nan
-    if not _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1]):
+    ok, z, st, cache, budget, J, jflag, harm, xmax, mc = replay_start(Minv, K, C, W, F, cp, omega, settings, state)
+    if not ok:
         return NOT_REPLAYED
     for _ in range(periods):
         if advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False, harm, xmax,
@@ -78,18 +62,11 @@ def harmonics_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, omegas, scales, sett
     """orbit_harmonics for each point p (frequency omegas[p], every friction times scales[p], as
     steady.solve_batch) from its orbit's state states[p] over orbits[p] periods into out[p]; a point with no
     orbit (orbits[p] <= 0) is NaN."""
-    n = K.shape[0]
-    F = np.empty((2, n))
+    F = np.empty((2, K.shape[0]))
     cp = cp0.copy()
     for p in range(omegas.shape[0]):
         if orbits[p] <= 0:
             out[p, :, :] = np.nan
             continue
-        w = omegas[p]
-        for i in range(n):
-            F[0, i] = F_cos[i]
-            F[1, i] = w * F_sin_per_w[i]
-        for j in range(cp.shape[0]):
-            cp[j, CP_MU] = cp0[j, CP_MU] * scales[p]
-            cp[j, CP_MUS] = cp0[j, CP_MUS] * scales[p]
-        orbit_harmonics(Minv, K, C, W, F, cp, w, settings, states[p], orbits[p], out[p])
+        point_forces(F_cos, F_sin_per_w, cp0, omegas[p], scales[p], F, cp)
+        orbit_harmonics(Minv, K, C, W, F, cp, omegas[p], settings, states[p], orbits[p], out[p])

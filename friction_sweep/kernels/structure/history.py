@@ -12,10 +12,10 @@ from __future__ import annotations
 import numpy as np
 
 from friction_sweep.kernels.jit import jit
-from friction_sweep.kernels.settings import SET_STOP_TOL, SET_WORK_BUDGET
+from friction_sweep.kernels.settings import SET_STOP_TOL
 from friction_sweep.kernels.structure.flow import INACTIVE
-from friction_sweep.kernels.structure.period import MC_SIZE, OK, advance, lookup, new_cache
-from friction_sweep.kernels.structure.steady import _section, _start, flow_size
+from friction_sweep.kernels.structure.period import OK, advance, lookup
+from friction_sweep.kernels.structure.steady import flow_size, replay_start
 
 #: replay statuses: the samples are written; the replay failed (budget, a mode that cannot be built)
 SAMPLED, NOT_SAMPLED = 0, 1
@@ -28,26 +28,10 @@ def sample_orbit(Minv, K, C, W, F, cp, omega, settings, state, periods, samples,
     n = K.shape[0]
     m = W.shape[0]
     N = flow_size(K, W, cp)
-    Nd = N - 3
-    T = 2.0 * np.pi / omega
-    dt = T / samples
+    dt = 2.0 * np.pi / omega / samples
     vtol = settings[SET_STOP_TOL]
-    budget = np.array([int(settings[SET_WORK_BUDGET])])
-    cache = new_cache(n, m, N)
-    A = np.empty((N, N))
-    L = np.empty((max(m, 1), N))
-    R = np.empty((N, N))
-    J = np.zeros((N, Nd))
-    jflag = np.ones(1)
-    harm = np.zeros((n, 4))
-    xmax = np.zeros(n)
-    mc = np.zeros((max(m, 1), MC_SIZE))
-    z = np.zeros(N)
-    z[N - 3] = 1.0
-    z[N - 1] = 1.0
-    st = np.zeros(max(m, 1), dtype=np.int64)[:m]
-    _start(z, st, state, W, cp, n, Nd)
-    if not _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1]):
+    ok, z, st, cache, budget, J, jflag, harm, xmax, mc = replay_start(Minv, K, C, W, F, cp, omega, settings, state)
+    if not ok:
         return NOT_SAMPLED
     c_L = cache[3]
     c_ok = cache[8]

@@ -672,6 +672,41 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
 
 
 @jit
+def point_forces(F_cos, F_sin_per_w, cp0, omega, scale, F, cp):
+    """One point's forcing amplitudes F (the cos and sin rows at omega) and contact parameters cp (every
+    friction of cp0 times scale), in place: what a batch varies from point to point."""
+    for i in range(F_cos.shape[0]):
+        F[0, i] = F_cos[i]
+        F[1, i] = omega * F_sin_per_w[i]
+    for j in range(cp.shape[0]):
+        cp[j, CP_MU] = cp0[j, CP_MU] * scale
+        cp[j, CP_MUS] = cp0[j, CP_MUS] * scale
+
+
+@jit
+def replay_start(Minv, K, C, W, F, cp, omega, settings, state):
+    """A replay of an orbit from its state at the section (state_size's layout, t = 0; history.py,
+    harmonics.py): (ok, z, st, cache, budget, J, jflag, harm, xmax, mc), the augmented state and the modes made
+    to agree there (_start, _section; ok False where they cannot be), the mode cache, the settings' work
+    budget, and the Jacobian's and measurement's workspaces advance takes where it is asked for neither."""
+    n = K.shape[0]
+    m = W.shape[0]
+    N = flow_size(K, W, cp)
+    Nd = N - 3
+    budget = np.array([int(settings[SET_WORK_BUDGET])])
+    cache = new_cache(n, m, N)
+    z = np.zeros(N)
+    z[N - 3] = 1.0
+    z[N - 1] = 1.0
+    st = np.zeros(max(m, 1), dtype=np.int64)[:m]
+    _start(z, st, state, W, cp, n, Nd)
+    ok = _section(z, st, Minv, K, C, W, F, cp, omega, settings[SET_STOP_TOL], np.empty((N, N)),
+                  np.empty((max(m, 1), N)), np.empty((N, N)), budget, cache[-1])
+    return (ok, z, st, cache, budget, np.zeros((N, Nd)), np.ones(1), np.zeros((n, 4)), np.zeros(n),
+            np.zeros((max(m, 1), MC_SIZE)))
+
+
+@jit
 def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, x_rest, omegas, scales, settings, rows, starts, ends):
     """solve_point for each point i (frequency omegas[i], every friction times scales[i]) into rows[i], from
     starts[i] (a NaN row: from rest), its end state into ends[i]."""
@@ -679,11 +714,5 @@ def solve_batch(Minv, K, C, W, F_cos, F_sin_per_w, cp0, x_rest, omegas, scales, 
     F = np.empty((2, n))
     cp = cp0.copy()
     for p in range(omegas.shape[0]):
-        w = omegas[p]
-        for i in range(n):
-            F[0, i] = F_cos[i]
-            F[1, i] = w * F_sin_per_w[i]
-        for j in range(cp.shape[0]):
-            cp[j, CP_MU] = cp0[j, CP_MU] * scales[p]
-            cp[j, CP_MUS] = cp0[j, CP_MUS] * scales[p]
-        solve_point(Minv, K, C, W, F, cp, w, x_rest, settings, rows[p], starts[p], ends[p])
+        point_forces(F_cos, F_sin_per_w, cp0, omegas[p], scales[p], F, cp)
+        solve_point(Minv, K, C, W, F, cp, omegas[p], x_rest, settings, rows[p], starts[p], ends[p])
