@@ -373,12 +373,18 @@ def _placed_problems(name: str, effect: Effect, value: dict, excitation: str | N
     return problems
 
 
+#: a time_history: section's fields (1-DoF and structure specs): its points, pairs of numbers, and the samples
+#: a forcing period
+HistoryPoints = Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]],
+                          Field(min_length=1, max_length=1000)]
+SamplesPerPeriod = Annotated[int, Strict(), Field(ge=8, le=100_000)]
+
+
 class TimeHistory(_Model):
     """Points whose steady-state orbits are stored (outputs: time_history)."""
 
-    points: Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]],
-                      Field(min_length=1, max_length=1000)]
-    samples_per_period: Annotated[int, Strict(), Field(ge=8, le=100_000)] = 256
+    points: HistoryPoints
+    samples_per_period: SamplesPerPeriod = 256
 
     @field_validator("points")
     @classmethod

@@ -67,6 +67,8 @@ from .base import problem as _error
 from .base import raise_all as _raise_all
 from .base import show
 from .model import (
+    HistoryPoints,
+    SamplesPerPeriod,
     Sweep,
     _array_axis,
     _axis,
@@ -619,9 +621,8 @@ class StructureTimeHistory(_Model):
     """Points (frequency, friction_scale) whose steady orbits are stored (outputs: time_history), sampled
     samples_per_period times a forcing period over the orbit's periods (structures.time_histories)."""
 
-    points: Annotated[list[Annotated[list[Finite], Field(min_length=2, max_length=2)]],
-                      Field(min_length=1, max_length=1000)]
-    samples_per_period: Annotated[int, Strict(), Field(ge=8, le=100_000)] = 256
+    points: HistoryPoints
+    samples_per_period: SamplesPerPeriod = 256
 
     @field_validator("points")
     @classmethod
