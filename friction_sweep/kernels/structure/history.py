@@ -14,7 +14,7 @@ import numpy as np
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.settings import SET_STOP_TOL
 from friction_sweep.kernels.structure.flow import INACTIVE
-from friction_sweep.kernels.structure.period import OK, advance, lookup
+from friction_sweep.kernels.structure.period import C_L, C_OK, OK, advance, lookup
 from friction_sweep.kernels.structure.steady import flow_size, replay_start
 
 #: replay statuses: the samples are written; the replay failed (budget, a mode that cannot be built)
@@ -33,8 +33,8 @@ def sample_orbit(Minv, K, C, W, F, cp, omega, settings, state, periods, samples,
     ok, z, st, cache, budget, J, jflag, harm, xmax, mc = replay_start(Minv, K, C, W, F, cp, omega, settings, state)
     if not ok:
         return NOT_SAMPLED
-    c_L = cache[3]
-    c_ok = cache[8]
+    c_L = cache[C_L]
+    c_ok = cache[C_OK]
     for p in range(periods):
         for s in range(samples):
             row = p * samples + s

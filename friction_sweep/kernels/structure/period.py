@@ -113,13 +113,24 @@ def switch_workspace(n, m, N):
             np.empty(m1, dtype=np.int64), np.empty(m1, dtype=np.int64))
 
 
+#: new_cache's slots by name (numba indexes a tuple of arrays by constants: these are). The mode cache: each
+#: slot's statuses, A, exp(A h), contact-force rows, event rows and their A-powers, which events are armed,
+#: h, whether the mode could be built, the counts; each mode's node matrices and whether they are built
+C_ST, C_A, C_E, C_L, C_ROWS, C_CK, C_ACT, C_H, C_OK, C_COUNTS = range(10)
+C_G, C_GOK = 25, 26
+#: advance's workspaces (new_cache's docstring), the switch's last
+(W_ZK, W_ZNEW, W_D, W_DMAG, W_R, W_ATMP, W_LTMP, W_JTMP, W_JTMP2, W_FV, W_CROW, W_BEFORE, W_S, W_ZQ,
+ W_COEF) = range(10, 25)
+W_SWITCH = 27
+
+
 @jit
 def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
     Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
     Gauss nodes and their Taylor coefficients, each mode's node matrices (_node_matrices) and whether they
-    are built, the switch's workspace): the hot loops allocate nothing. The
-    counts (cache[9]): the modes cached, the next slot to replace, and the integrator: 0 the exact flow
+    are built, the switch's workspace), in the order of the C_ and W_ names above: the hot loops allocate
+    nothing. The counts (C_COUNTS): the modes cached, the next slot to replace, and the integrator: 0 the exact flow
     (advance), k > 0 classical RK4 with k steps per period (rk4.advance_rk4; steady.solve_point sets it from
     the settings)."""
     m1 = max(m, 1)
@@ -160,9 +171,9 @@ def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
     for j in range(m):
         c_st[i, j] = st[j]
     A = c_A[i]
-    ok = build_mode(st, Minv, K, C, W, F, cp, omega, A, c_L[i], cache[-1])
+    ok = build_mode(st, Minv, K, C, W, F, cp, omega, A, c_L[i], cache[W_SWITCH])
     c_ok[i] = ok
-    cache[26][i] = False
+    cache[C_GOK][i] = False
     if not ok:
         return i
     h = STEP_RATE / mode_rate(A, n)
@@ -627,9 +638,10 @@ def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget
     mode from the forces (the rules in this module's docstring), the per-contact labels where meas, and
     J <- S J (the saltation) where jac. False where it fails (dependent constraints, a mode that cannot be
     built). Shared by advance and the rk4 stepper (rk4.py)."""
-    c_A, c_rows, c_ok = cache[1], cache[4], cache[8]
-    znew, R, Atmp, Ltmp, Jtmp, fv, crow, before, S, sw = (cache[11], cache[14], cache[15], cache[16], cache[17],
-                                                         cache[19], cache[20], cache[21], cache[22], cache[-1])
+    c_A, c_rows, c_ok = cache[C_A], cache[C_ROWS], cache[C_OK]
+    znew, R, Atmp, Ltmp, Jtmp, fv, crow, before, S, sw = (cache[W_ZNEW], cache[W_R], cache[W_ATMP], cache[W_LTMP],
+                                                         cache[W_JTMP], cache[W_FV], cache[W_CROW], cache[W_BEFORE],
+                                                         cache[W_S], cache[W_SWITCH])
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]

@@ -35,7 +35,29 @@ import numpy as np
 
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.structure.flow import dot, matvec, mode_rate, taylor_state, term_sizes
-from friction_sweep.kernels.structure.period import BUDGET, FAILED, OK, _measure_step, lookup, switch
+from friction_sweep.kernels.structure.period import (
+    BUDGET,
+    C_A,
+    C_ACT,
+    C_CK,
+    C_COUNTS,
+    C_L,
+    C_OK,
+    C_ROWS,
+    FAILED,
+    OK,
+    W_COEF,
+    W_D,
+    W_DMAG,
+    W_JTMP,
+    W_JTMP2,
+    W_ZK,
+    W_ZNEW,
+    W_ZQ,
+    _measure_step,
+    lookup,
+    switch,
+)
 from friction_sweep.kernels.structure.roots import first_root
 
 #: degree of the dense output (quintic Hermite), and its Taylor rows zk[0..DENSE]
@@ -105,11 +127,12 @@ def dense(z0, z1, s, zk):
 @jit
 def advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc):
     """period.advance's contract (carry z over [0, T] from mode st, both in place; budget[0]: events and
-    steps left; OK, BUDGET or FAILED) with classical RK4 on cache[9][2] steps per period."""
-    c_L, c_rows, c_ck, c_act, c_ok = cache[3], cache[4], cache[5], cache[6], cache[8]
-    zk, znew, d, dmag, Jtmp, Jtmp2 = cache[10], cache[11], cache[12], cache[13], cache[17], cache[18]
-    zq, coef = cache[23], cache[24]
-    steps = cache[9][2]
+    steps left; OK, BUDGET or FAILED) with classical RK4 on cache[C_COUNTS][2] steps per period."""
+    c_L, c_rows, c_ck, c_act, c_ok = cache[C_L], cache[C_ROWS], cache[C_CK], cache[C_ACT], cache[C_OK]
+    zk, znew, d, dmag = cache[W_ZK], cache[W_ZNEW], cache[W_D], cache[W_DMAG]
+    Jtmp, Jtmp2 = cache[W_JTMP], cache[W_JTMP2]
+    zq, coef = cache[W_ZQ], cache[W_COEF]
+    steps = cache[C_COUNTS][2]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -122,7 +145,7 @@ def advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac,
         mi = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
         if not c_ok[mi]:
             return FAILED
-        A = cache[1][mi]
+        A = cache[C_A][mi]
         start = True
         fired = -1
         have = False  # zk[1], zk[2] hold z', z'' at z in this mode
@@ -201,8 +224,8 @@ def balance_tolerance(cache, n, T):
     cached). At the exact flow's 1e-6 a coarse grid's orbit (a long period: 128 steps at w = 0.3 on the blade
     of tests/test_structure_rk4.py) would be refused as no orbit, and the march would run to its cap."""
     rho = 0.0
-    for i in range(cache[9][0]):
-        if cache[8][i]:
-            rho = max(rho, mode_rate(cache[1][i], n))
-    x = rho * T / cache[9][2]
+    for i in range(cache[C_COUNTS][0]):
+        if cache[C_OK][i]:
+            rho = max(rho, mode_rate(cache[C_A][i], n))
+    x = rho * T / cache[C_COUNTS][2]
     return x * x * x * x

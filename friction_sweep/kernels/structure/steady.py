@@ -52,6 +52,7 @@ from friction_sweep.kernels.settings import (
 from friction_sweep.kernels.steady import STICK_SHOT_REACH
 from friction_sweep.kernels.structure.flow import CP_EY, CP_KT, CP_MU, CP_MUS, CP_SLOT, INACTIVE, STUCK
 from friction_sweep.kernels.structure.period import (
+    C_COUNTS,
     MC_ENERGY,
     MC_SIZE,
     MC_SLIPS,
@@ -59,6 +60,7 @@ from friction_sweep.kernels.structure.period import (
     MC_STUCK,
     MC_SUMS,
     OK,
+    W_SWITCH,
     advance,
     new_cache,
     rel_position,
@@ -187,7 +189,7 @@ def _norm(z, Nd):
 def _periods(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, harm, xmax, mc):
     N = z.shape[0]
     for _ in range(k):
-        if cache[9][2] > 0:  # method rk4 (new_cache's counts)
+        if cache[C_COUNTS][2] > 0:  # method rk4 (new_cache's counts)
             code = advance_rk4(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas,
                                harm, xmax, mc)
         else:
@@ -291,7 +293,7 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
     # that falls like 1 / |s| while the absolute one stays
     ref = max(_norm(z, Nd), scale)
     for _ in range(_NEWTON_ITERATIONS):
-        if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1]):
+        if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[W_SWITCH]):
             return NO_ORBIT
         z0 = zs.copy()
         st0 = sts.copy()
@@ -416,7 +418,7 @@ def _measure(z, st, orbit, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, 
     if size * kscale * _RESOLVED > fs:
         return _UNBALANCED
     # rk4's orbit balances its energy to the method's order only (rk4.balance_tolerance)
-    rel = 1e-6 if cache[9][2] == 0 else max(1e-6, balance_tolerance(cache, n, T))
+    rel = 1e-6 if cache[C_COUNTS][2] == 0 else max(1e-6, balance_tolerance(cache, n, T))
     slack = rel * (abs(w_in) + vis + fric) + 10.0 * settings[SET_STEADY_TOL] * size * size * kscale * tk
     if abs(w_in - vis - fric) > slack:
         return _UNBALANCED
@@ -509,7 +511,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     row[:] = np.nan
     cache = new_cache(n, m, N)
     if settings[SET_KERNEL] == KERNEL_RK4:
-        cache[9][2] = max(1, int(settings[SET_STEPS_PER_PERIOD]))
+        cache[C_COUNTS][2] = max(1, int(settings[SET_STEPS_PER_PERIOD]))
     A = np.empty((N, N))
     L = np.empty((max(m, 1), N))
     R = np.empty((N, N))
@@ -542,10 +544,10 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     status = _PERIOD_CAP
     orbit = 0
     if np.isnan(start[0]):
-        ready = resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1])
+        ready = resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[W_SWITCH])
     else:
         _start(z, st, start, W, cp, n, Nd)
-        ready = _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[-1])
+        ready = _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[W_SWITCH])
     if not ready:
         status = _NONFINITE
         max_periods = 0
@@ -701,7 +703,7 @@ def replay_start(Minv, K, C, W, F, cp, omega, settings, state):
     st = np.zeros(max(m, 1), dtype=np.int64)[:m]
     _start(z, st, state, W, cp, n, Nd)
     ok = _section(z, st, Minv, K, C, W, F, cp, omega, settings[SET_STOP_TOL], np.empty((N, N)),
-                  np.empty((max(m, 1), N)), np.empty((N, N)), budget, cache[-1])
+                  np.empty((max(m, 1), N)), np.empty((N, N)), budget, cache[W_SWITCH])
     return (ok, z, st, cache, budget, np.zeros((N, Nd)), np.ones(1), np.zeros((n, 4)), np.zeros(n),
             np.zeros((max(m, 1), MC_SIZE)))
 
