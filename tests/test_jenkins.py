@@ -214,3 +214,21 @@ def test_methods_without_the_effect_refuse_it(method, tmp_path):
                     f"method: {method}\n")
     with pytest.raises(Exception, match="does not model contact_stiffness"):
         load_spec(spec)
+
+
+def test_a_held_slider_with_damping_settles_on_its_one_period_orbit():
+    """A slider that never slips holds the mass on the damped linear oscillator of stiffness 1 + kappa, whose
+    forced orbit is unique and of one period: T = 1 / |1 + kappa - r^2 + 2 i zeta r|. Its free motion decays
+    at a frequency near 5/3 of the forcing's at r = 2 (kappa 10), so the march's state repeated at lag 3 to
+    steady_tol while each period still moved it by a few steady_tol: the kernel called those orbits period 3
+    (91 of 1,829 points of a kappa 10, zeta 0.05 plane). A lag k now needs every divisor of k to move the state
+    by more than js.DISTINCT times the bound."""
+    r = np.linspace(1.7, 2.3, 13)
+    kappa, zeta = 10.0, 0.05
+    out = event.compute_tile("force", r, [1.5], ("transmissibility", "regime"),
+                             {"contact_stiffness": kappa, "viscous_damping": zeta}, {"starts": 1})
+    stuck = out["regime"].ravel() == Regime.STUCK
+    assert stuck.sum() >= 7  # up to r = 2.05; above it the slider slips
+    assert (out["orbit_period"].ravel()[stuck] == 1).all()
+    closed = 1.0 / np.abs(1.0 + kappa - r ** 2 + 2j * zeta * r)
+    np.testing.assert_allclose(out["transmissibility"].ravel()[stuck], closed[stuck], rtol=1e-10)

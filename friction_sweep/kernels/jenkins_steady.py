@@ -319,14 +319,34 @@ def shoot_jenkins(q, v, w, mode, anchor, k, p, settings, tol, budget, acc, rk4):
     return q, v, w, mode, False, work, periods
 
 
+#: a repeat at lag k > 1 is a period-k orbit only where every proper divisor d of k moves the state by more
+#: than this many times the repeat's bound (the structure engine's _DISTINCT rule)
+DISTINCT = 1e3
+
+
+@jit_inline
+def _lag_gap(q, v, w, n, hq, hv, hw, kmax, k, size):
+    """How far the state is from the one k periods back, and the scale it is judged against."""
+    j = (n - k) % (kmax + 1)
+    return abs(q - hq[j]) + abs(v - hv[j]) + abs(w - hw[j]), max(size, math.hypot(hq[j], hv[j]))
+
+
 @jit_inline
 def _repeat_lag(q, v, w, mode, n, hq, hv, hw, hm, kmax, tol, size, floor):
-    """The smallest k <= kmax at which the state repeats the one k periods back (0 if none)."""
+    """The smallest k <= kmax at which the state repeats the one k periods back (0 if none). A repeat at lag
+    k > 1 where a proper divisor d of k moves the state by less than DISTINCT x the bound is no period-k orbit
+    but a decaying transient whose free motion nearly returns after k periods (a stuck slider's oscillator at
+    close to a multiple of 1/k of the forcing frequency: kappa 10, zeta 0.05, beta 1.5, r 2 repeated at lag 3
+    while P moved the state by a few steady_tol): 0, the march goes on until the period-d orbit repeats."""
     for k in range(1, min(kmax, n) + 1):
         j = (n - k) % (kmax + 1)
-        scale = max(size, math.hypot(hq[j], hv[j]))
-        near = abs(q - hq[j]) + abs(v - hv[j]) + abs(w - hw[j]) <= tol * scale + floor
-        if near and _same_kind(hm[j], mode):
+        gap, scale = _lag_gap(q, v, w, n, hq, hv, hw, kmax, k, size)
+        if gap <= tol * scale + floor and _same_kind(hm[j], mode):
+            for d in range(1, k):
+                if k % d == 0:
+                    near, dscale = _lag_gap(q, v, w, n, hq, hv, hw, kmax, d, size)
+                    if near <= DISTINCT * (tol * dscale + floor):
+                        return 0
             return k
     return 0
 
