@@ -281,3 +281,21 @@ def test_the_estimate_counts_the_harmonics_replay_and_its_compile(spec_file, mon
     assert cold_h.compile == COMPILE_SECONDS[STRUCTURE_KERNEL[0]] + COMPILE_SECONDS[STRUCTURE_HARMONICS_KERNEL[0]]
     assert cold_h.seconds - cold_h.compile > (HARMONICS_COST - 0.01) * (cold.seconds - cold.compile - 0.4)
     assert cold_h.bytes > cold.bytes
+
+
+def test_the_estimate_counts_the_time_histories_and_their_sampler(spec_file, monkeypatch, tmp_path):
+    """A time_history: section adds its points' solves, their samples' memory and, with an empty numba cache,
+    the sampler's compile."""
+    from friction_sweep.batch.estimate import COMPILE_SECONDS, STRUCTURE_HISTORY_KERNEL, STRUCTURE_KERNEL, estimate
+    from friction_sweep.spec import load_spec
+
+    plain = load_spec(spec_file)
+    path = tmp_path / "t.yaml"
+    path.write_text(re.sub(r"outputs: \[(.*)\]", r"outputs: [\1, time_history]", SPEC)
+                    + "time_history: {points: [[1.0, 1.0], [1.2, 2.0]], samples_per_period: 100000}\n")
+    history = load_spec(path)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "cache"))
+    cold, cold_t = (estimate(s, jobs=1, executor="threads") for s in (plain, history))
+    assert cold_t.compile == COMPILE_SECONDS[STRUCTURE_KERNEL[0]] + COMPILE_SECONDS[STRUCTURE_HISTORY_KERNEL[0]]
+    assert cold_t.seconds - cold_t.compile > cold.seconds - cold.compile
+    assert cold_t.bytes - cold.bytes >= 2 * 100_000 * 8  # at least the samples of time at each point

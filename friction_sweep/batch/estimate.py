@@ -86,10 +86,12 @@ WORKER_START_SECONDS = {"processes": 0.2, "dask": 2.5}
 #: against warm 2.0 s; jenkins_steady from runs under load scaled by main's quiet 25 s, 59 s; the structure
 #: engine: benchmarks/structures.py's first call, quiet (load 0.03), 53.7 s CPU; with method rk4's stepper, which
 #: compiles with it, 68.1 s against 53.4 s without, measured one after the other on the blade's first point)
-COMPILE_SECONDS = {"steady": 11.0, "jenkins_steady": 37.0, "structure.steady": 68.0, "structure.harmonics": 19.0}
-#: the structure's harmonics replay (outputs: harmonics; compiled where a run asks for them: the blade's first
-#: point after the engine, 18.6 s CPU, benchmarks/harmonics.py --structure's machine)
+COMPILE_SECONDS = {"steady": 11.0, "jenkins_steady": 37.0, "structure.steady": 68.0, "structure.harmonics": 19.0,
+                   "structure.history": 7.0}
+#: the structure's harmonics replay and its time-history sampler (outputs harmonics, time_history), each compiled
+#: where a run asks for it: the blade's first point after the engine's compile, 18.6 and 7.0 s CPU
 STRUCTURE_HARMONICS_KERNEL = ("structure.harmonics", "harmonics_batch")
+STRUCTURE_HISTORY_KERNEL = ("structure.history", "sample_orbit")
 #: what a run says while it compiles them (fsweep run)
 COMPILING = "compiling the simulation kernels (first run on this machine; cached afterwards)"
 #: the structure engine's compiled entry point (kernel module, function): every structure calls it
@@ -258,19 +260,28 @@ def _structure_estimate(spec, settings: dict | None, *, jobs: int, executor: str
     if harmonics:  # one replay of each orbit (benchmarks/harmonics.py --structure: 1.52 at H = 50)
         per_point *= HARMONICS_COST
     serial = KERNEL_LOAD_SECONDS + solves * points * per_point
+    history_bytes = 0
+    if spec.time_history is not None:  # each point solved again from rest, then its orbit sampled
+        n_history = len(spec.time_history.points)
+        serial += n_history * structure_point_seconds(n, m)
+        # the samples (time, each mass, each contact's force and relative displacement), run and cube copy
+        history_bytes = n_history * spec.time_history.samples_per_period * (1 + n + 2 * m) * 8 * 2
     worst = serial + solves * points * 0.3e-6 * knobs["work_budget"] * max(1.0, (n / 2.0) ** 2)
     n_workers = local_workers(executor, jobs, n_tiles, scheduler)
     own = (executor == "processes" and n_workers > 1) or (executor == "dask" and scheduler is None)
     processes = n_workers if own else 0
     start = processes * WORKER_START_SECONDS.get(executor, 0.0) / min(max(processes, 1), cores())
     compiling = 0.0
-    for module, entry in (STRUCTURE_KERNEL, *((STRUCTURE_HARMONICS_KERNEL,) if harmonics else ())):
+    kernels = (STRUCTURE_KERNEL, *((STRUCTURE_HARMONICS_KERNEL,) if harmonics else ()),
+               *((STRUCTURE_HISTORY_KERNEL,) if spec.time_history is not None else ()))
+    for module, entry in kernels:
         compiling += COMPILE_SECONDS[module] if cache and not kernel_cache.warm(module, entry) else 0.0
     # the harmonics' values: H + 1 complex numbers per mass and contact, in the run and the cube's copy
     harmonic_bytes = points * (int(knobs["harmonics"]) + 1) * (n + m) * 16 * 2 * solves if harmonics else 0
     return Estimate(points=points, seconds=serial / n_workers + start + compiling,
                     worst=worst / n_workers + start + compiling,
-                    bytes=BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * (n + m) + harmonic_bytes,
+                    bytes=(BASE_BYTES + processes * WORKER_BYTES + points * POINT_BYTES * (n + m) + harmonic_bytes
+                           + history_bytes),
                     workers=n_workers, compile=compiling, jobs=jobs,
                     why_fewer=capped(executor, jobs, n_workers, n_tiles, scheduler))
 
