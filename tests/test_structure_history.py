@@ -87,6 +87,26 @@ def test_contact_forces_obey_their_laws(run):
     assert (ds["history_contact_force"].isel(history_point=2).values == 0).all()
 
 
+def test_the_jenkins_root_obeys_its_law(run):
+    """The Jenkins root's force k_t (u - p) never leaves +-mu; where its slider slips at some time the force
+    sits at +-mu there, and where it is stuck all period the slider p = u - f / k_t holds still (the law's
+    reading of the samples, not the engine's)."""
+    ds, solved, a, _ = run
+    j = list(ds["contact"].values).index("root")
+    f = ds["history_contact_force"].isel(contact=j).values
+    u = ds["history_relative_displacement"].isel(contact=j).values * a.amplitude_unit
+    mu = a.mu[j] * np.array([p[1] for p in POINTS])
+    assert (np.abs(f) <= mu[:, None] * (1 + 1e-12)).all()
+    for i, regime in enumerate(solved["regime"][:, j]):
+        if mu[i] == 0:
+            assert (f[i] == 0).all()
+        elif regime == Regime.STUCK:
+            slider = u[i] - f[i] / a.kt[j]
+            assert np.ptp(slider) <= 1e-12 * np.abs(u[i]).max()
+        else:
+            assert np.isclose(np.abs(f[i]).max(), mu[i], rtol=1e-14)
+
+
 @pytest.mark.parametrize("change, key, reason", [
     (("time_history: {points:", "# time_history: {points:"), "outputs", "give `time_history: {points:"),
     ((", time_history]", "]"), "time_history", "not listed in outputs"),
