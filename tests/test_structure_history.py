@@ -110,6 +110,55 @@ def test_the_jenkins_root_obeys_its_law(run):
             assert np.isclose(np.abs(f[i]).max(), mu[i], rtol=1e-14)
 
 
+#: base excitation with the rigid platform on the moving base: stuck (friction x 20), stick-slip, and slipping
+BASE_POINTS = [[1.5, 20.0], [0.8, 0.5], [2.5, 0.5]]
+BASE = f"""\
+scene: {{excitation: base}}
+structure:
+  masses: {{blade: 1.0, damper: 0.1}}
+  springs: [[base, blade, 1.0], [blade, damper, 2.0]]
+  dampers: [[base, blade, 0.01]]
+  contacts:
+    - {{name: platform, between: [damper, base], friction: 0.3}}
+    - {{name: root, between: [blade, ground], friction: 0.2, stiffness: 20}}
+  base_amplitude: 0.5
+grid:
+  frequency: {{start: 0.5, stop: 2.5, num: 2}}
+  friction_scale: [0.5]
+method: event
+outputs: [amplitude, regime, friction_energy, time_history]
+time_history: {{points: {BASE_POINTS}, samples_per_period: 4096}}
+"""
+
+
+def test_a_contact_on_the_moving_base_measures_from_the_base(tmp_path):
+    """Under base excitation a contact's u is measured from the moving base (u = w . x - Y cos wt), and the
+    cube's displacements are over Y (transmissibilities): the platform stuck to the base holds u still while
+    its mass moves with the base, the FFT of each mass's samples gives its transmissibility, and each loop's
+    area is the friction energy."""
+    spec = tmp_path / "b.yaml"
+    spec.write_text(BASE)
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(tmp_path / "b.h5"), "-q"])
+    assert res.exit_code == 0, res.output
+    ds = fs.open_cube(tmp_path / "b.h5")
+    a = assemble(structure_sweep.structure_def(load_spec(spec)))
+    p = np.array(BASE_POINTS)
+    solved = solve_points(a, p[:, 0], p[:, 1], outputs=("amplitude", "regime", "friction_energy"))
+    assert list(solved["regime"][:, 0]) == [Regime.STUCK, Regime.STICK_SLIP, Regime.CONTINUOUS]
+    u = ds["history_relative_displacement"].sel(contact="platform").values
+    x = ds["history_displacement"].sel(dof="damper").values
+    # still against the base to the flow's rounding (1e-12 of Y), while the mass moves with it (2 Y peak to peak)
+    assert np.ptp(u[0]) <= 1e-10 and np.ptp(x[0]) > 1.0
+    X1 = 2.0 * np.fft.rfft(ds["history_displacement"].values, axis=1)[:, 1, :] / u.shape[1]
+    np.testing.assert_allclose(np.abs(X1), solved["amplitude"], rtol=1e-7)
+    f = ds["history_contact_force"].values
+    assert (np.abs(f) <= (a.mu * p[:, 1:])[:, None, :] * (1 + 1e-12)).all()
+    uu = ds["history_relative_displacement"].values * a.amplitude_unit
+    uu, f = np.concatenate([uu, uu[:, :1]], axis=1), np.concatenate([f, f[:, :1]], axis=1)
+    area = np.sum(0.5 * (f[:, 1:] + f[:, :-1]) * np.diff(uu, axis=1), axis=1)
+    np.testing.assert_allclose(area, solved["friction_energy"], rtol=1e-5, atol=1e-12)
+
+
 @pytest.mark.parametrize("change, key, reason", [
     (("time_history: {points:", "# time_history: {points:"), "outputs", "give `time_history: {points:"),
     ((", time_history]", "]"), "time_history", "not listed in outputs"),
