@@ -7,6 +7,8 @@ order), the contact laws (|lambda| within the static band, exactly +-mu while sl
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -159,15 +161,16 @@ def test_a_contact_on_the_moving_base_measures_from_the_base(tmp_path):
     np.testing.assert_allclose(area, solved["friction_energy"], rtol=1e-5, atol=1e-12)
 
 
-@pytest.mark.parametrize("change, key, reason", [
-    (("time_history: {points:", "# time_history: {points:"), "outputs", "give `time_history: {points:"),
-    ((", time_history]", "]"), "time_history", "not listed in outputs"),
-    (("samples_per_period: 4096", "samples_per_period: 4"), "time_history.samples_per_period", "8"),
-    (("[[0.8, 1.0]", "[[-0.8, 1.0]"), "time_history.points[0][0]", "must be > 0"),
+@pytest.mark.parametrize("change, key, reason, at", [
+    (("time_history: {points:", "# time_history: {points:"), "outputs", "give `time_history: {points:", "outputs:"),
+    ((", time_history]", "]"), "time_history", "not listed in outputs", "time_history:"),
+    (("samples_per_period: 4096", "samples_per_period: 4"), "time_history.samples_per_period", "8", "4}"),
+    (("[[0.8, 1.0]", "[[-0.8, 1.0]"), "time_history.points[0][0]", "must be > 0", "-0.8,"),
     (("samples_per_period: 4096}", "samples_per_period: 4096}\nsweep: {direction: up}"), "sweep",
-     "would not follow the sweep"),
+     "would not follow the sweep", "sweep:"),
 ])
-def test_spec_errors_name_the_key(tmp_path, change, key, reason):
+def test_spec_errors_name_the_key(tmp_path, change, key, reason, at):
+    """file:line:column: key: reason, exit 2, no cube; the line and column point at the offending text."""
     spec = tmp_path / "bad.yaml"
     text = SPEC.replace(*change)
     assert text != SPEC
@@ -175,7 +178,11 @@ def test_spec_errors_name_the_key(tmp_path, change, key, reason):
     with in_dir(tmp_path):
         res = CliRunner().invoke(main, ["run", str(spec), "-o", "bad.h5"])
         assert res.exit_code == 2 and isinstance(res.exception, SystemExit), res.output
-        assert f": {key}: " in res.stderr and reason in res.stderr, res.stderr
+        where = re.search(rf"^{re.escape(str(spec))}:(\d+):(\d+): {re.escape(key)}: .*{re.escape(reason)}",
+                          res.stderr, re.M)
+        assert where, res.stderr
+        line, column = int(where[1]), int(where[2])
+        assert text.splitlines()[line - 1][column - 1:].startswith(at), res.stderr
         assert not (tmp_path / "bad.h5").exists()
 
 
