@@ -7,6 +7,8 @@ order), the contact laws (|lambda| within the static band, exactly +-mu while sl
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -21,8 +23,8 @@ from friction_sweep.spec import load_spec
 from friction_sweep.structures import assemble, solve_points
 
 #: the issue's blade and damper: a rigid platform contact and a Jenkins root; a point of each kind of motion
-#: (stick-slip at the platform, everything slipping, no friction at all)
-POINTS = [[0.8, 1.0], [2.0, 0.1], [1.2, 0.0]]
+#: (stick-slip at the platform, everything slipping, no friction at all, everything stuck)
+POINTS = [[0.8, 1.0], [2.0, 0.1], [1.2, 0.0], [3.0, 10.0]]
 SPEC = two_mass(4, "[0.0, 1.0]", "[amplitude, phase, regime, friction_energy, time_history]") + (
     f"time_history: {{points: {POINTS}, samples_per_period: 4096}}\n")
 
@@ -47,7 +49,7 @@ def test_the_cube_holds_each_history_where_the_spec_put_it(run):
     assert ds["history_displacement"].dims == ("history_point", "sample", "dof")
     assert ds["history_contact_force"].dims == ("history_point", "sample", "contact")
     assert (ds["history_orbit_period"].values == solved["orbit_period"]).all()
-    np.testing.assert_allclose(ds["history_time"].values[:, :4], np.broadcast_to(np.arange(4) / 4096, (3, 4)))
+    np.testing.assert_allclose(ds["history_time"].values[:, :4], np.broadcast_to(np.arange(4) / 4096, (len(POINTS), 4)))
 
 
 def test_the_samples_first_harmonic_is_the_engines_amplitude(run):
@@ -56,9 +58,11 @@ def test_the_samples_first_harmonic_is_the_engines_amplitude(run):
     ds, solved, *_ = run
     x = ds["history_displacement"].values  # (point, sample, dof)
     X1 = 2.0 * np.fft.rfft(x, axis=1)[:, 1, :] / x.shape[1]
-    np.testing.assert_allclose(np.abs(X1), solved["amplitude"], rtol=1e-7)
+    # (a mass held still by a stuck contact: no samples move, and the engine's amplitude is rounding, 1e-18)
+    np.testing.assert_allclose(np.abs(X1), solved["amplitude"], rtol=1e-7, atol=1e-15)
+    moving = solved["amplitude"] > 1e-12  # a phase where the mass moves
     phase = np.degrees(-np.angle(X1))
-    np.testing.assert_allclose((phase - solved["phase"] + 180.0) % 360.0 - 180.0, 0.0, atol=1e-5)
+    np.testing.assert_allclose(((phase - solved["phase"] + 180.0) % 360.0 - 180.0)[moving], 0.0, atol=1e-5)
 
 
 def test_the_hysteresis_loops_area_is_the_friction_energy(run):
@@ -87,15 +91,103 @@ def test_contact_forces_obey_their_laws(run):
     assert (ds["history_contact_force"].isel(history_point=2).values == 0).all()
 
 
-@pytest.mark.parametrize("change, key, reason", [
-    (("time_history: {points:", "# time_history: {points:"), "outputs", "give `time_history: {points:"),
-    ((", time_history]", "]"), "time_history", "not listed in outputs"),
-    (("samples_per_period: 4096", "samples_per_period: 4"), "time_history.samples_per_period", "8"),
-    (("[[0.8, 1.0]", "[[-0.8, 1.0]"), "time_history.points[0][0]", "must be > 0"),
+def test_the_jenkins_root_obeys_its_law(run):
+    """The Jenkins root's force k_t (u - p) never leaves +-mu; where its slider slips at some time the force
+    sits at +-mu there, and where it is stuck all period the slider p = u - f / k_t holds still (the law's
+    reading of the samples, not the engine's)."""
+    ds, solved, a, _ = run
+    j = list(ds["contact"].values).index("root")
+    f = ds["history_contact_force"].isel(contact=j).values
+    u = ds["history_relative_displacement"].isel(contact=j).values * a.amplitude_unit
+    mu = a.mu[j] * np.array([p[1] for p in POINTS])
+    assert (np.abs(f) <= mu[:, None] * (1 + 1e-12)).all()
+    assert {Regime.STUCK, Regime.CONTINUOUS} <= set(solved["regime"][mu > 0, j])  # both branches below are read
+    for i, regime in enumerate(solved["regime"][:, j]):
+        if mu[i] == 0:
+            assert (f[i] == 0).all()
+        elif regime == Regime.STUCK:
+            slider = u[i] - f[i] / a.kt[j]
+            assert np.ptp(slider) <= 1e-12 * np.abs(u[i]).max()
+        else:
+            assert np.isclose(np.abs(f[i]).max(), mu[i], rtol=1e-14)
+
+
+#: base excitation with the rigid platform on the moving base: stuck (friction x 20), stick-slip, and slipping
+BASE_POINTS = [[1.5, 20.0], [0.8, 0.5], [2.5, 0.5]]
+BASE = f"""\
+scene: {{excitation: base}}
+structure:
+  masses: {{blade: 1.0, damper: 0.1}}
+  springs: [[base, blade, 1.0], [blade, damper, 2.0]]
+  dampers: [[base, blade, 0.01]]
+  contacts:
+    - {{name: platform, between: [damper, base], friction: 0.3}}
+    - {{name: root, between: [blade, ground], friction: 0.2, stiffness: 20}}
+  base_amplitude: 0.5
+grid:
+  frequency: {{start: 0.5, stop: 2.5, num: 2}}
+  friction_scale: [0.5]
+method: event
+outputs: [amplitude, regime, friction_energy, time_history]
+time_history: {{points: {BASE_POINTS}, samples_per_period: 4096}}
+"""
+
+
+def test_a_contact_on_the_moving_base_measures_from_the_base(tmp_path):
+    """Under base excitation a contact's u is measured from the moving base (u = w . x - Y cos wt), and the
+    cube's displacements are over Y (transmissibilities): the platform stuck to the base holds u still while
+    its mass moves with the base, the FFT of each mass's samples gives its transmissibility, and each loop's
+    area is the friction energy."""
+    spec = tmp_path / "b.yaml"
+    spec.write_text(BASE)
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(tmp_path / "b.h5"), "-q"])
+    assert res.exit_code == 0, res.output
+    ds = fs.open_cube(tmp_path / "b.h5")
+    a = assemble(structure_sweep.structure_def(load_spec(spec)))
+    p = np.array(BASE_POINTS)
+    solved = solve_points(a, p[:, 0], p[:, 1], outputs=("amplitude", "regime", "friction_energy"))
+    assert list(solved["regime"][:, 0]) == [Regime.STUCK, Regime.STICK_SLIP, Regime.CONTINUOUS]
+    u = ds["history_relative_displacement"].sel(contact="platform").values
+    x = ds["history_displacement"].sel(dof="damper").values
+    # still against the base to the flow's rounding (1e-12 of Y), while the mass moves with it (2 Y peak to peak)
+    assert np.ptp(u[0]) <= 1e-10 and np.ptp(x[0]) > 1.0
+    X1 = 2.0 * np.fft.rfft(ds["history_displacement"].values, axis=1)[:, 1, :] / u.shape[1]
+    np.testing.assert_allclose(np.abs(X1), solved["amplitude"], rtol=1e-7)
+    f = ds["history_contact_force"].values
+    assert (np.abs(f) <= (a.mu * p[:, 1:])[:, None, :] * (1 + 1e-12)).all()
+    uu = ds["history_relative_displacement"].values * a.amplitude_unit
+    uu, f = np.concatenate([uu, uu[:, :1]], axis=1), np.concatenate([f, f[:, :1]], axis=1)
+    area = np.sum(0.5 * (f[:, 1:] + f[:, :-1]) * np.diff(uu, axis=1), axis=1)
+    np.testing.assert_allclose(area, solved["friction_energy"], rtol=1e-5, atol=1e-12)
+
+
+def test_where_a_point_holds_two_states_the_history_is_the_rest_starts(tmp_path):
+    """With static friction 1.5 x kinetic at the root, the grid point 2.4909... x 0.5 holds two steady states
+    (amplitude and amplitude_moving differ by 3e-4): the stored orbit, from rest, has the first harmonic of
+    `amplitude`, not of the moving start's."""
+    spec = tmp_path / "s.yaml"
+    spec.write_text(two_mass(12, "[0.5]", "[amplitude, phase, regime, time_history]", static_friction_ratio=1.5)
+                    + "time_history: {points: [[2.49090909091, 0.5]], samples_per_period: 2048}\n")
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(tmp_path / "s.h5"), "-q"])
+    assert res.exit_code == 0, res.output
+    ds = fs.open_cube(tmp_path / "s.h5")
+    at = ds.sel(frequency=float(ds["history_frequency"][0]), friction_scale=0.5)  # exactly a grid point
+    rest, moving = at["amplitude"].values, at["amplitude_moving"].values
+    assert int(at["steady_states"]) == 2 and np.abs(rest - moving).max() > 1e-5
+    x = ds["history_displacement"].isel(history_point=0).values
+    np.testing.assert_allclose(np.abs(2.0 * np.fft.rfft(x, axis=0)[1] / x.shape[0]), rest, rtol=1e-7)
+
+
+@pytest.mark.parametrize("change, key, reason, at", [
+    (("time_history: {points:", "# time_history: {points:"), "outputs", "give `time_history: {points:", "outputs:"),
+    ((", time_history]", "]"), "time_history", "not listed in outputs", "time_history:"),
+    (("samples_per_period: 4096", "samples_per_period: 4"), "time_history.samples_per_period", "8", "4}"),
+    (("[[0.8, 1.0]", "[[-0.8, 1.0]"), "time_history.points[0][0]", "must be > 0", "-0.8,"),
     (("samples_per_period: 4096}", "samples_per_period: 4096}\nsweep: {direction: up}"), "sweep",
-     "would not follow the sweep"),
+     "would not follow the sweep", "sweep:"),
 ])
-def test_spec_errors_name_the_key(tmp_path, change, key, reason):
+def test_spec_errors_name_the_key(tmp_path, change, key, reason, at):
+    """file:line:column: key: reason, exit 2, no cube; the line and column point at the offending text."""
     spec = tmp_path / "bad.yaml"
     text = SPEC.replace(*change)
     assert text != SPEC
@@ -103,7 +195,11 @@ def test_spec_errors_name_the_key(tmp_path, change, key, reason):
     with in_dir(tmp_path):
         res = CliRunner().invoke(main, ["run", str(spec), "-o", "bad.h5"])
         assert res.exit_code == 2 and isinstance(res.exception, SystemExit), res.output
-        assert f": {key}: " in res.stderr and reason in res.stderr, res.stderr
+        where = re.search(rf"^{re.escape(str(spec))}:(\d+):(\d+): {re.escape(key)}: .*{re.escape(reason)}",
+                          res.stderr, re.M)
+        assert where, res.stderr
+        line, column = int(where[1]), int(where[2])
+        assert text.splitlines()[line - 1][column - 1:].startswith(at), res.stderr
         assert not (tmp_path / "bad.h5").exists()
 
 
@@ -163,8 +259,8 @@ def test_fsweep_plot_draws_a_stored_orbit_and_its_loops(run, tmp_path):
         contact="platform").values, u[0]))
     assert u[0] == u[-1] and f[0] == f[-1]
     assert quicklook_structure.default_kind(ds, ("history_point=2",)) == "orbit"
-    with pytest.raises(quicklook_structure.PlotError, match="holds histories 0..2"):
-        quicklook_structure.draw(ds, "orbit", ("history_point=3",))
+    with pytest.raises(quicklook_structure.PlotError, match="holds histories 0..3"):
+        quicklook_structure.draw(ds, "orbit", ("history_point=4",))
     with in_dir(tmp_path):
         res = CliRunner().invoke(main, ["plot", str(run[3]), "--kind", "orbit", "-o", "o.png"])
         assert res.exit_code == 0, res.output
