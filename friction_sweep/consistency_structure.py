@@ -21,6 +21,8 @@ own variables and the structure it records (structures.recorded), with no kernel
                   give (two integrations of one orbit: closed form, Gauss-Legendre; HARMONICS_RTOL), and
                   each contact's force, at most s mu_s_j in size, has |F_0| <= s mu_s_j and
                   |F_k| <= (4/pi) s mu_s_j for k >= 1 (the square wave's, the largest a bounded force has)
+    history       (outputs: time_history) every stored orbit's contact forces stay within their static band,
+                  |lambda_j| <= s mu_s_j at the history point's friction_scale s (HARMONICS_RTOL slack)
 
 Each rule holds at any steady state, so where static friction gave the cube the states from a moving start
 too (`*_moving` variables) every rule runs on those again (its name with the suffix `_moving`).
@@ -288,7 +290,35 @@ def check_harmonics(ds: xr.Dataset, a: Assembled) -> Finding:
     return tally.finding(rule, checked)
 
 
-RULES = (check_unsettled, check_free_limit, check_stuck_limit, check_bound, check_energy, check_harmonics)
+def check_history(ds: xr.Dataset, a: Assembled) -> Finding:
+    """Rule `history`: each stored orbit's contact forces within their static band (module docstring); its
+    examples name the history point, the contact and the sample."""
+    from friction_sweep.storage.schema import HISTORY_DIM
+
+    rule = "history"
+    if "history_contact_force" not in ds or "history_friction_scale" not in ds.coords:
+        return Finding(rule, SKIPPED, note="no time history")
+    force = np.asarray(ds["history_contact_force"].transpose(HISTORY_DIM, "sample", "contact").values, dtype=float)
+    scale = ds["history_friction_scale"].values.astype(float)
+    frequency = ds["history_frequency"].values.astype(float)
+    stored = np.isfinite(force).any(axis=(1, 2))
+    examples: list[dict] = []
+    violations = 0
+    for k in np.flatnonzero(stored):
+        band = scale[k] * np.asarray(a.mu_s, dtype=float)
+        over = np.abs(force[k]) > band[None, :] * (1.0 + HARMONICS_RTOL)  # NaN (past a shorter orbit) never is
+        if over.any():
+            violations += 1
+            i, j = (int(v) for v in np.argwhere(over)[0])
+            if len(examples) < MAX_EXAMPLES:
+                examples.append({HISTORY_DIM: int(k), "frequency": float(frequency[k]),
+                                 "friction_scale": float(scale[k]), "at": f"{a.contact_names[j]}, sample {i}",
+                                 "found": float(force[k, i, j]), "expected": f"within +-{band[j]:.10g}"})
+    return Finding(rule, FAILED if violations else OK, int(stored.sum()), violations, examples)
+
+
+RULES = (check_unsettled, check_free_limit, check_stuck_limit, check_bound, check_energy, check_harmonics,
+         check_history)
 
 
 def check(ds: xr.Dataset) -> list[Finding]:
@@ -304,8 +334,8 @@ def check(ds: xr.Dataset) -> list[Finding]:
         raise CubeError(str(err)) from None
     findings = [rule(ds, a) for rule in RULES]
     twin = moving_twin(ds)
-    if twin is not None:
-        for rule in RULES:
+    if twin is not None:  # (the time histories are the rest start's: no twin of theirs to check)
+        for rule in (r for r in RULES if r is not check_history):
             finding = rule(twin, a)
             finding.rule += MOVING_SUFFIX
             findings.append(finding)

@@ -265,3 +265,19 @@ def test_fsweep_plot_draws_a_stored_orbit_and_its_loops(run, tmp_path):
         res = CliRunner().invoke(main, ["plot", str(run[3]), "--kind", "orbit", "-o", "o.png"])
         assert res.exit_code == 0, res.output
         assert (tmp_path / "o.png").stat().st_size > 0
+
+
+def test_fsweep_check_holds_each_stored_contact_force_in_its_band(run):
+    """Rule `history`: the cube's stored forces pass; one sample pushed 1 % past the platform's static band
+    fails it, named by its history point, contact and sample."""
+    from friction_sweep import consistency_structure as rules
+
+    ds = run[0]
+    found = {f.rule: f for f in rules.check(ds)}
+    assert found["history"].status == "ok" and found["history"].checked == len(ds["history_frequency"])
+    bad = ds.copy(deep=True)
+    bound = float(bad["history_friction_scale"][0]) * 0.3
+    bad["history_contact_force"][0, 10, 0] = 1.01 * bound
+    f = {f.rule: f for f in rules.check(bad)}["history"]
+    assert f.status == "failed" and f.violations == 1
+    assert f.examples[0]["history_point"] == 0 and f.examples[0]["at"] == "platform, sample 10"
