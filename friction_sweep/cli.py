@@ -646,6 +646,13 @@ def _info_structure(result: Path, ds, a: dict) -> None:
     click.echo(f"  spec: {a.get('spec_path')}")
     _echo_contact_regimes({name: (ds[name].dims, ds[name].values) for name in ds.data_vars},
                           ds["contact"].values.tolist())
+    if "history_frequency" in ds.coords:  # outputs: time_history
+        where = ds["history_frequency"].values.tolist()
+        periods = (ds["history_orbit_period"].values.tolist() if "history_orbit_period" in ds
+                   else [float("nan")] * len(where))
+        points = zip(where, ds["history_friction_scale"].values.tolist(), periods, strict=True)
+        click.echo("  time histories (frequency, friction_scale: orbit periods): " + ", ".join(
+            f"{w:g}, {s:g}: {k:g}" for w, s, k in points))
     for name in ("amplitude", "peak_amplitude"):
         if name in ds:
             click.echo(f"  {name}:{_units_note(ds[name]) or ' dimensionless'}")

@@ -281,3 +281,13 @@ def test_fsweep_check_holds_each_stored_contact_force_in_its_band(run):
     f = {f.rule: f for f in rules.check(bad)}["history"]
     assert f.status == "failed" and f.violations == 1
     assert f.examples[0]["history_point"] == 0 and f.examples[0]["at"] == "platform, sample 10"
+
+
+def test_fsweep_info_lists_the_stored_orbits(run):
+    """fsweep info names each stored orbit: where it lies and its periods."""
+    res = CliRunner().invoke(main, ["info", str(run[3])])
+    assert res.exit_code == 0, res.output
+    periods = run[0]["history_orbit_period"].values
+    assert (periods >= 1).all()
+    listed = ", ".join(f"{p[0]:g}, {p[1]:g}: {k:g}" for p, k in zip(POINTS, periods, strict=True))
+    assert f"  time histories (frequency, friction_scale: orbit periods): {listed}\n" in res.output
