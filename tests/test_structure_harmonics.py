@@ -153,3 +153,19 @@ def test_spec_errors_name_the_key(tmp_path, change, key, reason):
         assert head == "fsweep: error: invalid spec"
         assert line.startswith(f"{spec}:") and f": {key}: " in line and reason in line, line
         assert not (tmp_path / "bad.h5").exists()
+
+
+def test_a_grid_of_frequency_ratios_takes_harmonics_and_histories(tmp_path):
+    """With `grid: {frequency_ratio: ...}` the harmonics' size check reads that axis (it read `frequency`, and
+    validation failed with a KeyError), and a time history's point is a ratio like the grid's: it lies at the
+    grid's engine frequency of the same ratio."""
+    spec = tmp_path / "r.yaml"
+    spec.write_text(HARMONICS.replace("frequency: {start: 0.2, stop: 3.0, num: 5}",
+                                      "frequency_ratio: [0.5, 1.0, 1.5]")
+                    .replace("harmonics]", "harmonics, time_history]")
+                    + "time_history: {points: [[1.0, 1.0]], samples_per_period: 32}\n")
+    res = CliRunner().invoke(main, ["run", str(spec), "-o", str(tmp_path / "r.h5"), "-q"])
+    assert res.exit_code == 0, res.output
+    with xr.open_dataset(tmp_path / "r.h5", engine="h5netcdf") as ds:
+        assert ds.sizes["harmonic"] == 7 and ds.sizes["frequency"] == 3
+        assert float(ds["history_frequency"][0]) == float(ds["frequency"][1])

@@ -616,6 +616,11 @@ class StructureGrid(_Model):
         values.flags.writeable = False  # re-set after unpickling
         return values
 
+    @property
+    def written_frequency(self) -> np.ndarray:
+        """The frequency axis as the spec writes it: `frequency`, or `frequency_ratio` where it gives that."""
+        return self.values("frequency_ratio" if self.frequency_ratio is not None else "frequency")
+
 
 class StructureTimeHistory(_Model):
     """Points (frequency, friction_scale) whose steady orbits are stored (outputs: time_history), sampled
@@ -806,7 +811,7 @@ class StructureSpec(_Sourced):
             mapped = structure_map(self.structure, self.scene.excitation, grid.reference)
         except ValueError as err:
             raise _error("reference", str(err), ("grid", "reference")) from None
-        given = grid.values("frequency_ratio" if by_ratio else "frequency")
+        given = grid.written_frequency
 
         def engine(values: np.ndarray) -> np.ndarray:
             if self.structure.units == "physical":
@@ -933,7 +938,7 @@ class StructureSpec(_Sourced):
             yield _error("harmonics_sweep", "a swept run does not store harmonics: run the grid without sweep",
                          ("sweep",))
         H = self.settings.get("harmonics", CATALOGUED[METHOD].defaults["harmonics"])
-        values = self.grid.values("friction_scale").size * self.grid.values("frequency").size * (H + 1) * max(
+        values = self.grid.values("friction_scale").size * self.grid.written_frequency.size * (H + 1) * max(
             len(self.structure.dofs), len(self.structure.contacts))
         if isinstance(H, int) and values > g.MAX_POINTS:
             yield _error("harmonics_size", f"{values} values (grid points x {H + 1} harmonics x masses or contacts) "
