@@ -100,14 +100,9 @@ OUTPUT_GROUPS = {
     "stability": ("floquet_multiplier",),
     "harmonics": ("response_harmonic_real", "response_harmonic_imag", "friction_harmonic_real",
                   "friction_harmonic_imag"),
-    # on dims of their own (history_point, sample), beside the plane: StructureSpec.history_variables
+    # on dims of their own (history_point, sample), beside the plane: batch.structure_sweep.histories
     "time_history": (),
 }
-#: the time-history variables (outputs: time_history; structures.history), on (history_point, sample[, dof or
-#: contact]), and the coordinates on history_point that say where each lies
-HISTORY_VARIABLES = ("history_orbit_period", "history_time", "history_displacement", "history_contact_force",
-                     "history_relative_displacement")
-HISTORY_COORDS = ("history_frequency", "history_friction_scale")
 DEFAULT_OUTPUTS = ("amplitude", "phase", "regime")
 #: a static over kinetic friction ratio: measured ratios are 1-2 (the 1-DoF effect's bounds)
 STATIC_RATIO = (1.0, 100.0)
@@ -883,9 +878,8 @@ class StructureSpec(_Sourced):
                          f"(settings also has {', '.join(knobs)})", ("accuracy",))
 
     def _history_problems(self):
-        """`time_history:` with the output time_history, and the output with it (the 1-DoF spec's rules); its
-        points' frequencies as the engine's (a plain structure's grid of angular frequencies); its samples
-        bounded."""
+        """`time_history:` with the output time_history, and the output with it, not in a swept run (the 1-DoF
+        spec's rules); its samples bounded (its points' frequencies: _physical_history)."""
         from .model import MAX_HISTORY_SAMPLES
 
         wanted, given = "time_history" in self.outputs, self.time_history is not None
@@ -913,11 +907,6 @@ class StructureSpec(_Sourced):
         assert self.time_history is not None and self._history_frequency is not None
         scale = np.array([p[1] for p in self.time_history.points], dtype=float)
         return np.column_stack([self._history_frequency, scale])
-
-    @property
-    def history_variables(self) -> tuple[str, ...]:
-        """The time-history variables of the cube (outputs: time_history), beside `variables`."""
-        return HISTORY_VARIABLES if "time_history" in self.outputs else ()
 
     def _harmonic_problems(self):
         """The output `harmonics` (settings.harmonics: its highest harmonic H; structures.harmonics): the exact
