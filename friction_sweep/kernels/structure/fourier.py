@@ -35,8 +35,6 @@ from friction_sweep.kernels.structure.flow import INACTIVE, KT
 TAIL_START = KT
 #: the tail series' terms: its ratio is at most 1/2 (x <= KT + 1 < J / 2), so 60 reach 2^-60
 _TAIL_TERMS = 60
-#: the mode cache's slots (period.CACHE): a full step's moments are kept per slot
-_SLOTS = 16
 
 
 @jit
@@ -83,14 +81,13 @@ def moments(x, out):
 
 
 @jit
-def new_fourier(n, m, N, H):
+def new_fourier(n, m, H, slots):
     """The replay's accumulator and workspaces: sums (H + 1, n + m) complex (the integrals of x_1..x_n and of
-    every contact's force against e^{-i k w t}), each mode slot's full-step moments (_SLOTS, H + 1, KT + 1)
-    and the step length they were built for (NaN: none), a step's moments (H + 1, KT + 1), the rows' Taylor
-    coefficients (n + m, KT + 1)."""
-    return (np.zeros((H + 1, n + m), dtype=np.complex128), np.zeros((_SLOTS, H + 1, KT + 1), dtype=np.complex128),
-            np.full(_SLOTS, np.nan), np.empty((H + 1, KT + 1), dtype=np.complex128), np.empty((n + m, KT + 1)),
-            np.empty(KT + 1, dtype=np.complex128))
+    every contact's force against e^{-i k w t}), the full-step moments of each of the mode cache's `slots`
+    (period.CACHE) (slots, H + 1, KT + 1) and the step length they were built for (NaN: none), a step's moments
+    (H + 1, KT + 1), the rows' Taylor coefficients (n + m, KT + 1)."""
+    return (np.zeros((H + 1, n + m), dtype=np.complex128), np.zeros((slots, H + 1, KT + 1), dtype=np.complex128),
+            np.full(slots, np.nan), np.empty((H + 1, KT + 1), dtype=np.complex128), np.empty((n + m, KT + 1)))
 
 
 @jit
@@ -109,7 +106,7 @@ def _fill(table, omega, s):
 def fourier_step(fou, zk, s, full, mi, h, st, L, n, m, N, omega):
     """Add one step of the flow (Taylor coefficients zk of the state at its start, length s; a full step of
     mode slot mi, length h, where `full`) to fou's sums (module docstring)."""
-    sums, slot_tab, slot_h, tab, rows, _ = fou
+    sums, slot_tab, slot_h, tab, rows = fou
     H1 = sums.shape[0]
     if full:
         if slot_h[mi] != h:

@@ -19,7 +19,7 @@ import numpy as np
 from friction_sweep.kernels.jit import jit
 from friction_sweep.kernels.settings import SET_STOP_TOL
 from friction_sweep.kernels.structure.fourier import new_fourier
-from friction_sweep.kernels.structure.period import OK, advance
+from friction_sweep.kernels.structure.period import CACHE, OK, advance
 from friction_sweep.kernels.structure.steady import flow_size, point_forces, replay_start
 
 #: replay statuses: the coefficients are written; the replay failed (budget, a mode that cannot be built)
@@ -36,7 +36,7 @@ def orbit_harmonics(Minv, K, C, W, F, cp, omega, settings, state, periods, out):
     N = flow_size(K, W, cp)
     T = 2.0 * np.pi / omega
     vtol = settings[SET_STOP_TOL]
-    fou = new_fourier(n, m, N, out.shape[0] - 1)
+    fou = new_fourier(n, m, out.shape[0] - 1, CACHE)
     out[:, :] = np.nan
     ok, z, st, cache, budget, J, jflag, harm, xmax, mc = replay_start(Minv, K, C, W, F, cp, omega, settings, state)
     if not ok:
