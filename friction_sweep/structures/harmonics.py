@@ -7,9 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep.codes import SteadyState
 from friction_sweep.structures.model import Assembled
-from friction_sweep.structures.solve import engine_arguments, solve_points
+from friction_sweep.structures.solve import engine_arguments, replay_orbits, solve_points
 
 
 def orbit_harmonics(a: Assembled, frequency, friction_scale, H: int, settings: dict | None = None,
@@ -27,9 +26,7 @@ def orbit_harmonics(a: Assembled, frequency, friction_scale, H: int, settings: d
     if solved is None:
         solved = solve_points(a, w, s, settings)
     n, m = len(a.dof_names), len(a.contact_names)
-    converged = solved["steady_state"] == SteadyState.CONVERGED
-    orbit = np.where(converged, np.nan_to_num(solved["orbit_period"]), 0).astype(np.int64)
     out = np.full((w.size, int(H) + 1, n + m), np.nan, dtype=complex)
     args = engine_arguments(a, settings)
-    harmonics_batch(*args[:7], w, s, args[8], np.ascontiguousarray(solved["end_state"]), orbit, out)
+    harmonics_batch(*args[:7], w, s, args[8], np.ascontiguousarray(solved["end_state"]), replay_orbits(solved), out)
     return {"displacement": out[:, :, :n] / a.amplitude_unit, "contact_force": out[:, :, n:]}

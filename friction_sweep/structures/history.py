@@ -6,10 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from friction_sweep.codes import SteadyState
-from friction_sweep.kernels.structure.flow import CP_MU, CP_MUS
 from friction_sweep.structures.model import Assembled
-from friction_sweep.structures.solve import contact_parameters, engine_settings, solve_points
+from friction_sweep.structures.solve import engine_arguments, replay_orbits, solve_points
 
 
 def time_histories(a: Assembled, points, samples_per_period: int = 256, settings: dict | None = None,
@@ -22,29 +20,26 @@ def time_histories(a: Assembled, points, samples_per_period: int = 256, settings
     L = samples_per_period times the longest orbit among the points (shorter ones padded with NaN, and a
     point without a steady state all NaN), and the solve's arrays (solve_points) under their names."""
     from friction_sweep.kernels.structure.history import SAMPLED, sample_orbit
+    from friction_sweep.kernels.structure.steady import point_forces
 
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     w, s = np.ascontiguousarray(pts[:, 0]), np.ascontiguousarray(pts[:, 1])
     solved = solve_points(a, w, s, settings, start=start)
     n, m = len(a.dof_names), len(a.contact_names)
-    converged = solved["steady_state"] == SteadyState.CONVERGED
-    orbit = np.where(converged, np.nan_to_num(solved["orbit_period"]), 0).astype(int)
+    orbit = replay_orbits(solved)
     S = int(samples_per_period)
     length = S * max(1, int(orbit.max(initial=1)))
     time = np.full((w.size, length), np.nan)
     xs = np.full((w.size, length, n), np.nan)
     lams = np.full((w.size, length, m), np.nan)
-    Minv, W = np.linalg.inv(a.M), np.ascontiguousarray(a.W).reshape(m, n)
-    cp0 = contact_parameters(a)
-    sett = engine_settings(settings, ())
+    Minv, K, C, W, F_cos, F_sin_per_w, cp0, _, sett = engine_arguments(a, settings, ())
+    F, cp = np.empty((2, n)), cp0.copy()
     for i in np.flatnonzero(orbit > 0):
-        cp = cp0.copy()
-        cp[:, [CP_MU, CP_MUS]] *= s[i]  # every friction times the point's scale, as solve_batch
-        F = np.stack([a.F_cos, w[i] * a.F_sin_per_w])
+        point_forces(F_cos, F_sin_per_w, cp0, w[i], s[i], F, cp)  # the point's, as solve_batch's
         k = orbit[i]
         x = np.empty((k * S, n))
         lam = np.empty((k * S, m))
-        if sample_orbit(Minv, a.K, a.C, W, F, cp, w[i], sett, np.ascontiguousarray(solved["end_state"][i]), k, S,
+        if sample_orbit(Minv, K, C, W, F, cp, w[i], sett, np.ascontiguousarray(solved["end_state"][i]), k, S,
                         x, lam) != SAMPLED:
             continue  # the replay ran out of budget: incomplete samples are not shown
         time[i, :k * S] = np.arange(k * S) / S

@@ -66,6 +66,13 @@ def engine_arguments(a: Assembled, settings: dict | None = None,
             contact_parameters(a), rest_state(a), engine_settings(settings, outputs, method))
 
 
+def replay_orbits(solved: dict) -> np.ndarray:
+    """The periods of each solved point's steady orbit, to replay it from its end_state (time histories,
+    harmonics): orbit_period where the search converged, 0 where there is no orbit to replay."""
+    converged = solved["steady_state"] == SteadyState.CONVERGED
+    return np.where(converged, np.nan_to_num(solved["orbit_period"]), 0).astype(np.int64)
+
+
 def solve_points(a: Assembled, frequency, friction_scale, settings: dict | None = None,
                  outputs: Sequence[str] = ("amplitude", "phase", "regime"), method: str = "event",
                  start=None) -> dict[str, np.ndarray]:
