@@ -202,15 +202,12 @@ def run(quick: bool = False, methods=ALL_ROWS, log=print) -> xr.Dataset:
     seconds = np.full(shape, np.nan)
     labels = np.full((len(methods), n_set), "", dtype=object)
     crosscheck = {}
-    for j, region in enumerate(REGIONS):  # the structure's column: its rows only
-        if STRUCTURE_COLUMN not in columns:
-            break
-        k = columns.index(STRUCTURE_COLUMN)
+    k = len(EXCITATIONS)  # the structure's column, where its rows are asked for: those rows only
+    structure_rows = [(i, m) for i, m in enumerate(methods) if m in STRUCTURE_ROWS]
+    for j, region in enumerate(REGIONS if structure_rows else ()):
         pts = np.array(STRUCTURE_REGIONS[region][:1] if quick else STRUCTURE_REGIONS[region])
         ref = _structure_solve(pts, REFERENCE_SETTINGS, "event")[0]
-        for i, m in enumerate(methods):
-            if m not in STRUCTURE_ROWS:
-                continue
+        for i, m in structure_rows:
             for s, settings in enumerate(table[m]):
                 labels[i, s] = label(settings)
                 values, sec = _structure_solve(pts, settings, STRUCTURE_ROWS[m], repeat=3)
