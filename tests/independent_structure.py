@@ -48,6 +48,18 @@ VTOL = 1e-9
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 
 
+def gauss_nodes(plo, phi, sol):
+    """12-point Gauss-Legendre on each solver step of a dense piece (sol, a solve_ivp dense output) within
+    [plo, phi]: (nodes, weights, the state at the nodes) per step."""
+    ts = np.asarray(sol.ts)
+    for s0, s1 in zip(ts[:-1], ts[1:], strict=True):
+        s0, s1 = max(s0, plo), min(s1, phi)
+        if s1 <= s0:
+            continue
+        tt = 0.5 * (s1 - s0) * _GL_X + 0.5 * (s0 + s1)
+        yield tt, 0.5 * (s1 - s0) * _GL_W, sol(tt)
+
+
 @dataclass
 class Model:
     """The structure assembled from its description (any object with the fields of StructureDef)."""
@@ -534,14 +546,7 @@ class Automaton:
             if phi > plo:
                 du = md.W @ (sol(phi)[:n] - sol(plo)[:n]) + md.g * (self.base(phi)[0] - self.base(plo)[0])
                 slide += np.where(mo != 0, np.abs(du), 0.0)
-            ts = np.asarray(sol.ts)
-            for s0, s1 in zip(ts[:-1], ts[1:], strict=True):
-                s0, s1 = max(s0, plo), min(s1, phi)
-                if s1 <= s0:
-                    continue
-                tt = 0.5 * (s1 - s0) * _GL_X + 0.5 * (s0 + s1)
-                wq = 0.5 * (s1 - s0) * _GL_W
-                S = sol(tt)
+            for tt, wq, S in gauss_nodes(plo, phi, sol):
                 X, V, P = S[:n], S[n:2 * n], S[2 * n:]
                 y = md.Y * np.cos(self.w * tt)
                 yd = -md.Y * self.w * np.sin(self.w * tt)

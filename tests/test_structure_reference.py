@@ -19,7 +19,7 @@ import functools
 import numpy as np
 import pytest
 import scipy.linalg
-from independent_structure import Automaton, model
+from independent_structure import Automaton, gauss_nodes, model
 
 from friction_sweep.codes import Regime
 from friction_sweep.structures import ContactDef, StructureDef, assemble, solve_points
@@ -338,14 +338,7 @@ def reference_harmonics(auto, ref, H):
     coef = np.zeros((H + 1, n + auto.md.m), dtype=complex)
     square = np.zeros(n + auto.md.m)
     for plo, phi, sol, mo in ref["pieces"]:
-        ts = np.asarray(sol.ts)
-        for s0, s1 in zip(ts[:-1], ts[1:], strict=True):
-            s0, s1 = max(s0, plo), min(s1, phi)
-            if s1 <= s0:
-                continue
-            tt = 0.5 * (s1 - s0) * _GL_X + 0.5 * (s0 + s1)
-            wq = 0.5 * (s1 - s0) * _GL_W
-            S = sol(tt)
+        for tt, wq, S in gauss_nodes(plo, phi, sol):
             lam = np.array([auto.forces(ti, S[:n, q], S[n:2 * n, q], S[2 * n:, q], mo)[1]
                             for q, ti in enumerate(tt)]).T.reshape(auto.md.m, tt.size)
             rows = np.vstack([S[:n], lam])
@@ -356,7 +349,6 @@ def reference_harmonics(auto, ref, H):
     return coef, square / span
 
 
-_GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
 #: points in every regime, a Jenkins contact, base excitation (absolute displacements), two contacts
 HARMONIC_POINTS = [("chain", 0.8, 1.0), ("chain", 2.0, 0.1), ("jenkins", 0.8, 1.0), ("base", 1.0, 1.0),
                    ("three", 1.2, 1.0)]
