@@ -132,6 +132,30 @@ def refine(d, lo, hi):
 
 
 @jit
+def leaves_zero(da, w):
+    """Whether P, with derivatives da at a mode's start (those below its first that is not zero to rounding
+    set to zero by at_start), stays positive on (0, w]: with d_j its first derivative not zero,
+    P(t) >= t^j (d_j / j! - B t / (j + 1)!) there, B = sum_l |d_(j+1+l)| w^l / l! >= max |P^(j+1)| on the
+    piece (Taylor's remainder; P is a polynomial, the sum its exact expansion). So it holds where
+    d_j > 0 and (j + 1) d_j > B w. This passes a function that leaves zero tangentially (a break-away
+    with static = kinetic friction: u'' = 0 there, the slip's g = sig u' leaving with its second
+    derivative) on the piece at once, where the concave bound from g' alone holds nothing and the
+    halving would go down to MIN_WIDTH."""
+    K = da.shape[0]
+    for j in range(K - 1):
+        if da[j] != 0.0:
+            if da[j] < 0.0:
+                return False
+            B = 0.0
+            c = 1.0
+            for k in range(K - 1 - j):
+                B += abs(da[j + 1 + k]) * c
+                c *= w / (k + 1)
+            return (j + 1) * da[j] > B * w
+    return False
+
+
+@jit
 def first_root(d, dmag, h, start):
     """The first s in [0, h] where P reaches zero from above, or -1.0. `start`: s = 0 is a mode's start,
     where a function at zero (to rounding: dmag as at_start) that leaves is not an event."""
@@ -168,6 +192,8 @@ def first_root(d, dmag, h, start):
         else:
             g1b = slope(d, b)
             if ga > 0.0 and min(ga, gb) > 0.125 * B * w * w:
+                continue
+            if a == 0.0 and start and leaves_zero(da, w):
                 continue
             if (ga > 0.0 or g1a > 0.0 or (a == 0.0 and start)) and ga + g1a * w - 0.5 * B * w * w > 0.0:
                 continue
