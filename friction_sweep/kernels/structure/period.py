@@ -103,14 +103,20 @@ _DRIVEN_SAMPLES = 16
 _DRIVEN_REFINE = 40
 
 
+#: the derivatives of an event function by which a switch judges a trial mode (_leaves): g to g'''
+_TRIAL_DERIVS = 4
+
+
 @jit
 def switch_workspace(n, m, N):
-    """resolve's workspace: build_mode's (mode_workspace), three rows of N and two of 4 for the event
-    functions' derivatives (_leaves), the set Z and the trial and best statuses."""
+    """resolve's workspace: build_mode's (mode_workspace), a trial mode's event rows' A-powers
+    (2m x _TRIAL_DERIVS x N), two rows of _TRIAL_DERIVS for an event function's derivatives (_leaves), the
+    set Z, the trial and best statuses, and the trial's event rows and their flags (event_rows)."""
     m1 = max(m, 1)
     fb, ib = mode_workspace(n, m, N)
-    return (fb, ib, np.empty((3, N)), np.empty((2, 4)), np.empty(m1, dtype=np.int64),
-            np.empty(m1, dtype=np.int64), np.empty(m1, dtype=np.int64))
+    return (fb, ib, np.empty((2 * m1, _TRIAL_DERIVS, N)), np.empty((2, _TRIAL_DERIVS)), np.empty(m1, dtype=np.int64),
+            np.empty(m1, dtype=np.int64), np.empty(m1, dtype=np.int64), np.empty((2 * m1, N)),
+            np.empty(2 * m1, dtype=np.bool_))
 
 
 #: new_cache's slots by name (numba indexes a tuple of arrays by constants: these are). The mode cache: each
@@ -147,21 +153,44 @@ def new_cache(n, m, N):
 
 
 @jit
-def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
-    """Index of mode st in the cache, built there (A, exp(A h), forces, event rows and their A-powers)
-    if it is not."""
-    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
-    m = W.shape[0]
-    n = K.shape[0]
-    used = c_cnt[0]
-    for i in range(used):
+def find(st, c_st, c_cnt):
+    """Index of mode st in the cache (its C_ST and C_COUNTS), -1 where it is not there. The callers on the
+    hot paths (a mode's entry, a switch's trials) try it before lookup: a call that carries the whole
+    cache tuple costs about a microsecond (numba counts a reference to each of its arrays in and out),
+    this one, inlined, nanoseconds."""
+    for i in range(c_cnt[0]):
         same = True
-        for j in range(m):
+        for j in range(st.shape[0]):
             if c_st[i, j] != st[j]:
                 same = False
                 break
         if same:
             return i
+    return -1
+
+
+@jit
+def event_powers(rows, act, A, ck):
+    """ck[f, k] = rows[f] A^k for every armed event function f (act[f]) and k < ck.shape[1]: the Taylor
+    coefficients' rows of g = rows[f] . z(t) (a mode's, in the cache; a trial's, _violation)."""
+    for f in range(rows.shape[0]):
+        if act[f]:
+            ck[f, 0, :] = rows[f, :]
+            for k in range(1, ck.shape[1]):
+                vecmat(ck[f, k - 1], A, ck[f, k])
+
+
+@jit
+def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
+    """Index of mode st in the cache, built there (A, exp(A h), forces, event rows and their A-powers)
+    if it is not."""
+    found = find(st, cache[C_ST], cache[C_COUNTS])
+    if found >= 0:
+        return found
+    c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
+    m = W.shape[0]
+    n = K.shape[0]
+    used = c_cnt[0]
     if used < CACHE:
         i = used
         c_cnt[0] = used + 1
@@ -182,12 +211,7 @@ def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
     expm_taylor(A, h, c_E[i])
     N = A.shape[0]
     event_rows(st, W, cp, omega, c_L[i], N, c_rows[i], c_act[i])
-    for f in range(2 * m):
-        if c_act[i, f]:
-            ck = c_ck[i, f]
-            ck[0, :] = c_rows[i, f, :]
-            for k in range(1, KT + 1):
-                vecmat(ck[k - 1], A, ck[k])
+    event_powers(c_rows[i], c_act[i], A, c_ck[i])
     return i
 
 
@@ -263,27 +287,22 @@ def _project(z, Z, nz, Minv, W, cp, omega, R, ws):
 
 
 @jit
-def _leaves(c, z, A, at_zero, ws):
-    """How far g = c . z(t) in mode A misses staying >= 0 from z (0: it stays; the same test as first_root's
-    at a mode's start, roots.at_start, so a chosen mode never fires at once): g > 0 beyond rounding, or
-    zero to rounding (at_zero: zero by construction) and its first derivative not zero to rounding
-    positive. Otherwise -g where it is negative, else the tiny 1e-300 (an outward derivative: the contact
-    would switch again at once). ws: a switch_workspace."""
+def _leaves(ck, z, at_zero, dd):
+    """How far g = c . z(t) misses staying >= 0 from z (0: it stays; the same test as first_root's at a
+    mode's start, roots.at_start, so a chosen mode never fires at once), from ck[k] = c A^k (k <
+    _TRIAL_DERIVS, the mode's A): g > 0 beyond rounding, or zero to rounding (at_zero: zero by
+    construction) and its first derivative not zero to rounding positive. Otherwise -g where it is
+    negative, else the tiny 1e-300 (an outward derivative: the contact would switch again at once). dd: a
+    workspace for the derivatives and the sizes of their terms (switch_workspace's)."""
     N = z.shape[0]
-    ck = ws[2][1]
-    nxt = ws[2][2]
-    d = ws[3][0]
-    dmag = ws[3][1]
-    ck[:] = c
+    d = dd[0]
+    dmag = dd[1]
     for k in range(d.shape[0]):
-        if k > 0:
-            vecmat(ck, A, nxt)
-            ck[:] = nxt
         acc = 0.0
         mag = 0.0
         for i in range(N):
-            acc += ck[i] * z[i]
-            mag += abs(ck[i] * z[i])
+            acc += ck[k, i] * z[i]
+            mag += abs(ck[k, i] * z[i])
         d[k] = acc
         dmag[k] = mag
     if at_zero:
@@ -294,47 +313,72 @@ def _leaves(c, z, A, at_zero, ws):
 
 
 @jit
-def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L, ws):
-    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): a stuck force
-    beyond its static band or on its edge moving out, a released contact (at zero relative velocity) not
-    accelerating in its slip direction; judged by the first derivative not zero to rounding, so that two
-    contacts whose forces reach their bands together (static = kinetic friction: no jump in force, u'' = 0
-    at the break-away) are told by the next derivatives."""
-    n = W.shape[1]
-    N = z.shape[0]
-    if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L, ws):
-        return np.inf
-    c = ws[2][0]
+def _rows_violation(trial, Z, nz, z, ck, dd):
+    """_violation from the trial mode's event rows and their A-powers ck (2 per contact)."""
     bad = 0.0
     for a in range(nz):
         j = Z[a]
         if trial[j] == STUCK:
-            for e in (1.0, -1.0):
-                for k in range(N):
-                    c[k] = -e * L[j, k]
-                c[N - 1] += cp[j, CP_MUS]
-                bad += _leaves(c, z, A, False, ws)
+            bad += _leaves(ck[2 * j], z, False, dd)
+            bad += _leaves(ck[2 * j + 1], z, False, dd)
         else:
-            c[:] = 0.0
-            for i in range(n):
-                c[n + i] = trial[j] * W[j, i]
-            c[N - 2] = trial[j] * cp[j, CP_EY] * omega
             # g = sig u' is zero here (resolve projected it); the slip holds where it grows
-            bad += _leaves(c, z, A, True, ws)
+            bad += _leaves(ck[2 * j], z, True, dd)
     return bad
 
 
 @jit
-def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
+def _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, T, cache):
+    """How far statuses `trial` miss consistency at z (0: consistent; module docstring): a stuck force
+    beyond its static band or on its edge moving out (g = mus -+ lambda, the mode's event rows), a
+    released contact (at zero relative velocity) not accelerating in its slip direction (g = sig u');
+    judged by the first derivative not zero to rounding, so that two contacts whose forces reach their
+    bands together (static = kinetic friction: no jump in force, u'' = 0 at the break-away) are told by
+    the next derivatives. The derivatives come from the mode cache's event rows where the trial mode is
+    there or a slot is free (it is built there: a trial is mostly a mode the orbit enters, or one tried
+    again at the next switch, period after period), else from rows built aside (a full cache: trials
+    evict nothing)."""
+    ws = cache[W_SWITCH]
+    # not in the cache (_cached_violation): built there where a slot is free
+    i = lookup(trial, Minv, K, C, W, F, cp, omega, T, cache) if cache[C_COUNTS][0] < CACHE else -1
+    if i >= 0:
+        if not cache[C_OK][i]:
+            return np.inf
+        return _rows_violation(trial, Z, nz, z, cache[C_CK][i], ws[3])
+    A = cache[W_ATMP]
+    L = cache[W_LTMP]
+    if not build_mode(trial, Minv, K, C, W, F, cp, omega, A, L, ws):
+        return np.inf
+    event_rows(trial, W, cp, omega, L, z.shape[0], ws[7], ws[8])
+    event_powers(ws[7], ws[8], A, ws[2])
+    return _rows_violation(trial, Z, nz, z, ws[2], ws[3])
+
+
+@jit
+def _cached_violation(trial, Z, nz, z, c_st, c_cnt, c_ok, c_ck, dd):
+    """_violation where the trial mode is in the cache (its C_ST, C_COUNTS, C_OK, C_CK), -1 where it is not:
+    a call that carries only these arrays, where one with the whole cache tuple costs about a microsecond
+    (numba counts a reference to each of its arrays in and out)."""
+    i = find(trial, c_st, c_cnt)
+    if i < 0:
+        return -1.0
+    return _rows_violation(trial, Z, nz, z, c_ck[i], dd) if c_ok[i] else np.inf
+
+
+@jit
+def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache):
     """The rigid contacts' new statuses at a switch of contact j0 (sig0 != 0: j0 breaks away that way;
-    j0 < 0: the start), projecting z and filling R; False where the projection fails. The relative
-    velocities of the contacts at zero (Z) are projected to zero first; then the present statuses with
-    j0's switch (stuck, or slipping sig0) are kept if consistent; else the enumeration of the module
-    docstring (each trial costs one unit of budget). ws: a switch_workspace (the point's, new_cache's last;
-    nothing allocated)."""
+    j0 < 0: the start), projecting z and filling the reset R (the cache's W_R); False where the projection
+    fails. The relative velocities of the contacts at zero (Z) are projected to zero first; then the present
+    statuses with j0's switch (stuck, or slipping sig0) are kept if consistent; else the enumeration of the
+    module docstring (each trial costs one unit of budget). cache: the point's mode cache (new_cache: the
+    trials' modes, T the period its step lengths are built for, and the workspaces; nothing allocated)."""
     m = W.shape[0]
     n = W.shape[1]
     N = z.shape[0]
+    ws = cache[W_SWITCH]
+    R = cache[W_R]
+    c_st, c_cnt, c_ok, c_ck = cache[C_ST], cache[C_COUNTS], cache[C_OK], cache[C_CK]
     Z = ws[4]
     nz = 0
     vscale = 0.0
@@ -354,7 +398,10 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget,
     trial[:] = st
     if j0 >= 0:
         trial[j0] = STUCK if sig0 == 0 else sig0
-        if _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L, ws) == 0.0:
+        bad = _cached_violation(trial, Z, nz, z, c_st, c_cnt, c_ok, c_ck, ws[3])
+        if bad < 0.0:
+            bad = _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, T, cache)
+        if bad == 0.0:
             st[:] = trial
             return True
     best = ws[6][:m]
@@ -379,7 +426,9 @@ def resolve(z, st, j0, sig0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget,
             if sig0 != 0 and trial[j0] != sig0:
                 continue
             budget[0] -= 1
-            bad = _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, A, L, ws)
+            bad = _cached_violation(trial, Z, nz, z, c_st, c_cnt, c_ok, c_ck, ws[3])
+            if bad < 0.0:
+                bad = _violation(trial, Z, nz, z, Minv, K, C, W, F, cp, omega, T, cache)
             if bad == 0.0:
                 best[:] = trial
                 found = True
@@ -638,10 +687,9 @@ def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget
     mode from the forces (the rules in this module's docstring), the per-contact labels where meas, and
     J <- S J (the saltation) where jac. False where it fails (dependent constraints, a mode that cannot be
     built). Shared by advance and the rk4 stepper (rk4.py)."""
-    c_A, c_rows, c_ok = cache[C_A], cache[C_ROWS], cache[C_OK]
-    znew, R, Atmp, Ltmp, Jtmp, fv, crow, before, S, sw = (cache[W_ZNEW], cache[W_R], cache[W_ATMP], cache[W_LTMP],
-                                                         cache[W_JTMP], cache[W_FV], cache[W_CROW], cache[W_BEFORE],
-                                                         cache[W_S], cache[W_SWITCH])
+    c_A, c_rows, c_ok, c_cnt = cache[C_A], cache[C_ROWS], cache[C_OK], cache[C_COUNTS]
+    znew, R, Jtmp, fv, crow, before, S, sw = (cache[W_ZNEW], cache[W_R], cache[W_JTMP], cache[W_FV], cache[W_CROW],
+                                             cache[W_BEFORE], cache[W_S], cache[W_SWITCH])
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -674,7 +722,7 @@ def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget
                     mc[j, MC_SIGN] = -old
                 mc[j, MC_ANCHOR] = 0.0
         else:
-            if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
+            if not resolve(z, st, j, 0, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache):
                 return False
     else:
         sig = 1 if fired % 2 == 0 else -1
@@ -698,14 +746,16 @@ def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget
                 mu = cp[j, CP_MU]
                 mc[j, MC_ENERGY] += (mus * mus - mu * mu) / (2.0 * kt)
         else:
-            if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, vtol, Atmp, Ltmp, R, budget, sw):
+            if not resolve(z, st, j, sig, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache):
                 return False
     if meas:
         for q in range(m):
             if cp[q, CP_KT] <= 0.0 and st[q] == STUCK and before[q] != STUCK:
                 mc[q, MC_STOPS] += 1.0
     if jac:
-        mj = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
+        mj = find(st, cache[C_ST], c_cnt)
+        if mj < 0:
+            mj = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
         if not c_ok[mj]:
             return False
         fplus = fv[1]
@@ -735,7 +785,9 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     N = z.shape[0]
     t = 0.0
     while t < T:
-        mi = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
+        mi = find(st, c_st, c_cnt)
+        if mi < 0:
+            mi = lookup(st, Minv, K, C, W, F, cp, omega, T, cache)
         if not c_ok[mi]:
             return FAILED
         A = c_A[mi]

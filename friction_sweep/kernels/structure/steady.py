@@ -60,7 +60,6 @@ from friction_sweep.kernels.structure.period import (
     MC_STUCK,
     MC_SUMS,
     OK,
-    W_SWITCH,
     advance,
     new_cache,
     rel_position,
@@ -124,7 +123,7 @@ def row_size(n: int, m: int) -> int:
 
 
 @jit
-def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
+def _section(z, st, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache):
     """Make the modes at the section (t = 0) agree with the state (after a Newton step): slip signs from
     the relative velocities, a slipping slider slaved to its spring, the rigid stick set re-chosen."""
     n = K.shape[0]
@@ -150,7 +149,7 @@ def _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws):
                     z[slot] = rel_position(z, W, cp, j, n, N) - s * cp[j, CP_MU] / kt
         elif st[j] != STUCK and abs(u1) > 0.0:
             st[j] = 1 if u1 > 0.0 else -1
-    return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, ws)
+    return resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache)
 
 
 @jit
@@ -273,8 +272,7 @@ def _least_period(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget,
 
 
 @jit
-def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R, J, jflag, harm, xmax,
-            mc, cap):
+def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, J, jflag, harm, xmax, mc, cap):
     """Newton shooting on P^k(s) = s from z (in place where it converges): NO_ORBIT, or ORBIT, or MEASURED
     where the period that confirmed convergence was also measured (_speculate): harm, xmax, mc then hold
     the measurement of P^k from z (mc's label state after one pass) and J, jflag its monodromy, as
@@ -293,7 +291,7 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
     # that falls like 1 / |s| while the absolute one stays
     ref = max(_norm(z, Nd), scale)
     for _ in range(_NEWTON_ITERATIONS):
-        if not _section(zs, sts, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[W_SWITCH]):
+        if not _section(zs, sts, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache):
             return NO_ORBIT
         z0 = zs.copy()
         st0 = sts.copy()
@@ -512,9 +510,6 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     cache = new_cache(n, m, N)
     if settings[SET_KERNEL] == KERNEL_RK4:
         cache[C_COUNTS][2] = max(1, int(settings[SET_STEPS_PER_PERIOD]))
-    A = np.empty((N, N))
-    L = np.empty((max(m, 1), N))
-    R = np.empty((N, N))
     harm = np.zeros((n, 4))
     xmax = np.zeros(n)
     mc = np.zeros((max(m, 1), MC_SIZE))
@@ -544,10 +539,10 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     status = _PERIOD_CAP
     orbit = 0
     if np.isnan(start[0]):
-        ready = resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[W_SWITCH])
+        ready = resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache)
     else:
         _start(z, st, start, W, cp, n, Nd)
-        ready = _section(z, st, Minv, K, C, W, F, cp, omega, vtol, A, L, R, budget, cache[W_SWITCH])
+        ready = _section(z, st, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache)
     if not ready:
         status = _NONFINITE
         max_periods = 0
@@ -609,16 +604,16 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 zs = z.copy()
                 sts = st.copy()
                 lag = _suggested_lag(z, hist, p, maxk, Nd)
-                found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L, R,
-                                J, jflag, harm, xmax, mc, cap)
+                found = _newton(zs, sts, lag, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, J, jflag,
+                                harm, xmax, mc, cap)
                 if found == NO_ORBIT and lag > 1:
                     # the suggestion was wrong (a period-1 orbit approached with a multiplier near -1 whose P^k
                     # Newton misses): shoot on P as without it
                     zs[:] = z
                     sts[:] = st
                     lag = 1
-                    found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, A, L,
-                                    R, J, jflag, harm, xmax, mc, cap)
+                    found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, J,
+                                    jflag, harm, xmax, mc, cap)
                 if found != NO_ORBIT and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > STICK_SHOT_REACH * size:
                     # an orbit static friction holds elsewhere, or the one the march approaches from afar:
                     # held until the march comes near it (measured afresh then)
@@ -702,8 +697,7 @@ def replay_start(Minv, K, C, W, F, cp, omega, settings, state):
     z[N - 1] = 1.0
     st = np.zeros(max(m, 1), dtype=np.int64)[:m]
     _start(z, st, state, W, cp, n, Nd)
-    ok = _section(z, st, Minv, K, C, W, F, cp, omega, settings[SET_STOP_TOL], np.empty((N, N)),
-                  np.empty((max(m, 1), N)), np.empty((N, N)), budget, cache[W_SWITCH])
+    ok = _section(z, st, Minv, K, C, W, F, cp, omega, 2.0 * np.pi / omega, settings[SET_STOP_TOL], budget, cache)
     return (ok, z, st, cache, budget, np.zeros((N, Nd)), np.ones(1), np.zeros((n, 4)), np.zeros(n),
             np.zeros((max(m, 1), MC_SIZE)))
 
