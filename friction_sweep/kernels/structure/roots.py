@@ -1,6 +1,6 @@
 """The first root of an event function on one step, none missed (DESIGN §7).
 
-On a step of length h (|A| h <= 1/2) an event function g(t) = c . exp(A t) z is its Taylor polynomial
+On a step of length h (|A| h <= 1) an event function g(t) = c . exp(A t) z is its Taylor polynomial
 P(s) = sum_k d_k s^k / k!, d_k = c . A^k z, k <= KT, to rounding. On a piece [a, b] of width w the bound
 B = sum_k |P^(k+2)(a)| w^k / k! holds |g''| there (P is a polynomial, the sum is its exact expansion).
 A piece with g(a), g(b) > 0 holds no root where any of these holds:
@@ -106,6 +106,10 @@ def refine(d, lo, hi):
     x = hi
     for _ in range(200):
         p = value(d, x)
+        if p == 0.0:
+            # the root itself, where Newton lands more often than not: the bracket's other end may be far, and
+            # a Newton step from it overshoots past x, which the halving then closed on, 50 steps
+            return x
         if p > 0.0:
             lo = x
         else:
