@@ -268,16 +268,6 @@ def matvec(A, z, out):
 
 
 @jit
-def vecmat(c, A, out):
-    """out = c A (a row times A: an event function's next Taylor row), a plain loop (as matvec)."""
-    for col in range(A.shape[1]):
-        acc = 0.0
-        for q in range(A.shape[0]):
-            acc += c[q] * A[q, col]
-        out[col] = acc
-
-
-@jit
 def dot(a, b):
     """a . b, a plain loop (as matvec)."""
     acc = 0.0
@@ -439,10 +429,21 @@ def term_sizes(ck, z, dmag):
 
 @jit
 def powers(A, z, zk):
-    """zk[k] = A^k z for k = 0..KT (the Taylor coefficients of z(t) at t = 0, times k!)."""
+    """zk[k] = A^k z for k = 0..KT (the Taylor coefficients of z(t) at t = 0, times k!). The products skip A's
+    zeros (sparsity): a mode's A is mostly zeros (a chain's v rows hold a few stiffnesses each), and the
+    sums over the rest, in matvec's order, are matvec's bit for bit where z is finite (a skipped term is an
+    exact zero)."""
+    N = A.shape[0]
+    cols = np.empty(N * N, dtype=np.int64)
+    starts = np.empty(N + 1, dtype=np.int64)
+    sparsity(A, cols, starts)
     zk[0, :] = z
     for k in range(1, zk.shape[0]):
-        matvec(A, zk[k - 1], zk[k])
+        for i in range(N):
+            acc = 0.0
+            for e in range(starts[i], starts[i + 1]):
+                acc += A[i, cols[e]] * zk[k - 1, cols[e]]
+            zk[k, i] = acc
 
 
 @jit

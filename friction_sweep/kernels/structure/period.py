@@ -71,9 +71,9 @@ from friction_sweep.kernels.structure.flow import (
     mode_workspace,
     powers,
     solve_small,
+    sparsity,
     taylor_state,
     term_sizes,
-    vecmat,
 )
 from friction_sweep.kernels.structure.fourier import fourier_step
 from friction_sweep.kernels.structure.roots import ZERO_RTOL, at_start, first_root
@@ -177,12 +177,23 @@ def find(st, c_st, c_cnt):
 @jit
 def event_powers(rows, act, A, ck):
     """ck[f, k] = rows[f] A^k for every armed event function f (act[f]) and k < ck.shape[1]: the Taylor
-    coefficients' rows of g = rows[f] . z(t) (a mode's, in the cache; a trial's, _violation)."""
+    coefficients' rows of g = rows[f] . z(t) (a mode's, in the cache; a trial's, _violation). The products
+    skip A's zeros (flow.sparsity), each column summed over the rows of A in order: the dense row-times-matrix
+    loop's values bit for bit where the rows are finite."""
+    N = A.shape[0]
+    cols = np.empty(N * N, dtype=np.int64)
+    starts = np.empty(N + 1, dtype=np.int64)
+    sparsity(A, cols, starts)
     for f in range(rows.shape[0]):
         if act[f]:
             ck[f, 0, :] = rows[f, :]
             for k in range(1, ck.shape[1]):
-                vecmat(ck[f, k - 1], A, ck[f, k])
+                out = ck[f, k]
+                out[:] = 0.0
+                for q in range(N):
+                    c = ck[f, k - 1, q]
+                    for e in range(starts[q], starts[q + 1]):
+                        out[cols[e]] += c * A[q, cols[e]]
 
 
 @jit
