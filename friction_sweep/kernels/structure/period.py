@@ -65,7 +65,6 @@ from friction_sweep.kernels.structure.flow import (
     expm_apply,
     expm_nodes,
     expm_taylor,
-    matmul,
     matvec,
     mode_rate,
     mode_workspace,
@@ -123,11 +122,9 @@ def switch_workspace(n, m, N):
 
 #: new_cache's slots by name (numba indexes a tuple of arrays by constants: these are). The mode cache: each
 #: slot's statuses, A, exp(A h), contact-force rows, event rows and their A-powers, which events are armed,
-#: h, whether the mode could be built, the counts; each mode's node matrices and whether they are built; each
-#: mode's exp(A h)^k for its last run of k full steps and that k (_jac_steps)
+#: h, whether the mode could be built, the counts; each mode's node matrices and whether they are built
 C_ST, C_A, C_E, C_L, C_ROWS, C_CK, C_ACT, C_H, C_OK, C_COUNTS = range(10)
 C_G, C_GOK = 25, 26
-C_P, C_PK = 28, 29
 #: advance's workspaces (new_cache's docstring), the switch's last
 (W_ZK, W_ZNEW, W_D, W_DMAG, W_R, W_ATMP, W_LTMP, W_JTMP, W_JTMP2, W_FV, W_CROW, W_BEFORE, W_S, W_ZQ,
  W_COEF) = range(10, 25)
@@ -139,10 +136,10 @@ def new_cache(n, m, N):
     """The mode cache's arrays, built once per point, and advance's workspaces (zk, znew, d, dmag, R, Atmp,
     Ltmp, two of J's shape, f-/f+/R f-, the event row, the statuses before a switch, S, the states at the
     Gauss nodes and their Taylor coefficients, each mode's node matrices (_node_matrices) and whether they
-    are built, the switch's workspace, each mode's step power for the Jacobian and its k), in the order of the
-    C_ and W_ names above: the hot loops allocate nothing. The counts (C_COUNTS): the modes cached, the next
-    slot to replace, and the integrator: 0 the exact flow (advance), k > 0 classical RK4 with k steps per
-    period (rk4.advance_rk4; steady.solve_point sets it from the settings)."""
+    are built, the switch's workspace), in the order of the C_ and W_ names above: the hot loops allocate
+    nothing. The counts (C_COUNTS): the modes cached, the next slot to replace, and the integrator: 0 the exact flow
+    (advance), k > 0 classical RK4 with k steps per period (rk4.advance_rk4; steady.solve_point sets it from
+    the settings)."""
     m1 = max(m, 1)
     return (np.full((CACHE, m1), -9, dtype=np.int64), np.zeros((CACHE, N, N)), np.zeros((CACHE, N, N)),
             np.zeros((CACHE, m1, N)), np.zeros((CACHE, 2 * m1, N)),
@@ -153,8 +150,7 @@ def new_cache(n, m, N):
             np.empty(N),
             np.empty(m1, dtype=np.int64), np.empty((N, N)), np.empty((GAUSS_X.shape[0] + 1, N)),
             np.empty((GAUSS_X.shape[0] + 1, KT + 1)), np.empty((CACHE, GAUSS_X.shape[0], N, N)),
-            np.zeros(CACHE, dtype=np.bool_), switch_workspace(n, m, N), np.empty((CACHE, N, N)),
-            np.zeros(CACHE, dtype=np.int64))
+            np.zeros(CACHE, dtype=np.bool_), switch_workspace(n, m, N))
 
 
 @jit
@@ -219,7 +215,6 @@ def lookup(st, Minv, K, C, W, F, cp, omega, T, cache):
     ok = build_mode(st, Minv, K, C, W, F, cp, omega, A, c_L[i], cache[W_SWITCH])
     c_ok[i] = ok
     cache[C_GOK][i] = False
-    cache[C_PK][i] = 0
     if not ok:
         return i
     h = STEP_RATE / mode_rate(A, n)
@@ -705,33 +700,6 @@ def _jac_step(M, J, tmp):
 
 
 @jit
-def _jac_steps(E, k, P, pk, J, Jtmp, B, T2):
-    """J <- E^k J for a run of k full steps of one mode (E = exp(A h); their transition matrix), E^k by binary
-    powering into P, kept while the mode's next run has the same k again (pk[0]: the k that P holds; a periodic
-    orbit's modes take the same full steps period after period, Newton's iterates too): one product with J
-    where the run took k, each costing Nd^3 (a 10-mass chain's Newton periods spent most of their time there).
-    B, T2: workspaces of E's shape. At k = 1 this is _jac_step(E, J) bit for bit."""
-    if pk[0] != k:
-        B[:, :] = E
-        e = k
-        first = True
-        while e > 0:
-            if e & 1:
-                if first:
-                    P[:, :] = B
-                    first = False
-                else:
-                    matmul(P, B, T2)
-                    P[:, :] = T2
-            e >>= 1
-            if e > 0:
-                matmul(B, B, T2)
-                B[:, :] = T2
-        pk[0] = k
-    _jac_step(P, J, Jtmp)
-
-
-@jit
 def _identity(R):
     R[:, :] = 0.0
     for i in range(R.shape[0]):
@@ -836,7 +804,7 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
     Returns OK, BUDGET or FAILED. fou: None (a compile-time choice: the steady search compiles none of it),
     or fourier.new_fourier's record, to which every step adds its exact Fourier integrals."""
     c_st, c_A, c_E, c_L, c_rows, c_ck, c_act, c_h, c_ok, c_cnt = cache[:10]
-    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, coef, c_G, c_gok, sw, c_P, c_pk = cache[10:]
+    zk, znew, d, dmag, R, Atmp, Ltmp, Jtmp, Jtmp2, fv, crow, before, S, zq, coef, c_G, c_gok, sw = cache[10:]
     n = K.shape[0]
     m = W.shape[0]
     N = z.shape[0]
@@ -852,7 +820,6 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
         h = c_h[mi]
         start = True
         fired = -1
-        run = 0
         while t < T:
             budget[0] -= 1
             if budget[0] < 0:
@@ -913,12 +880,8 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
                     fourier_step(fou, zk, s, full, mi, h, st, c_L[mi], n, m, N, omega)
                 if jac:
                     if full:
-                        # J takes this run of full steps at once, at its end (_jac_steps)
-                        run += 1
+                        _jac_step(E, J, Jtmp)
                     else:
-                        if run > 0:
-                            _jac_steps(E, run, c_P[mi], c_pk[mi:mi + 1], J, Jtmp, Atmp, S)
-                            run = 0
                         expm_apply(A, s, J, Jtmp, Jtmp2)
                 z[:] = znew
                 t = T if s == T - t or T - (t + s) <= 1e-15 * T else t + s
@@ -936,16 +899,10 @@ def advance(z, st, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, 
             if fou is not None:
                 fourier_step(fou, zk, se, False, mi, h, st, c_L[mi], n, m, N, omega)
             if jac:
-                if run > 0:
-                    _jac_steps(E, run, c_P[mi], c_pk[mi:mi + 1], J, Jtmp, Atmp, S)
-                    run = 0
                 expm_apply(A, se, J, Jtmp, Jtmp2)
             z[:] = znew
             t += se
             break
-        if run > 0:
-            _jac_steps(E, run, c_P[mi], c_pk[mi:mi + 1], J, Jtmp, Atmp, S)
-            run = 0
         if fired < 0:
             break
         # the switch
