@@ -1,6 +1,6 @@
 """Exact Fourier integrals of a structure's orbit, step by step (outputs: harmonics; DESIGN §7).
 
-On a step of the exact flow (period.advance) from z0 at time t0, of length s <= h (|A| h <= 1 in the
+On a step of the exact flow (period.advance) from z0 at time t0, of length s <= h (|A| h <= 1/2 in the
 mode's scale: flow.STEP_RATE), the state is its Taylor polynomial to rounding, z(t0 + tau) = sum_{j<=KT}
 zk_j tau^j / j!, zk_j = A^j z0 (the coefficients advance forms). So every row r of interest (a mass's x_i,
 a contact's force lambda = L z) integrates against the harmonic k of the forcing in closed form:

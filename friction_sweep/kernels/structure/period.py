@@ -32,8 +32,7 @@ switch, S = R + (f+ - R f-) c^T / (c . f-) (R: the switch's reset, linear in z; 
 f-/f+: the fields before and after). A switch where c . f- vanishes (a touch) is not smooth: jac_ok = 0.
 
 Measurement (meas): the first harmonic of every x_i by 8-point Gauss-Legendre quadrature on each step
-(exact to rounding: the rule's error, h^17 (8!)^4 / (17 (16!)^3) max |f^(16)|, is about 1e-18 of the integrand
-f = x_i cos wt, whose rates are at most twice the step's 1 / h), max |x_i| at the
+(exact to rounding: the integrand's Taylor series on a step falls like 2^-k / k!), max |x_i| at the
 nodes and at every zero of v_i (refined on its Taylor polynomial), and per contact its stops (rigid:
 slip to stick; Jenkins: a stick during which the relative velocity returns to zero, the contact then
 holding the mass, as the 1-DoF Jenkins kernel labels it, with its creep rule: a slip begun from a held
@@ -83,8 +82,8 @@ GAUSS_W = 0.5 * _GW
 
 #: mode cache size (modes repeat period after period)
 CACHE = 16
-#: quick no-root test: Taylor terms of g'' used, and the margin over the dropped ones (ratio <= 1 / 8)
-_QUICK = 7
+#: quick no-root test: Taylor terms of g'' used, and the margin over the dropped ones (ratio <= 1/2 / 6)
+_QUICK = 5
 _QUICK_MARGIN = 1.25
 
 #: halvings of the node interval that brackets a zero of a velocity (the extreme of its displacement)

@@ -1,6 +1,6 @@
 """The first root of an event function on one step, none missed (DESIGN §7).
 
-On a step of length h (|A| h <= 1) an event function g(t) = c . exp(A t) z is its Taylor polynomial
+On a step of length h (|A| h <= 1/2) an event function g(t) = c . exp(A t) z is its Taylor polynomial
 P(s) = sum_k d_k s^k / k!, d_k = c . A^k z, k <= KT, to rounding. On a piece [a, b] of width w the bound
 B = sum_k |P^(k+2)(a)| w^k / k! holds |g''| there (P is a polynomial, the sum is its exact expansion).
 A piece with g(a), g(b) > 0 holds no root where any of these holds:
