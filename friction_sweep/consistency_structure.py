@@ -116,7 +116,8 @@ def harmonics(ds: xr.Dataset, a: Assembled) -> np.ndarray | None:
     if phase is None:
         return amp.astype(complex)
     lag = np.radians(phase.astype(float))
-    return amp * (np.cos(lag) - 1j * np.sin(lag))
+    # a mass standing still has amplitude 0 and phase NaN (structures.solve)
+    return np.where(amp == 0.0, 0.0, amp * (np.cos(lag) - 1j * np.sin(lag)))
 
 
 def check_unsettled(ds: xr.Dataset, a: Assembled) -> Finding:

@@ -41,8 +41,9 @@ NEEDS = {"map": "regime", "curves": "amplitude", "phase": "phase", "orbit": "his
 #: which --sel names each kind takes
 SELECTIONS = {"map": ("contact",), "curves": ("friction_scale", "dof", "contact"),
               "phase": ("friction_scale", "dof", "contact"), "orbit": (HISTORY_DIM, "dof", "contact")}
-#: a log axis shows at most this far below the panel's largest amplitude (a mass held by a stuck contact moves
-#: by rounding, 1e-16, which would otherwise squeeze the curves into its top decades)
+#: a log axis shows at most this far below the panel's largest amplitude (a mass that barely moves, a contact
+#: slipping by little beside it, would otherwise squeeze the curves into the top decades; one standing still has
+#: amplitude 0 and is not drawn)
 FLOOR = 1e-6
 LABELS: dict[str, str | dict[str, str]] = {
           "frequency": r"angular frequency $\omega$", "friction_scale": r"friction scale $s$",

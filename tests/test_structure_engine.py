@@ -71,6 +71,11 @@ def _compare(scene, zeta=0.0, kappa=None, ratio=1.0, betas=BETAS, r=R):
         moving = ok & (ref[:, one_dof.OUT_TRANSMISSIBILITY] > 1e-6)
         lag = np.abs((got["phase"][moving, 0] - ref[moving, one_dof.OUT_PHASE] + 180) % 360 - 180)
         assert np.all(lag < 1e-7), (beta, lag)
+        # a mass the kernels find standing still (stuck the whole period under force excitation) has no phase
+        still = ok & (ref[:, one_dof.OUT_TRANSMISSIBILITY] == 0.0)
+        np.testing.assert_array_equal(got["amplitude"][still, 0], 0.0, err_msg=f"{beta=}")
+        assert np.all(np.isnan(got["phase"][still, 0])) and np.all(np.isnan(ref[still, one_dof.OUT_PHASE])), beta
+        assert np.all(np.isfinite(got["phase"][moving, 0])), beta
 
 
 @pytest.mark.parametrize("scene", ["force", "base", "joined"])
@@ -204,6 +209,33 @@ def test_very_large_friction_is_the_stuck_linear_structure(kt):
         Kj = K + kt * Wc.T @ Wc
         X = np.array([np.linalg.solve(Kj - x * x * M + 1j * x * C, f) for x in w])
     np.testing.assert_allclose(got["amplitude"], np.abs(X), rtol=1e-10, atol=1e-12)
+    # the masses a stuck rigid contact holds to the ground stand still: amplitude exactly 0 and no phase (the
+    # engine's harmonic of their constant position is rounding, 1e-16 of it, with a phase of rounding)
+    # (rigid: the forced mass m2 is held, and so is all the chain)
+    still = np.abs(X) == 0.0
+    assert still.all() if kt is None else not still.any()
+    np.testing.assert_array_equal(got["amplitude"][still], 0.0)
+    assert np.all(np.isnan(got["phase"][still]))
+    lag = (got["phase"][~still] + np.degrees(np.angle(X[~still])) + 180) % 360 - 180
+    assert np.all(np.abs(lag) < 1e-8)
+
+
+def test_a_mass_held_still_has_no_phase_beside_one_that_moves():
+    """The blade and its damper with the platform contact stuck (friction far above any force): the damper
+    stands still (amplitude 0, phase NaN), the blade moves as one mass on both springs, X = 1 / (3 - w^2 +
+    0.004 i w)."""
+    d = StructureDef("force", {"blade": 1.0, "damper": 0.1}, (("ground", "blade", 1.0), ("blade", "damper", 2.0)),
+                     (("ground", "blade", 0.004),), (ContactDef("platform", ("damper", "ground"), 1e6),),
+                     {"blade": 1.0})
+    w = np.array([0.5, 1.5, 2.5])
+    got = solve_points(assemble(d), w, np.ones(w.size))
+    assert np.all(got["regime"] == Regime.STUCK)
+    X = 1.0 / (3.0 - w * w + 0.004j * w)
+    np.testing.assert_allclose(got["amplitude"][:, 0], np.abs(X), rtol=1e-10)
+    lag = (got["phase"][:, 0] + np.degrees(np.angle(X)) + 180) % 360 - 180
+    assert np.all(np.abs(lag) < 1e-8)
+    np.testing.assert_array_equal(got["amplitude"][:, 1], 0.0)
+    assert np.all(np.isnan(got["phase"][:, 1]))
 
 
 def test_natural_frequencies_of_one_mass():

@@ -147,9 +147,11 @@ def backbone(problem: StructureProblem, w: np.ndarray, s: np.ndarray, r_tol: flo
         return out
     ws, ss = cross.frequency_ratio[level, k], s[level]
     res = problem.points(ws, ss, ("amplitude", "phase", "regime", "friction_energy"))
-    phi = np.radians(res["phase"])
-    X = res["amplitude"] * np.exp(-1j * phi)  # x = Re(X e^{iwt}), amplitude unit 1 under force excitation
-    e_d = np.pi * np.sum(a.F_cos[None, :] * res["amplitude"] * np.sin(phi), axis=1)
+    # x = Re(X e^{iwt}), amplitude unit 1 under force excitation; a mass standing still has amplitude 0 and
+    # phase NaN (structures.solve)
+    amp = res["amplitude"]
+    X = np.where(amp == 0.0, 0.0, amp * np.exp(-1j * np.radians(res["phase"])))
+    e_d = -np.pi * np.sum(a.F_cos[None, :] * X.imag, axis=1)  # pi sum_i F_i |X_i| sin(phase_i)
     e_p = potential_energy(a, X, ss, res["regime"], res.get("slips_per_period") if (a.kt > 0).any() else None)
     i = problem.index
     settled = res["steady_state"] == SteadyState.CONVERGED

@@ -475,7 +475,7 @@ STRUCTURE_VARIABLES = {
     "peak_amplitude": Variable(DOF_DIMS, np.float64, "peak absolute displacement max|x| of the mass", "1",
                                _STRUCTURE_UNITS, valid_range=AMPLITUDE_VALID, comment="over the steady orbit"),
     "phase": Variable(DOF_DIMS, np.float64, "first-harmonic phase lag of the mass", "degree", _PHASE_NOTE,
-                      valid_range=PHASE_VALID),
+                      valid_range=PHASE_VALID, comment="NaN where the mass stands still (amplitude 0)"),
     "regime": Variable(CONTACT_DIMS, np.int8, "motion regime of the contact", "1", codes.flags(Regime),
                        comment="in the steady state"),
     "stops_per_period": Variable(CONTACT_DIMS, np.float64, "stops per forcing period at the contact", "1",

@@ -26,6 +26,10 @@ from friction_sweep.theory import phase as phase_convention
 
 #: a contact stuck for all but this fraction of the period is `stuck`
 _STUCK_ALL = 1e-12
+#: a mass whose first harmonic is under this fraction of its peak displacement stands still (held by a stuck
+#: contact: its harmonic is the quadrature's rounding of a constant, 1e-16 of it, and its phase that rounding's);
+#: amplitude 0 and phase NaN there, as for one mass stuck (kernels/steady.py)
+_STILL = 1e-12
 
 
 #: the methods that solve a structure: the exact flow between events, or classical RK4 on a fixed grid with the
@@ -119,6 +123,10 @@ def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray, active: np.ndarray
     ok = steady == SteadyState.CONVERGED
     unit = a.amplitude_unit
     xc, xs = rows[:, lay["harm_cos"]], rows[:, lay["harm_sin"]]
+    peak = rows[:, lay["peak"]]
+    amplitude = np.hypot(xc, xs)
+    with np.errstate(invalid="ignore"):
+        still = amplitude <= _STILL * peak
     stops = rows[:, lay["stops"]]
     slips = rows[:, lay["slips"]]
     stuck = rows[:, lay["stuck_fraction"]]
@@ -133,9 +141,9 @@ def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray, active: np.ndarray
     regime[ok] = settled[ok]
     regime[steady == SteadyState.GROWING] = Regime.UNBOUNDED
     return {
-        "amplitude": np.hypot(xc, xs) / unit,
-        "peak_amplitude": rows[:, lay["peak"]] / unit,
-        "phase": phase_convention.wrap_degrees(np.degrees(np.arctan2(xs, xc))),
+        "amplitude": np.where(still, 0.0, amplitude) / unit,
+        "peak_amplitude": peak / unit,
+        "phase": np.where(still, np.nan, phase_convention.wrap_degrees(np.degrees(np.arctan2(xs, xc)))),
         "regime": regime,
         "stops_per_period": stops,
         "slips_per_period": slips,
