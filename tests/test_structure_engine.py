@@ -209,6 +209,10 @@ def test_very_large_friction_is_the_stuck_linear_structure(kt):
         Kj = K + kt * Wc.T @ Wc
         X = np.array([np.linalg.solve(Kj - x * x * M + 1j * x * C, f) for x in w])
     np.testing.assert_allclose(got["amplitude"], np.abs(X), rtol=1e-10, atol=1e-12)
+    # from rest no contact ever slips: every slider and stuck position stays where it started, so the orbit is the
+    # harmonic one about the rest state, max|x| = |X| (a stuck orbit is one of a family of stuck positions; the
+    # motion from rest settles on this member, not another)
+    np.testing.assert_allclose(got["peak_amplitude"], np.abs(X), rtol=1e-9, atol=1e-12)
     # the masses a stuck rigid contact holds to the ground stand still: amplitude exactly 0 and no phase (the
     # engine's harmonic of their constant position is rounding, 1e-16 of it, with a phase of rounding)
     # (rigid: the forced mass m2 is held, and so is all the chain)
@@ -222,8 +226,8 @@ def test_very_large_friction_is_the_stuck_linear_structure(kt):
 
 def test_a_mass_held_still_has_no_phase_beside_one_that_moves():
     """The blade and its damper with the platform contact stuck (friction far above any force): the damper
-    stands still (amplitude 0, phase NaN), the blade moves as one mass on both springs, X = 1 / (3 - w^2 +
-    0.004 i w)."""
+    stands still (amplitude 0, phase NaN) at its rest position, the blade moves as one mass on both springs,
+    X = 1 / (3 - w^2 + 0.004 i w)."""
     d = StructureDef("force", {"blade": 1.0, "damper": 0.1}, (("ground", "blade", 1.0), ("blade", "damper", 2.0)),
                      (("ground", "blade", 0.004),), (ContactDef("platform", ("damper", "ground"), 1e6),),
                      {"blade": 1.0})
@@ -236,6 +240,9 @@ def test_a_mass_held_still_has_no_phase_beside_one_that_moves():
     assert np.all(np.abs(lag) < 1e-8)
     np.testing.assert_array_equal(got["amplitude"][:, 1], 0.0)
     assert np.all(np.isnan(got["phase"][:, 1]))
+    # held from rest, the damper never leaves it: its peak is 0, the blade's the harmonic one's
+    np.testing.assert_array_equal(got["peak_amplitude"][:, 1], 0.0)
+    np.testing.assert_allclose(got["peak_amplitude"][:, 0], np.abs(X), rtol=1e-9)
 
 
 def test_natural_frequencies_of_one_mass():

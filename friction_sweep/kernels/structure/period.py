@@ -709,8 +709,8 @@ def _identity(R):
 def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, jac, J, jflag, meas, mc):
     """The switch at event function `fired` of cached mode mi, z at the event (both in place): the next
     mode from the forces (the rules in this module's docstring), the per-contact labels where meas, and
-    J <- S J (the saltation) where jac. False where it fails (dependent constraints, a mode that cannot be
-    built). Shared by advance and the rk4 stepper (rk4.py)."""
+    J <- S J (the saltation) where jac; jflag[1 + q] = 1 for each contact q it changes. False where it fails
+    (dependent constraints, a mode that cannot be built). Shared by advance and the rk4 stepper (rk4.py)."""
     c_A, c_rows, c_ok, c_cnt = cache[C_A], cache[C_ROWS], cache[C_OK], cache[C_COUNTS]
     znew, R, Jtmp, fv, crow, before, S, sw = (cache[W_ZNEW], cache[W_R], cache[W_JTMP], cache[W_FV], cache[W_CROW],
                                              cache[W_BEFORE], cache[W_S], cache[W_SWITCH])
@@ -776,6 +776,11 @@ def switch(z, st, mi, fired, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget
         for q in range(m):
             if cp[q, CP_KT] <= 0.0 and st[q] == STUCK and before[q] != STUCK:
                 mc[q, MC_STOPS] += 1.0
+    # the contacts this switch changed (jflag[1 + q], read by the steady search: a contact no switch of a pass
+    # touched and stuck at its start was stuck all the pass)
+    for q in range(m):
+        if st[q] != before[q]:
+            jflag[1 + q] = 1.0
     if jac:
         mj = find(st, cache[C_ST], c_cnt)
         if mj < 0:

@@ -6,13 +6,16 @@ forcing periods of the exact period map (period.advance) until P^k(s) repeats wi
 to max_orbit_period), and from period shoot_after on (then again after 1, 2, 4, ... periods, the gaps
 doubling up to shoot_every: a miss early in the transient is retried soon, a long march not shot at every
 period; every shoot_every periods where static friction holds several steady states) try Newton shooting
-on P^k(s) = s with the exact monodromy (transition matrices times saltation matrices; least
-squares, since a stuck contact's position is a neutral direction), k = 1 unless the march suggests a
-period-k orbit (_suggested_lag; P alone where P^k's Newton misses), k lowered to the orbit's least period
-(_least_period). Newton's orbit is refused, and the march goes on, where a contact slips less than
-_MICRO_SLIP steady_tol x the state's size per period (_micro_slip: a stuck orbit's neutral family, the
-stuck positions, has a member at its band's edge, which Newton from a still-slipping transient lands on,
-the slip then a tolerance's residue; the march settles inside the band), _MICRO_TRIES times at most. A
+on P^k(s) = s with the exact monodromy (transition matrices times saltation matrices; a contact stuck
+all of an iterate's periods kept where it is, its position being a neutral direction, _step; least squares
+on the rest), k = 1 unless the march suggests a period-k orbit (_suggested_lag; P alone where P^k's Newton
+misses), k lowered to the orbit's least period (_least_period). An orbit with a contact stuck all period is
+taken only where the march's last period held that contact stuck at the same position (_kept_where_marched:
+the member of the stuck family the motion from rest settles on). Newton's orbit is refused, and the march
+goes on, where a contact slips less than _MICRO_SLIP steady_tol x the state's size per period
+(_micro_slip: a stuck orbit's neutral family, the stuck positions, has a member at its band's edge, which
+Newton from a still-slipping transient lands on, the slip then a tolerance's residue; the march settles
+inside the band), _MICRO_TRIES times at most. A
 converged orbit is measured over its k periods; its largest Floquet multiplier
 (eigenvalue of the monodromy of P^k) where the settings ask. Amplitude still growing at the cap: GROWING;
 otherwise PERIOD_CAP; the events-and-steps budget: EVENT_BUDGET; a non-finite state or a mode that
@@ -96,6 +99,9 @@ _DISTINCT = 1e3
 #: refused (_micro_slip), up to _MICRO_TRIES times per point
 _MICRO_SLIP = 10.0
 _MICRO_TRIES = 3
+#: Newton's orbit keeps a contact it has stuck all period where the march holds it: within this many steady_tol x
+#: the state's size (_kept_where_marched)
+_KEPT = 10.0
 #: a Newton iterate's work (events and steps) may be this many times a marched period's per period shot,
 #: plus the slack
 _NEWTON_COST = 8
@@ -298,6 +304,7 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
         J[:, :] = 0.0
         for i in range(Nd):
             J[i, i] = 1.0
+        jflag[:] = 0.0
         jflag[0] = 1.0
         meas = _speculate(last, before, ref, tol)
         if meas:
@@ -328,13 +335,77 @@ def _newton(z, st, k, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, 
             return NO_ORBIT
         before = last
         last = err
-        Mx = J[:Nd, :] - np.eye(Nd)
-        delta = np.linalg.lstsq(Mx, -res)[0]
+        delta = _step(J, res, st0, jflag, W, cp, K.shape[0], Nd)
         zs[:] = z0
         sts[:] = st0
         for i in range(Nd):
             zs[i] += delta[i]
     return NO_ORBIT
+
+
+@jit
+def _step(J, res, st0, jflag, W, cp, n, Nd):
+    """Newton's step delta on P^k(s) = s: (J - I) delta = -res, with every contact that was stuck all the
+    iterate's k periods (stuck at its start, no switch changed it: jflag[1 + j] == 0) kept where it is, its
+    relative position w_j . x (rigid) or its slider (Jenkins) unchanged. Those are the neutral directions of a
+    stuck orbit (DESIGN §7: any stuck position whose force stays within the band is an orbit): the motion holds
+    them fixed once the contact stops slipping, so the orbit the march settles on has the positions the
+    contact stuck at, and a step along them would trade that member for another (a stuck damper from rest,
+    never moved, reported with a peak of 17 % of the forced mass's). Least squares on what remains (a mass
+    held only by a slipping contact leaves a neutral direction of its own)."""
+    m = W.shape[0]
+    Mx = J[:Nd, :] - np.eye(Nd)
+    c = 0
+    for j in range(m):
+        if st0[j] == STUCK and jflag[1 + j] == 0.0:
+            c += 1
+    if c == 0:
+        return np.linalg.lstsq(Mx, -res)[0]
+    Cm = np.zeros((c, Nd))
+    r = 0
+    for j in range(m):
+        if st0[j] == STUCK and jflag[1 + j] == 0.0:
+            if cp[j, CP_KT] > 0.0:
+                Cm[r, 2 * n + int(cp[j, CP_SLOT])] = 1.0
+            else:
+                for i in range(n):
+                    Cm[r, i] = W[j, i]
+            r += 1
+    # the steps that keep them: the null space of Cm, from its SVD (rank: singular values above rounding)
+    _, sv, vt = np.linalg.svd(Cm)
+    rank = 0
+    for q in range(sv.shape[0]):
+        if sv[q] > 1e-12 * sv[0]:
+            rank += 1
+    Nc = np.ascontiguousarray(vt[rank:, :].T)
+    y = np.linalg.lstsq(Mx @ Nc, -res)[0]
+    return Nc @ y
+
+
+@jit
+def _kept_where_marched(zs, sts, jflag, z, settled, W, cp, n, bound):
+    """Whether Newton's orbit (zs, sts; jflag the marks of its confirming pass) holds every contact it has
+    stuck all period where the march (z) holds it: the march's last period had that contact stuck throughout
+    (settled), and its relative position w_j . x (rigid) or its slider (Jenkins) is the march's within bound.
+    A stuck orbit is one of a family (_step); the motion from rest settles on the member whose stuck
+    positions are those where the contact last stopped slipping, which the march has reached once it holds
+    them and Newton, keeping them (_step), then finds. Newton shot while the march still slips lands on
+    another member: the blade's stuck points at w 1.44, friction_scale 10.6 slip in their first two periods,
+    and an orbit shot after the first reports the blade's peak 33 % above where the motion settles."""
+    N = zs.shape[0]
+    for j in range(W.shape[0]):
+        if sts[j] != STUCK or jflag[1 + j] != 0.0:
+            continue
+        if not settled[j]:
+            return False
+        if cp[j, CP_KT] > 0.0:
+            slot = 2 * n + int(cp[j, CP_SLOT])
+            gap = zs[slot] - z[slot]
+        else:
+            gap = rel_position(zs, W, cp, j, n, N) - rel_position(z, W, cp, j, n, N)
+        if abs(gap) > bound:
+            return False
+    return True
 
 
 @jit
@@ -514,7 +585,8 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     xmax = np.zeros(n)
     mc = np.zeros((max(m, 1), MC_SIZE))
     J = np.zeros((N, Nd))
-    jflag = np.ones(1)
+    # the Jacobian's flag (0: a saltation divided by zero) and, per contact, whether a switch changed it
+    jflag = np.ones(1 + m)
     # scale of the state: the static deflection under the largest force
     fs = 0.0
     for i in range(n):
@@ -559,11 +631,18 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     # early transient may find another, so the attempts keep shoot_every apart there
     gap = shoot_every if _holds_several(cp) else 1
     micro = 0
+    # per contact, whether the march's last period had it stuck throughout (_kept_where_marched)
+    settled = np.zeros(max(m, 1), dtype=np.bool_)
     while p < max_periods:
         hist[p % maxk, :] = z[:Nd]
         before = budget[0]
+        for j in range(m):
+            settled[j] = st[j] == STUCK
+        jflag[1:] = 0.0
         code = _periods(z, st, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, False, J, jflag, False,
                         harm, xmax, mc)
+        for j in range(m):
+            settled[j] = settled[j] and jflag[1 + j] == 0.0
         p += 1
         # a Newton iterate may cost _NEWTON_COST times a marched period per period (its periods start near
         # the march's state), and never more than the budget left
@@ -614,6 +693,9 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                     lag = 1
                     found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, J,
                                     jflag, harm, xmax, mc, cap)
+                kept = _kept_where_marched(zs, sts, jflag, z, settled, W, cp, n, _KEPT * tol * size)
+                if found != NO_ORBIT and not kept:
+                    found = NO_ORBIT
                 if found != NO_ORBIT and _holds_several(cp) and _norm(zs[:Nd] - z[:Nd], Nd) > STICK_SHOT_REACH * size:
                     # an orbit static friction holds elsewhere, or the one the march approaches from afar:
                     # held until the march comes near it (measured afresh then)
@@ -698,7 +780,7 @@ def replay_start(Minv, K, C, W, F, cp, omega, settings, state):
     st = np.zeros(max(m, 1), dtype=np.int64)[:m]
     _start(z, st, state, W, cp, n, Nd)
     ok = _section(z, st, Minv, K, C, W, F, cp, omega, 2.0 * np.pi / omega, settings[SET_STOP_TOL], budget, cache)
-    return (ok, z, st, cache, budget, np.zeros((N, Nd)), np.ones(1), np.zeros((n, 4)), np.zeros(n),
+    return (ok, z, st, cache, budget, np.zeros((N, Nd)), np.ones(1 + m), np.zeros((n, 4)), np.zeros(n),
             np.zeros((max(m, 1), MC_SIZE)))
 
 
