@@ -282,6 +282,21 @@ def test_floquet_multiplier_of_one_mass_is_the_1dof_kernels():
     assert np.isnan(plain["floquet_multiplier"]).all()
 
 
+@pytest.mark.parametrize("scene, kappa, beta", [("force", None, 2.0), ("base", None, 2.0), ("force", 10.0, 2.0),
+                                                ("joined", 10.0, 1.0), ("force", 10.0, 0.3)])
+def test_floquet_multiplier_is_nan_where_the_1dof_kernels_find_a_continuum_of_orbits(scene, kappa, beta):
+    """Stuck (a rigid contact, a Jenkins slider that never slips) the orbit is one of a continuum of stuck
+    positions: no multiplier, NaN, as the 1-DoF kernels report; elsewhere theirs."""
+    a = assemble(one_mass(scene, 1.0, 0.05, kappa))
+    r = np.array([0.3, 0.5, 0.8, 1.5, 2.5])
+    got = solve_points(a, r, np.full(r.size, beta), outputs=("amplitude", "regime", "stability"))
+    ref = event.solve_flat("base" if scene == "force" else scene, r, np.full(r.size, beta),
+                           _effects(0.05, kappa, 1.0, scene), stability=1)
+    stuck = ref[:, one_dof.OUT_REGIME] == Regime.STUCK
+    assert np.isnan(ref[stuck, one_dof.OUT["floquet_multiplier"]]).all()
+    np.testing.assert_allclose(got["floquet_multiplier"], ref[:, one_dof.OUT["floquet_multiplier"]], rtol=1e-8)
+
+
 def test_node_matrices_are_the_matrix_exponential_at_each_node():
     """flow.expm_nodes (the measurement's exp(A x_q h) at the Gauss nodes, one Taylor series for all) against
     SciPy's Pade expm, on a random matrix scaled to one step (|A| h = 1/2)."""

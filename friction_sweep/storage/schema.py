@@ -501,8 +501,9 @@ STRUCTURE_VARIABLES = {
     "floquet_multiplier": Variable(STRUCTURE_DIMS, np.float64, "largest Floquet multiplier of the steady orbit", "1",
                                    valid_range=NONNEGATIVE, comment="output stability: largest modulus among the "
                                    "multipliers of the steady orbit's period map over its orbit_period periods "
-                                   "(below 1: attracting); NaN where undefined (at rest, without a periodic steady "
-                                   "state, where the period map is not smooth at the orbit)"),
+                                   "(below 1: attracting); NaN where undefined (a contact stuck all period: a "
+                                   "continuum of stuck positions; without a periodic steady state; where the "
+                                   "period map is not smooth at the orbit)"),
 }
 #: exact harmonics (outputs: harmonics; structures.harmonics): each mass's displacement and each contact's force,
 #: the harmonic last, so that the plane (friction_scale, frequency) leads as in every structure variable

@@ -140,6 +140,10 @@ def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray, active: np.ndarray
     settled = np.where(never_slips, Regime.STUCK, moving).astype(np.int8)
     regime[ok] = settled[ok]
     regime[steady == SteadyState.GROWING] = Regime.UNBOUNDED
+    # an orbit with a contact stuck all period is one of a continuum (every stuck position whose force stays in
+    # the band is an orbit, multiplier 1 along them): not isolated, no multiplier, as for one mass at rest
+    # (docs/equations.md §3)
+    floquet = np.where((regime == Regime.STUCK).any(axis=1), np.nan, pt[:, PT_FLOQUET])
     return {
         "amplitude": np.where(still, 0.0, amplitude) / unit,
         "peak_amplitude": peak / unit,
@@ -152,6 +156,6 @@ def _arrays(a: Assembled, rows: np.ndarray, good: np.ndarray, active: np.ndarray
         "steady_state": steady,
         "orbit_period": pt[:, PT_ORBIT],
         "periods": pt[:, PT_PERIODS],
-        "floquet_multiplier": pt[:, PT_FLOQUET],
+        "floquet_multiplier": floquet,
         "work": pt[:, PT_WORK],
     }
