@@ -158,7 +158,11 @@ def test_stepped_sine_sweeps_jump_at_different_frequencies_up_and_down():
     up = starts.solve_sweep(a, SWEPT_W, 2.0, "up")
     down = starts.solve_sweep(a, SWEPT_W[::-1], 2.0, "down")  # any order in: the sweep sorts
     down = {name: values[::-1] for name, values in down.items()}
-    assert (up["steady_state"] == SteadyState.CONVERGED).all() and (down["steady_state"] == SteadyState.CONVERGED).all()
+    # at 1.35 the only orbit Newton finds repels (multiplier 1.007) and the motion does not settle: the period cap
+    cap = np.isclose(SWEPT_W, 1.35)
+    for got in (up, down):
+        assert (got["steady_state"][~cap] == SteadyState.CONVERGED).all()
+        assert (got["steady_state"][cap] == SteadyState.PERIOD_CAP).all()
     for w, want_up, want_down in ((0.9, Regime.STICK_SLIP, Regime.STICK_SLIP), (0.85, Regime.STUCK, Regime.STUCK),
                                   (1.8, Regime.CONTINUOUS, Regime.STUCK)):
         i = int(np.argmin(np.abs(SWEPT_W - w)))
@@ -169,7 +173,7 @@ def test_stepped_sine_sweeps_jump_at_different_frequencies_up_and_down():
             np.testing.assert_array_equal(got["stops_per_period"][i], ref["stops_per_period"])
             np.testing.assert_allclose(got["amplitude"][i], ref["amplitude"], rtol=1e-8, atol=1e-10)
     # away from the jumps the two sweeps agree: one state there
-    same = np.abs(up["amplitude"] - down["amplitude"]) <= 1e-6 * np.abs(up["amplitude"]).max()
+    same = np.abs(up["amplitude"] - down["amplitude"]) <= 1e-6 * np.nanmax(np.abs(up["amplitude"]))
     assert same.all(axis=1).sum() >= 20
 
 
