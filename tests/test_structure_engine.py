@@ -113,6 +113,22 @@ def test_one_mass_jenkins_reproduces_the_1dof_kernels(scene):
     assert Regime.STICK_SLIP in got["regime"] or scene == "joined"
 
 
+@pytest.mark.parametrize("scene, r", [("force", 2.123076923076923), ("joined", 1.3192307692307693)])
+def test_a_slider_that_never_slips_never_stops(scene, r):
+    """Undamped, beta 2, kappa 10: the slider never slips (stuck), and so the contact never stops, as the 1-DoF
+    kernels count it (the engine's measurement once counted a stop a period there)."""
+    from friction_sweep.kernels.jenkins_steady import JOUT_SLIPS
+
+    a = assemble(one_mass(scene, 1.0, kappa=10.0))
+    got = solve_points(a, [r], [2.0])
+    ref = event.solve_flat("base" if scene == "force" else scene, np.array([r]), np.array([2.0]),
+                           {"contact_stiffness": 10.0})
+    assert ref[0, JOUT_SLIPS] == 0.0 and ref[0, one_dof.OUT_STOPS_PER_PERIOD] == 0.0
+    assert got["regime"][0, 0] == Regime.STUCK and got["slips_per_period"][0, 0] == 0.0
+    assert got["stops_per_period"][0, 0] == 0.0
+    np.testing.assert_allclose(got["amplitude"][0, 0], ref[0, one_dof.OUT_TRANSMISSIBILITY], atol=1e-10)
+
+
 @pytest.mark.parametrize("zeta", [0.0, 0.05])
 def test_one_mass_jenkins_stuck_fraction_is_the_1dof_kernels(zeta):
     """stuck_fraction of a Jenkins contact is the 1-DoF Jenkins kernel's: the time the contact holds the mass,
