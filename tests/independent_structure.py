@@ -597,8 +597,9 @@ class Automaton:
         slips = np.where(self.rigid, np.nan, log["slips"] / k)
         moved = np.array([any(plo < phi and mo[j] != 0 for plo, phi, _, mo in log["pieces"]) for j in range(m)])
         regime = np.where(~moved, 0, np.where(stops > 0, 1, 2))
-        return {"amplitude": amplitude, "peak_amplitude": peak, "phase": lag, "stops_per_period": stops, "slips_per_period": slips,
-                "stuck_fraction": log["stuck"] / hi, "regime": regime, "friction_energy": fric / k,
+        return {"amplitude": amplitude, "peak_amplitude": peak, "phase": lag, "stops_per_period": stops,
+                "slips_per_period": slips, "stuck_fraction": log["stuck"] / hi, "regime": regime,
+                "friction_energy": fric / k,
                 "work": work / k, "viscous": viscous / k, "slide": slide / k, "stop_times": log["times"],
                 "orbit_period": k, "end": (z1, m1), "pieces": log["pieces"]}
 
