@@ -351,7 +351,7 @@ def _step(J, res, st0, jflag, W, cp, n, Nd):
     stuck orbit (DESIGN §7: any stuck position whose force stays within the band is an orbit): the motion holds
     them fixed once the contact stops slipping, so the orbit the march settles on has the positions the
     contact stuck at, and a step along them would trade that member for another (a stuck damper from rest,
-    never moved, reported with a peak of 17 % of the forced mass's). Least squares on what remains (a mass
+    never moved, reported with a peak of 21 % of the forced mass's). Least squares on what remains (a mass
     held only by a slipping contact leaves a neutral direction of its own)."""
     m = W.shape[0]
     Mx = J[:Nd, :] - np.eye(Nd)
@@ -722,7 +722,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                     # settles on: the joined Jenkins mass at w 0.81, beta 0.5, mu_s/mu 1.3 has a period-2 orbit
                     # with multiplier 1.07 beside the period-7 one the march reaches; tests/test_structure_starts.py's
                     # swept damper at w 1.35 one with 1.007, where the march does not settle. (Without static
-                    # friction none was found on the benchmark planes: the eigenvalues, 5-10 % of a point's cost,
+                    # friction none was found on the benchmark planes: the eigenvalues, 5-11 % of a point's cost,
                     # are spent only here.)
                     found = NO_ORBIT
                 if found != NO_ORBIT and several and _norm(zs[:Nd] - z[:Nd], Nd) > STICK_SHOT_REACH * size:
