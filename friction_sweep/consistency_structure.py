@@ -52,6 +52,7 @@ from friction_sweep.consistency import (
 from friction_sweep.storage.schema import MOVING_SUFFIX
 from friction_sweep.structures.linear import compliances, forcing, free_response, stuck_response
 from friction_sweep.structures.model import Assembled
+from friction_sweep.theory.phase import complex_amplitude
 
 #: rule `free_limit`: |X_cube - X_linear| <= FREE_RTOL max_i |X_linear_i| (the engine is exact to rounding;
 #: its tests hold it to 1e-12)
@@ -115,9 +116,7 @@ def harmonics(ds: xr.Dataset, a: Assembled) -> np.ndarray | None:
     phase = _plane(ds, "phase")
     if phase is None:
         return amp.astype(complex)
-    lag = np.radians(phase.astype(float))
-    # a mass standing still has amplitude 0 and phase NaN (structures.solve)
-    return np.where(amp == 0.0, 0.0, amp * (np.cos(lag) - 1j * np.sin(lag)))
+    return complex_amplitude(amp, phase)
 
 
 def check_unsettled(ds: xr.Dataset, a: Assembled) -> Finding:

@@ -41,6 +41,7 @@ from friction_sweep.design import backbone as one_dof_backbone
 from friction_sweep.design import phase_resonance
 from friction_sweep.design.peak import R_TOL, Axes
 from friction_sweep.structures.model import Assembled
+from friction_sweep.theory.phase import complex_amplitude
 
 #: the variables a structure's peak is taken of: the 1-DoF names, and the cube variable each reads
 VARIABLES = {"transmissibility": "amplitude", "peak_transmissibility": "peak_amplitude"}
@@ -147,10 +148,7 @@ def backbone(problem: StructureProblem, w: np.ndarray, s: np.ndarray, r_tol: flo
         return out
     ws, ss = cross.frequency_ratio[level, k], s[level]
     res = problem.points(ws, ss, ("amplitude", "phase", "regime", "friction_energy"))
-    # x = Re(X e^{iwt}), amplitude unit 1 under force excitation; a mass standing still has amplitude 0 and
-    # phase NaN (structures.solve)
-    amp = res["amplitude"]
-    X = np.where(amp == 0.0, 0.0, amp * np.exp(-1j * np.radians(res["phase"])))
+    X = complex_amplitude(res["amplitude"], res["phase"])  # amplitude unit 1 under force excitation
     e_d = -np.pi * np.sum(a.F_cos[None, :] * X.imag, axis=1)  # pi sum_i F_i |X_i| sin(phase_i)
     e_p = potential_energy(a, X, ss, res["regime"], res.get("slips_per_period") if (a.kt > 0).any() else None)
     i = problem.index

@@ -19,3 +19,10 @@ def wrap_degrees(degrees):
 def wrap_lag_degrees(radians):
     """Convert a lag in radians (anything array-like) to degrees in [-90, 270)."""
     return wrap_degrees(np.degrees(np.asarray(radians, dtype=float)))
+
+
+def complex_amplitude(amplitude, phase_degrees):
+    """X, with x = Re(X e^{i w t}), of a first harmonic given as its amplitude and its lag in degrees:
+    |X| e^{-i lag}; 0 where the amplitude is 0, whose lag is NaN (a mass standing still, structures.solve)."""
+    amp = np.asarray(amplitude, dtype=float)
+    return np.where(amp == 0.0, 0.0, amp * np.exp(-1j * np.radians(np.asarray(phase_degrees, dtype=float))))

@@ -714,8 +714,8 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                     lag = 1
                     found = _newton(zs, sts, 1, T, Minv, K, C, W, F, cp, omega, cache, vtol, budget, tol, scale, J,
                                     jflag, harm, xmax, mc, cap)
-                kept = _kept_where_marched(zs, sts, jflag, z, settled, W, cp, n, _KEPT * tol * size)
-                if found != NO_ORBIT and not kept:
+                if found != NO_ORBIT and not _kept_where_marched(zs, sts, jflag, z, settled, W, cp, n,
+                                                                 _KEPT * tol * size):
                     found = NO_ORBIT
                 if found != NO_ORBIT and several and _repels(J, jflag, Nd):
                     # static friction holds several states, and Newton found one the motion leaves, which no march
