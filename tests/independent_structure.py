@@ -455,15 +455,31 @@ class Automaton:
 
     # ---- periods, steady state, measurement ----------------------------------------------------------------
     def rest_start(self):
-        """From rest at t = 0: x = 0, sliders relaxed, the rigid contacts decided."""
+        """From rest at t = 0 (v = 0): every contact unstretched (u = 0) and, in the directions the contacts
+        leave free, the springs at their least energy under the base's y(0) (the least-norm such x); each
+        Jenkins slider loaded with the force its contact would carry as a rigid link, every contact with
+        friction held so (u'' = 0 for all of them: (W M^-1 W^T) lambda = W M^-1 f + g y'', least-norm where the
+        links are dependent), within its static band (1e-12 inside: a start on the edge is a tie), beyond it
+        slipping at once; the rigid contacts decided."""
         md = self.md
         n, m = md.n, md.m
-        x, v = np.zeros(n), np.zeros(n)
-        p = md.W @ x + md.g * self.base(0.0)[0]
+        y, _, ydd = self.base(0.0)
+        kkt = np.block([[md.K, md.W.T], [md.W, np.zeros((m, m))]])
+        x = np.linalg.lstsq(kkt, np.concatenate([md.kb * y, -md.g * y]), rcond=None)[0][:n]
+        v = np.zeros(n)
+        u = md.W @ x + md.g * y
+        held = md.mu > 0.0
+        WH = md.W[held]
+        f = md.F + md.kb * y - md.K @ x
+        lam = np.zeros(m)
+        if held.any():
+            lam[held] = np.linalg.lstsq((WH * self.minv) @ WH.T, (WH * self.minv) @ f + md.g[held] * ydd,
+                                        rcond=None)[0]
+        load = np.clip(lam, -md.mus * (1.0 - 1e-12), md.mus * (1.0 - 1e-12))
+        p = np.where(self.rigid, u, u - load / np.where(self.rigid, 1.0, md.kt))
         modes = np.zeros(m, dtype=int)
-        a, lam, _, _ = self.forces(0.0, x, v, p, modes)
         for j in range(m):
-            if not self.rigid[j] and abs(lam[j]) > md.mus[j]:
+            if not self.rigid[j] and held[j] and abs(lam[j]) > md.mus[j]:
                 modes[j] = int(np.sign(lam[j]))
         modes, v = self.decide(0.0, x, v, p, modes)
         x, v, p = self.project(0.0, x, v, p, modes)

@@ -113,6 +113,51 @@ def test_one_mass_jenkins_reproduces_the_1dof_kernels(scene):
     assert Regime.STICK_SLIP in got["regime"] or scene == "joined"
 
 
+@pytest.mark.parametrize("scene", ["force", "joined"])
+def test_one_mass_jenkins_with_static_friction_starts_where_the_1dof_kernels_start(scene):
+    """Static friction holds two states here (kappa 10, zeta 0.02, mu_s/mu 1.5, beta 0.7), and the start decides.
+    From rest the 1-DoF Jenkins kernel's slider is loaded: the contact holds the mass against the forcing, as a
+    rigid contact would. The engine's start is that one (steady._rest_sliders), so it reaches the same state, in
+    amplitude, peak, phase, regime and stops. A relaxed slider, the engine's earlier start, reached stick-slip
+    (force: 0.6947) at every r here, where the 1-DoF kernel stays stuck (0.0916). (Base with its spring-parallel
+    dashpot reaches the same states too, but the 1-DoF kernel starts at the maximum of its forcing, which leads
+    the base by atan(2 zeta r), and the engine at the base's: the start's slips leave the stuck slider 1e-4 apart,
+    and the peaks with it.)"""
+    _compare(scene, zeta=0.02, kappa=10.0, ratio=1.5, betas=(0.7,), r=np.linspace(0.15, 0.66, 8))
+
+
+@pytest.mark.parametrize("kt", [5.0, None])
+def test_an_undamped_structure_held_in_every_band_settles_on_its_stuck_forced_orbit(kt):
+    """Undamped, static equal to kinetic friction: in the limit of vanishing damping the free motion dies out, so
+    where the forced orbit with every contact stuck keeps every contact force inside its band that is the steady
+    state (jenkins_steady's rule, steady._held_forever): the stuck linear structure's X, about the relaxed
+    sliders (max|x| = |X|), in one period. Elsewhere (Jenkins, w 1.3: contact c0's force amplitude would be
+    1.65 mu) the march decides, and c0 slips. Rigid contacts hold m0 and the forced m2 still (the forcing within
+    c1's band), and m1 between them: X = 0, the contacts' force amplitudes from the constrained balance."""
+    w = np.array([0.3, 0.6, 1.3])
+    got = solve_points(assemble(chain(3, contacts=2, kt=kt, damping=0.0, friction=1.0)), w, np.ones(w.size))
+    M = np.diag([1.0, 1.05, 1.1])
+    K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.1, -1.1], [0.0, -1.1, 1.1]])
+    Wc = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    f = np.array([0.0, 0.0, 1.0])
+    if kt is not None:
+        X = np.array([np.linalg.solve(K + kt * Wc.T @ Wc - x * x * M, f) for x in w])
+        force = kt * X @ Wc.T
+    else:
+        # m0 and m2 held: m1 alone on its springs; the contacts carry what the springs and the forcing leave
+        X = np.zeros((w.size, 3))
+        force = np.array([np.linalg.lstsq(Wc.T, f, rcond=None)[0] for _ in w])
+    held = (np.abs(force) / np.array([1.0, 1.1]) < 1.0).all(axis=1)
+    np.testing.assert_array_equal(held, [True, True, kt is None])
+    assert (got["steady_state"] == SteadyState.CONVERGED).all()
+    assert (got["regime"][held] == Regime.STUCK).all() and (got["periods"][held] == 1).all()
+    np.testing.assert_allclose(got["amplitude"][held], np.abs(X[held]), rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(got["peak_amplitude"][held], np.abs(X[held]), rtol=1e-12, atol=1e-14)
+    np.testing.assert_array_equal(got["stops_per_period"][held], 0.0)
+    if kt is not None:
+        assert got["regime"][2, 0] != Regime.STUCK and got["periods"][2] > 1
+
+
 @pytest.mark.parametrize("scene, r", [("force", 2.123076923076923), ("joined", 1.3192307692307693)])
 def test_a_slider_that_never_slips_never_stops(scene, r):
     """Undamped, beta 2, kappa 10: the slider never slips (stuck), and so the contact never stops, as the 1-DoF
@@ -225,10 +270,19 @@ def test_very_large_friction_is_the_stuck_linear_structure(kt):
         Kj = K + kt * Wc.T @ Wc
         X = np.array([np.linalg.solve(Kj - x * x * M + 1j * x * C, f) for x in w])
     np.testing.assert_allclose(got["amplitude"], np.abs(X), rtol=1e-10, atol=1e-12)
-    # from rest no contact ever slips: every slider and stuck position stays where it started, so the orbit is the
-    # harmonic one about the rest state, max|x| = |X| (a stuck orbit is one of a family of stuck positions; the
-    # motion from rest settles on this member, not another)
-    np.testing.assert_allclose(got["peak_amplitude"], np.abs(X), rtol=1e-9, atol=1e-12)
+    # from rest no contact ever slips: every slider and stuck position stays where it started (a stuck orbit is
+    # one of a family of stuck positions; the motion from rest settles on this member, not another). A rigid
+    # contact holds its rest position: the orbit is the harmonic one about rest, max|x| = |X|. A Jenkins slider
+    # starts loaded with the force its contact carries as a rigid link holding the structure at rest (the
+    # 1-DoF kernels' start), lambda = (W M^-1 W^T)^-1 W M^-1 f at t = 0: the orbit is the harmonic one about the
+    # static position of those loaded springs, K_J c = -W^T lambda, and max|x| = |c| + |X|
+    centre = np.zeros(3)
+    if kt is not None:
+        Minv = np.linalg.inv(M)
+        lam = np.linalg.solve(Wc @ Minv @ Wc.T, Wc @ Minv @ f)
+        centre = np.linalg.solve(Kj, -Wc.T @ lam)
+        assert np.abs(centre).max() > 0.1 * np.abs(X).max()
+    np.testing.assert_allclose(got["peak_amplitude"], np.abs(centre) + np.abs(X), rtol=1e-9, atol=1e-12)
     # the masses a stuck rigid contact holds to the ground stand still: amplitude exactly 0 and no phase (the
     # engine's harmonic of their constant position is rounding, 1e-16 of it, with a phase of rounding)
     # (rigid: the forced mass m2 is held, and so is all the chain)

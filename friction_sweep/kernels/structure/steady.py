@@ -1,7 +1,8 @@
 """Steady state of one structure at one point: march the period map, shoot, measure (DESIGN §7).
 
 From rest (model.rest_state: v = 0, every contact unstretched, the springs in equilibrium with the base
-at y(0); Jenkins springs unloaded; the stick set at t = 0 chosen as at any switch), march
+at y(0); each Jenkins slider loaded as its contact would be as a rigid link, _rest_sliders; the stick set at
+t = 0 chosen as at any switch), march
 forcing periods of the exact period map (period.advance) until P^k(s) repeats within steady_tol (k up
 to max_orbit_period), and from period shoot_after on (then again after 1, 2, 4, ... periods, the gaps
 doubling up to shoot_every: a miss early in the transient is retried soon, a long march not shot at every
@@ -53,7 +54,7 @@ from friction_sweep.kernels.settings import (
 # from the march, as for one mass: static friction holds several orbits, and the march's start decides which one
 # a point settles on
 from friction_sweep.kernels.steady import STICK_SHOT_REACH
-from friction_sweep.kernels.structure.flow import CP_EY, CP_KT, CP_MU, CP_MUS, CP_SLOT, INACTIVE, STUCK
+from friction_sweep.kernels.structure.flow import CP_EY, CP_KT, CP_MU, CP_MUS, CP_SLOT, INACTIVE, STUCK, solve_small
 from friction_sweep.kernels.structure.period import (
     C_COUNTS,
     MC_ENERGY,
@@ -70,6 +71,7 @@ from friction_sweep.kernels.structure.period import (
     resolve,
 )
 from friction_sweep.kernels.structure.rk4 import advance_rk4, balance_tolerance
+from friction_sweep.ties import TIE_RTOL
 
 #: per-point slots after the per-mass and per-contact blocks
 PT_STEADY, PT_ORBIT, PT_PERIODS, PT_FLOQUET, PT_WORK = 0, 1, 2, 3, 4
@@ -573,6 +575,139 @@ def _start(z, st, start, W, cp, n, Nd):
 
 
 @jit
+def _rest_sliders(z, st, Minv, K, W, F, cp, omega, n):
+    """Each Jenkins slider's position at the start from rest (z: x at rest, v = 0, t = 0): loaded with the
+    force its contact carries as a rigid link, every contact with friction held so (S), the structure at
+    rest: u_S'' = 0, (W_S M^-1 W_S^T) lambda_S = W_S M^-1 f + ey_S w^2 with f = F cos 0 - K x (the least-norm
+    lambda_S where the links are dependent); clipped to the static band, just inside it (a start on its
+    edge is a tie the stick cannot leave; beyond it the contact slips at once, as a rigid one does). At
+    n = 1 this is the 1-DoF Jenkins kernels' start (jenkins_steady._resting_slider): the contact holds the
+    mass against the forcing, so that as the contact stiffens the start approaches the rigid contact's.
+    A relaxed slider instead lets the suddenly applied force swing the mass to about twice its static
+    deflection, whatever the stiffness, and from rest ends where the rigid contact never moves."""
+    m = W.shape[0]
+    N = z.shape[0]
+    S = np.zeros(m, dtype=np.int64)
+    s = 0
+    jenkins = False
+    for j in range(m):
+        if st[j] != INACTIVE:
+            S[s] = j
+            s += 1
+            jenkins = jenkins or cp[j, CP_KT] > 0.0
+    if not jenkins:
+        return
+    f = F[0, :].copy()
+    for i in range(n):
+        for k in range(n):
+            f[i] -= K[i, k] * z[k]
+    Mf = Minv @ f
+    G = np.empty((s, s))
+    b = np.empty(s)
+    for a in range(s):
+        ja = S[a]
+        b[a] = cp[ja, CP_EY] * omega * omega
+        for i in range(n):
+            b[a] += W[ja, i] * Mf[i]
+        for c in range(s):
+            acc = 0.0
+            for i in range(n):
+                for k in range(n):
+                    acc += W[ja, i] * Minv[i, k] * W[S[c], k]
+            G[a, c] = acc
+    lam = np.linalg.lstsq(G, b)[0]
+    for a in range(s):
+        j = S[a]
+        if cp[j, CP_KT] > 0.0:
+            hold = cp[j, CP_MUS] * (1.0 - TIE_RTOL)
+            load = max(-hold, min(hold, lam[a]))
+            z[2 * n + int(cp[j, CP_SLOT])] = rel_position(z, W, cp, j, n, N) - load / cp[j, CP_KT]
+
+
+@jit
+def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
+    """The undamped structure's steady state where every contact stays stuck in the limit of vanishing
+    damping (jenkins_steady._held_forever's rule, for any structure): without damping (C = 0, no sin
+    forcing) and with static equal to kinetic friction everywhere, the steady state is the same from every
+    start (DESIGN §7, uniqueness), the limit of the damped ones: the forced orbit with every contact stuck,
+    x = X cos wt, where every contact's force amplitude stays inside its band. With every contact stuck,
+    (K + sum_J kt w_j w_j^T - w^2 M) X + W_R^T L = F_cos + sum_J kt w_j ey_j and W_R X = ey_R (rigid contacts
+    R, their force amplitudes L; Jenkins contacts J, force kt (w_j.X - ey_j)), about the relaxed sliders
+    (no constant force: the mean position 0, p = 0). Held where every amplitude is below mu (1 - TIE_RTOL)
+    (a march would approach it without reaching it: the free motion's slips shave it off ever more finely,
+    and undamped a stuck free motion never ends); z, st set to that orbit at t = 0, True. False (z, st
+    untouched) where damped, static friction exceeds kinetic, the stuck structure resonates, or a force
+    leaves its band: the march decides."""
+    m = W.shape[0]
+    N = z.shape[0]
+    for i in range(n):
+        if F[1, i] != 0.0:
+            return False
+        for k in range(n):
+            if C[i, k] != 0.0:
+                return False
+    R = np.zeros(m, dtype=np.int64)
+    r = 0
+    for j in range(m):
+        if st[j] == INACTIVE:
+            continue
+        if cp[j, CP_MUS] > cp[j, CP_MU]:
+            return False
+        if cp[j, CP_KT] <= 0.0:
+            R[r] = j
+            r += 1
+    # the first n rows times M^-1 (no inverse of M^-1 to compile): (M^-1 K_J - w^2 I) X + M^-1 W_R^T L = M^-1 f
+    KJ = K.copy()
+    f = F[0, :].copy()
+    for j in range(m):
+        kt = cp[j, CP_KT]
+        if st[j] != INACTIVE and kt > 0.0:
+            for i in range(n):
+                f[i] += kt * W[j, i] * cp[j, CP_EY]
+                for k in range(n):
+                    KJ[i, k] += kt * W[j, i] * W[j, k]
+    G = np.zeros((n + r, n + r))
+    B = np.zeros((n + r, 1))
+    for i in range(n):
+        for k in range(n):
+            B[i, 0] += Minv[i, k] * f[k]
+            for q in range(n):
+                G[i, k] += Minv[i, q] * KJ[q, k]
+        G[i, i] -= omega * omega
+        for a in range(r):
+            for k in range(n):
+                G[i, n + a] += Minv[i, k] * W[R[a], k]
+    for a in range(r):
+        B[n + a, 0] = cp[R[a], CP_EY]
+        for i in range(n):
+            G[n + a, i] = W[R[a], i]
+    X = np.empty((n + r, 1))
+    if not solve_small(G, B, X):
+        return False
+    a = 0
+    for j in range(m):
+        if st[j] == INACTIVE:
+            continue
+        if cp[j, CP_KT] > 0.0:
+            amp = -cp[j, CP_EY]
+            for i in range(n):
+                amp += W[j, i] * X[i, 0]
+            amp *= cp[j, CP_KT]
+        else:
+            amp = X[n + a, 0]
+            a += 1
+        if not abs(amp) < cp[j, CP_MU] * (1.0 - TIE_RTOL):
+            return False
+    z[:N - 3] = 0.0
+    for i in range(n):
+        z[i] = X[i, 0]
+    for j in range(m):
+        if st[j] != INACTIVE:
+            st[j] = STUCK
+    return True
+
+
+@jit
 def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     """Steady state and measurement of one point into row (row_layout). From rest, or from `start` (a state
     at the section t = 0, state_size's layout) where its first entry is not NaN; the state at the section
@@ -619,11 +754,11 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     for j in range(m):
         if cp[j, CP_MU] <= 0.0:
             st[j] = INACTIVE
-        elif cp[j, CP_KT] > 0.0:
-            z[2 * n + int(cp[j, CP_SLOT])] = rel_position(z, W, cp, j, n, N)
+    _rest_sliders(z, st, Minv, K, W, F, cp, omega, n)
     status = _PERIOD_CAP
     orbit = 0
     if np.isnan(start[0]):
+        _held_forever(z, st, Minv, K, C, W, F, cp, omega, n)
         ready = resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache)
     else:
         _start(z, st, start, W, cp, n, Nd)
