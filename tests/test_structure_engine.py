@@ -88,6 +88,16 @@ def test_one_mass_with_damping_reproduces_the_1dof_kernels(scene):
     _compare(scene, zeta=0.05, betas=(0.1, 0.5, 0.9))
 
 
+@pytest.mark.parametrize("scene, zeta", [("force", 0.0), ("force", 0.05), ("base", 0.0)])
+def test_one_mass_rigid_at_friction_equal_to_the_force_amplitude_never_moves(scene, zeta):
+    """beta = A = 1: the forcing's swing touches the band tangentially at each maximum, a tie (ties.py) that
+    the 1-DoF kernels decide as no motion from rest (Eqs. 24, 41). The engine once let the stuck force's rounding
+    decide there: stick-slip, 2 stops a period, stuck 0.99999998 of it."""
+    _compare(scene, zeta=zeta, betas=(1.0,))
+    got = solve_points(assemble(one_mass(scene, 1.0, zeta)), R, np.ones(R.size))
+    assert (got["regime"] == Regime.STUCK).all() and (got["stuck_fraction"] == 1.0).all()
+
+
 def test_one_mass_static_friction_reproduces_the_1dof_kernels():
     _compare("base", ratio=1.3, betas=(0.3, 0.6, 0.9))
 

@@ -18,7 +18,8 @@ exp(A h) is the Taylor series on steps short against every rate of A (|A| h <= 1
 so the series converges like 2^-k / k! and is exact to rounding); longer times are products or squares.
 
 Event functions (2 slots per contact, g >= 0 while the mode holds): slipping, g = sig u'; stuck,
-g = mus - lambda and g = mus + lambda.
+g = mus - lambda and g = mus + lambda (a rigid contact's mus times 1 + TIE_RTOL: a force that reaches the band
+only to within the tie stays stuck, as the 1-DoF kernels decide it, ties.py).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from friction_sweep.kernels.jit import jit
+from friction_sweep.ties import TIE_RTOL
 
 #: contact status codes (st): stuck 0, slipping +1 / -1, and no friction
 STUCK = 0
@@ -220,7 +222,12 @@ def event_rows(st, W, cp, omega, L, N, rows, active):
             rows[2 * j, N - 2] = s * cp[j, CP_EY] * omega
             active[2 * j] = True
         else:
-            mus = cp[j, CP_MUS]
+            # a rigid contact's band edge is a tie (ties.py): a force that reaches it to within TIE_RTOL, as at
+            # beta = A where the forcing's swing touches it tangentially, leaves the contact stuck (the stuck
+            # force's rounding would otherwise decide: a slip of 1e-8 of a period, 2 stops where none is). Not
+            # a Jenkins slider's: one sticks with its force on the edge (mu_s = mu), and whether it slips again
+            # at once is the motion's, not a tie (the 1-DoF kernel's slips)
+            mus = cp[j, CP_MUS] * (1.0 + TIE_RTOL) if cp[j, CP_KT] <= 0.0 else cp[j, CP_MUS]
             for k in range(N):
                 rows[2 * j, k] = -L[j, k]
                 rows[2 * j + 1, k] = L[j, k]
