@@ -625,47 +625,71 @@ def _rest_sliders(z, st, Minv, K, W, F, cp, omega, n):
 
 
 @jit
-def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
-    """The undamped structure's steady state where every contact stays stuck in the limit of vanishing
-    damping (jenkins_steady._held_forever's rule, for any structure): without damping (C = 0, no sin
-    forcing) and with static equal to kinetic friction everywhere, the steady state is the same from every
-    start (DESIGN §7, uniqueness), the limit of the damped ones: the forced orbit with every contact stuck,
-    x = X cos wt, where every contact's force amplitude stays inside its band. With every contact stuck,
-    (K + sum_J kt w_j w_j^T - w^2 M) X + W_R^T L = F_cos + sum_J kt w_j ey_j and W_R X = ey_R (rigid contacts
-    R, their force amplitudes L; Jenkins contacts J, force kt (w_j.X - ey_j)), about the relaxed sliders
-    (no constant force: the mean position 0, p = 0). Held where every amplitude is below mu (1 - TIE_RTOL)
-    (a march would approach it without reaching it: the free motion's slips shave it off ever more finely,
-    and undamped a stuck free motion never ends); z, st set to that orbit at t = 0, True. False (z, st
-    untouched) where damped, static friction exceeds kinetic, the stuck structure resonates, or a force
-    leaves its band: the march decides."""
-    m = W.shape[0]
-    N = z.shape[0]
+def _undamped(C, F, n):
+    """Whether nothing dissipates but friction: no dashpot, no sin forcing (base excitation's dashpots)."""
     for i in range(n):
         if F[1, i] != 0.0:
             return False
         for k in range(n):
             if C[i, k] != 0.0:
                 return False
+    return True
+
+
+@jit
+def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
+    """The undamped structure's steady state where every contact stays stuck for good (jenkins_steady's
+    _held_forever, for any structure). Without damping (C = 0, no sin forcing) a stuck structure's free motion
+    never dies out, and a march would only approach the answer: with every contact stuck the motion is
+    x = c + X cos wt + x_f(t), the forced part X from (K_J - w^2 M) X + W_R^T L_X = F_cos + sum_J kt w_j ey_j,
+    W_R X = ey_R (K_J: K with each Jenkins contact's spring kt w_j w_j^T; R the rigid contacts, L their
+    forces), c the static position of the sliders' springs (K_J c + W_R^T L_c = sum_J kt w_j p_j, W_R c = 0),
+    x_f the free motion. A contact's force is its parts' sum (Jenkins kt (w_j.x - ey_j cos wt - p_j), rigid
+    the constraint force, for x_f L_f = -(W_R M^-1 W_R^T)^-1 W_R M^-1 K_J x_f).
+
+    - Static equal to kinetic friction everywhere: the damped structures' steady state has the first harmonic
+      X wherever a stuck orbit fits the bands (one from every start, DESIGN §7), and the free motion's slips
+      shave it off ever more finely; so held where every contact's forced amplitude is below mu (1 - TIE_RTOL),
+      taking the orbit about the relaxed sliders (c = 0, p = 0; the 1-DoF kernels' convention, its peak |X|;
+      the damped motion's mean position is where its transient left the sliders).
+    - Static above kinetic friction somewhere: the start decides, so the free motion from the state z (rest,
+      or a marched period's end without a switch, every contact stuck) counts, c's rigid contacts where they
+      stuck. It keeps its energy E = (x_f.K_J x_f + v.M v) / 2 at t = 0, so a force q.x_f stays within
+      sqrt(2 E q.y), (K_J y + W_R^T mu = q, W_R y = 0) (the largest q.x on the energy's ellipsoid; at n = 1
+      the free part's amplitude exactly, jenkins_steady's reach). Held where |centre| + |forced| + that bound
+      stays below mu_s (1 - TIE_RTOL) for every contact: the orbit c + X cos wt with the sliders where they
+      are (jenkins_steady tests it at the start and after every marched period without slips, as here).
+
+    z, st set to that orbit at t = 0, True; False (z, st untouched) where damped, the stuck structure
+    resonates or is not restrained, or a force may leave its band: the march decides."""
+    m = W.shape[0]
+    N = z.shape[0]
+    if not _undamped(C, F, n):
+        return False
     R = np.zeros(m, dtype=np.int64)
     r = 0
+    several = False
     for j in range(m):
         if st[j] == INACTIVE:
             continue
-        if cp[j, CP_MUS] > cp[j, CP_MU]:
-            return False
+        several = several or cp[j, CP_MUS] > cp[j, CP_MU]
         if cp[j, CP_KT] <= 0.0:
             R[r] = j
             r += 1
-    # the first n rows times M^-1 (no inverse of M^-1 to compile): (M^-1 K_J - w^2 I) X + M^-1 W_R^T L = M^-1 f
     KJ = K.copy()
     f = F[0, :].copy()
+    pull = np.zeros(n)  # sum_J kt w_j p_j: the loaded sliders' pull at x = 0
     for j in range(m):
         kt = cp[j, CP_KT]
         if st[j] != INACTIVE and kt > 0.0:
+            p = z[2 * n + int(cp[j, CP_SLOT])]
             for i in range(n):
                 f[i] += kt * W[j, i] * cp[j, CP_EY]
+                pull[i] += kt * W[j, i] * p
                 for k in range(n):
                     KJ[i, k] += kt * W[j, i] * W[j, k]
+    # the forced part, its first n rows times M^-1 (no inverse of M^-1 to compile):
+    # (M^-1 K_J - w^2 I) X + M^-1 W_R^T L_X = M^-1 f
     G = np.zeros((n + r, n + r))
     B = np.zeros((n + r, 1))
     for i in range(n):
@@ -684,6 +708,7 @@ def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
     X = np.empty((n + r, 1))
     if not solve_small(G, B, X):
         return False
+    forced = np.zeros(m)
     a = 0
     for j in range(m):
         if st[j] == INACTIVE:
@@ -692,15 +717,102 @@ def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
             amp = -cp[j, CP_EY]
             for i in range(n):
                 amp += W[j, i] * X[i, 0]
-            amp *= cp[j, CP_KT]
+            forced[j] = cp[j, CP_KT] * amp
         else:
-            amp = X[n + a, 0]
+            forced[j] = X[n + a, 0]
             a += 1
-        if not abs(amp) < cp[j, CP_MU] * (1.0 - TIE_RTOL):
+    if not several:
+        for j in range(m):
+            if st[j] != INACTIVE and not abs(forced[j]) < cp[j, CP_MU] * (1.0 - TIE_RTOL):
+                return False
+        z[:N - 3] = 0.0
+        for i in range(n):
+            z[i] = X[i, 0]
+        for j in range(m):
+            if st[j] != INACTIVE:
+                st[j] = STUCK
+        return True
+    # the free motion's force rows q_j over x: a Jenkins contact's kt w_j; a rigid one's -H_j,
+    # H = (W_R M^-1 W_R^T)^-1 W_R M^-1 K_J
+    Q = np.zeros((m, n))
+    if r > 0:
+        GR = np.zeros((r, r))
+        BR = np.zeros((r, n))
+        for a in range(r):
+            for i in range(n):
+                wm = 0.0
+                for k in range(n):
+                    wm += W[R[a], k] * Minv[k, i]
+                for c in range(r):
+                    GR[c, a] += wm * W[R[c], i]
+                for k in range(n):
+                    BR[a, k] += wm * KJ[i, k]
+        H = np.empty((r, n))
+        if not solve_small(GR, BR, H):
             return False
-    z[:N - 3] = 0.0
+        for a in range(r):
+            for k in range(n):
+                Q[R[a], k] = -H[a, k]
+    for j in range(m):
+        if st[j] != INACTIVE and cp[j, CP_KT] > 0.0:
+            for i in range(n):
+                Q[j, i] = cp[j, CP_KT] * W[j, i]
+    # the static KKT, [K_J W_R^T; W_R 0], for the centre (column 0) and each contact's y_j (column 1 + j)
+    S = np.zeros((n + r, n + r))
+    BS = np.zeros((n + r, 1 + m))
     for i in range(n):
-        z[i] = X[i, 0]
+        BS[i, 0] = pull[i]
+        for k in range(n):
+            S[i, k] = KJ[i, k]
+        for j in range(m):
+            BS[i, 1 + j] = Q[j, i]
+    for a in range(r):
+        BS[n + a, 0] = rel_position(z, W, cp, R[a], n, N)  # W_R c = u_R, where it is stuck (W_R X = ey_R)
+        for i in range(n):
+            S[i, n + a] = W[R[a], i]
+            S[n + a, i] = W[R[a], i]
+    Y = np.empty((n + r, 1 + m))
+    if not solve_small(S, BS, Y):
+        return False
+    # the free motion's start x_f(0) = x - c - X (in W_R's null space), v_f(0) = v (the other parts' velocity is
+    # zero at t = 0), and twice its energy, x_f.K_J x_f + v.M v (M v from M^-1's elimination)
+    xf = np.empty(n)
+    for i in range(n):
+        xf[i] = z[i] - Y[i, 0] - X[i, 0]
+    energy = 0.0
+    for i in range(n):
+        for k in range(n):
+            energy += xf[i] * KJ[i, k] * xf[k]
+    moving = False
+    for i in range(n):
+        moving = moving or z[n + i] != 0.0
+    if moving:
+        Mv = np.empty((n, 1))
+        if not solve_small(Minv.copy(), z[n:2 * n].copy().reshape((n, 1)), Mv):
+            return False
+        for i in range(n):
+            energy += z[n + i] * Mv[i, 0]
+    a = 0
+    for j in range(m):
+        if st[j] == INACTIVE:
+            continue
+        if cp[j, CP_KT] > 0.0:
+            centre = -z[2 * n + int(cp[j, CP_SLOT])]
+            for i in range(n):
+                centre += W[j, i] * Y[i, 0]
+            centre *= cp[j, CP_KT]
+        else:
+            centre = Y[n + a, 0]
+            a += 1
+        qy = 0.0
+        for i in range(n):
+            qy += Q[j, i] * Y[i, 1 + j]
+        reach = abs(centre) + abs(forced[j]) + np.sqrt(max(energy, 0.0) * max(qy, 0.0))
+        if not reach < cp[j, CP_MUS] * (1.0 - TIE_RTOL):
+            return False
+    for i in range(n):
+        z[i] = Y[i, 0] + X[i, 0]
+        z[n + i] = 0.0
     for j in range(m):
         if st[j] != INACTIVE:
             st[j] = STUCK
@@ -754,10 +866,10 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     for j in range(m):
         if cp[j, CP_MU] <= 0.0:
             st[j] = INACTIVE
-    _rest_sliders(z, st, Minv, K, W, F, cp, omega, n)
     status = _PERIOD_CAP
     orbit = 0
     if np.isnan(start[0]):
+        _rest_sliders(z, st, Minv, K, W, F, cp, omega, n)
         _held_forever(z, st, Minv, K, C, W, F, cp, omega, n)
         ready = resolve(z, st, -1, 0, Minv, K, C, W, F, cp, omega, T, vtol, budget, cache)
     else:
@@ -778,6 +890,7 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
     # with static above kinetic friction the march from rest decides between steady states: Newton from an
     # early transient may find another, so the attempts keep shoot_every apart there
     several = _holds_several(cp)
+    undamped = _undamped(C, F, n)
     gap = shoot_every if several else 1
     micro = 0
     # per contact, whether the march's last period had it stuck throughout (_kept_where_marched)
@@ -814,10 +927,23 @@ def solve_point(Minv, K, C, W, F, cp, omega, x_rest, settings, row, start, end):
                 orbit = 0
                 continue
             break
+        unsure = False
+        if several and undamped:
+            # a period without switches, every contact stuck: stuck for good where the free motion cannot carry a
+            # force across its band (_held_forever: the orbit about where the contacts are, confirmed by the next
+            # period). Elsewhere it will slip again, and a stuck orbit Newton finds from here is not where the
+            # march goes (a Jenkins mass, w 0.66, beta 0.7, mu_s/mu 1.5, stuck at 0.095 from its first period on
+            # where it slips after and settles continuous at 0.821): no shot from such a period
+            still = True
+            for j in range(m):
+                still = still and jflag[1 + j] == 0.0 and (st[j] == STUCK or st[j] == INACTIVE)
+            if still and _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
+                continue
+            unsure = still
         # the march has come near the orbit a Newton shot found earlier (held back as too far from the
         # march then, with static friction): that is the orbit it approaches
         near = held > 0 and _norm(z[:Nd] - zc[:Nd], Nd) <= STICK_SHOT_REACH * size
-        scheduled = shooting and p >= next_shot
+        scheduled = shooting and p >= next_shot and not unsure
         if scheduled and several and p < shoot_every:
             # with static above kinetic friction Newton from a period with switches lands on whichever of the
             # point's states is nearest, not necessarily the one the march settles on (jenkins_steady's and
