@@ -54,7 +54,18 @@ from friction_sweep.kernels.settings import (
 # from the march, as for one mass: static friction holds several orbits, and the march's start decides which one
 # a point settles on
 from friction_sweep.kernels.steady import STICK_SHOT_REACH
-from friction_sweep.kernels.structure.flow import CP_EY, CP_KT, CP_MU, CP_MUS, CP_SLOT, INACTIVE, STUCK, solve_small
+from friction_sweep.kernels.structure.flow import (
+    CP_EY,
+    CP_KT,
+    CP_MU,
+    CP_MUS,
+    CP_SLOT,
+    INACTIVE,
+    STUCK,
+    build_mode,
+    mode_workspace,
+    solve_small,
+)
 from friction_sweep.kernels.structure.period import (
     C_COUNTS,
     MC_ENERGY,
@@ -668,12 +679,8 @@ def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
         return False
     R = np.zeros(m, dtype=np.int64)
     r = 0
-    several = False
     for j in range(m):
-        if st[j] == INACTIVE:
-            continue
-        several = several or cp[j, CP_MUS] > cp[j, CP_MU]
-        if cp[j, CP_KT] <= 0.0:
+        if st[j] != INACTIVE and cp[j, CP_KT] <= 0.0:
             R[r] = j
             r += 1
     KJ = K.copy()
@@ -721,7 +728,7 @@ def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
         else:
             forced[j] = X[n + a, 0]
             a += 1
-    if not several:
+    if not _holds_several(cp):
         for j in range(m):
             if st[j] != INACTIVE and not abs(forced[j]) < cp[j, CP_MU] * (1.0 - TIE_RTOL):
                 return False
@@ -732,31 +739,16 @@ def _held_forever(z, st, Minv, K, C, W, F, cp, omega, n):
             if st[j] != INACTIVE:
                 st[j] = STUCK
         return True
-    # the free motion's force rows q_j over x: a Jenkins contact's kt w_j; a rigid one's -H_j,
-    # H = (W_R M^-1 W_R^T)^-1 W_R M^-1 K_J
-    Q = np.zeros((m, n))
-    if r > 0:
-        GR = np.zeros((r, r))
-        BR = np.zeros((r, n))
-        for a in range(r):
-            for i in range(n):
-                wm = 0.0
-                for k in range(n):
-                    wm += W[R[a], k] * Minv[k, i]
-                for c in range(r):
-                    GR[c, a] += wm * W[R[c], i]
-                for k in range(n):
-                    BR[a, k] += wm * KJ[i, k]
-        H = np.empty((r, n))
-        if not solve_small(GR, BR, H):
-            return False
-        for a in range(r):
-            for k in range(n):
-                Q[R[a], k] = -H[a, k]
+    # the free motion's force rows q_j over x: the x columns of the all-stuck mode's contact-force rows
+    # (flow.build_mode: a Jenkins contact's kt w_j, a rigid one's -(W_R M^-1 W_R^T)^-1 W_R M^-1 K_J)
+    stuck = st.copy()
     for j in range(m):
-        if st[j] != INACTIVE and cp[j, CP_KT] > 0.0:
-            for i in range(n):
-                Q[j, i] = cp[j, CP_KT] * W[j, i]
+        if st[j] != INACTIVE:
+            stuck[j] = STUCK
+    L = np.empty((m, N))
+    if not build_mode(stuck, Minv, K, C, W, F, cp, omega, np.empty((N, N)), L, mode_workspace(n, m, N)):
+        return False
+    Q = L[:, :n]
     # the static KKT, [K_J W_R^T; W_R 0], for the centre (column 0) and each contact's y_j (column 1 + j)
     S = np.zeros((n + r, n + r))
     BS = np.zeros((n + r, 1 + m))
